@@ -1,0 +1,1 @@
+"""Model-to-text generators: one module and one template set per deployment target."""

@@ -1,0 +1,1 @@
+"""Feature-model analysis (SAT), selection checking and the Resolution Engine (M2M)."""

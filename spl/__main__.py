@@ -1,0 +1,3 @@
+from spl.cli import main
+
+main()

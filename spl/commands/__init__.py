@@ -1,0 +1,1 @@
+"""One module per ``spl`` sub-command, each exposing ``command`` (a click command)."""

@@ -1,0 +1,92 @@
+"""Located diagnostics shared by every stage of the pipeline.
+
+Every problem a user can fix is reported as ``file:line:col: severity: message`` so
+editors and CI logs can jump to it; stages collect all problems of a file and raise
+them together in one :class:`ModelError` instead of stopping at the first.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any, Literal
+
+Severity = Literal["error", "warning", "info"]
+
+
+@dataclass(frozen=True, order=True)
+class Location:
+    file: str
+    line: int = 0
+    col: int = 0
+
+    def __str__(self) -> str:
+        return f"{self.file}:{self.line}:{self.col}"
+
+
+@dataclass(frozen=True)
+class Diagnostic:
+    location: Location | None
+    message: str
+    severity: Severity = "error"
+    code: str | None = None
+
+    def __str__(self) -> str:
+        where = f"{self.location}: " if self.location else ""
+        code = f" [{self.code}]" if self.code else ""
+        return f"{where}{self.severity}: {self.message}{code}"
+
+    def as_dict(self) -> dict[str, Any]:
+        loc = self.location
+        return {
+            "file": loc.file if loc else None,
+            "line": loc.line if loc else None,
+            "col": loc.col if loc else None,
+            "severity": self.severity,
+            "code": self.code,
+            "message": self.message,
+        }
+
+
+class ModelError(Exception):
+    """Raised with every error found; the command line prints them and exits 1."""
+
+    def __init__(self, diagnostics: list[Diagnostic]) -> None:
+        self.diagnostics = diagnostics
+        super().__init__("\n".join(str(d) for d in diagnostics))
+
+
+@dataclass
+class DiagnosticSink:
+    """Collects diagnostics while a model is checked; ``raise_if_errors`` ends the stage."""
+
+    diagnostics: list[Diagnostic] = field(default_factory=list)
+
+    def error(self, location: Location | None, message: str, code: str | None = None) -> None:
+        self.diagnostics.append(Diagnostic(location, message, "error", code))
+
+    def warning(self, location: Location | None, message: str, code: str | None = None) -> None:
+        self.diagnostics.append(Diagnostic(location, message, "warning", code))
+
+    def info(self, location: Location | None, message: str, code: str | None = None) -> None:
+        self.diagnostics.append(Diagnostic(location, message, "info", code))
+
+    @property
+    def errors(self) -> list[Diagnostic]:
+        return [d for d in self.diagnostics if d.severity == "error"]
+
+    def raise_if_errors(self) -> None:
+        if self.errors:
+            raise ModelError(sorted(self.errors, key=_order))
+
+
+def _order(d: Diagnostic) -> tuple:
+    loc = d.location or Location("")
+    return (loc.file, loc.line, loc.col, d.message)
+
+
+def location_of(element: Any) -> Location | None:
+    """The source location recorded on a model element (the metamodels' ``Located``)."""
+    file = getattr(element, "srcFile", None)
+    if not file:
+        return None
+    return Location(file, element.srcLine or 0, element.srcCol or 0)

@@ -1,0 +1,96 @@
+"""Generic operations on pyecore models that pyecore itself lacks.
+
+The Resolution Engine transforms a *copy* of the template model (SPEC 5.1 step 3),
+and printers are tested with parse(print(m)) == m; both need a structural view of a
+model driven by its metamodel rather than by hand-written per-class code.
+Transient features (source locations) are ignored by comparison but kept by copies,
+so errors in a resolved model still point into the original file.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+from pyecore.ecore import EAttribute, EObject, EReference
+
+
+def _features(obj: EObject):
+    return obj.eClass.eAllStructuralFeatures()
+
+
+def copy_model(root: EObject) -> EObject:
+    """Deep copy of the containment tree under ``root``; references inside it are remapped."""
+    mapping: dict[int, EObject] = {}
+    pending: list[tuple[EObject, EObject]] = []
+
+    def clone(src: EObject) -> EObject:
+        dst = src.eClass.python_class()
+        mapping[id(src)] = dst
+        pending.append((src, dst))
+        for feature in _features(src):
+            if isinstance(feature, EAttribute):
+                value = src.eGet(feature)
+                if feature.many:
+                    dst.eGet(feature).extend(value)
+                else:
+                    dst.eSet(feature, value)
+            elif feature.containment:
+                value = src.eGet(feature)
+                if feature.many:
+                    dst.eGet(feature).extend(clone(child) for child in value)
+                elif value is not None:
+                    dst.eSet(feature, clone(value))
+        return dst
+
+    copy = clone(root)
+    for src, dst in pending:
+        for feature in _features(src):
+            if isinstance(feature, EReference) and not feature.containment:
+                value = src.eGet(feature)
+                if feature.many:
+                    dst.eGet(feature).extend(mapping.get(id(v), v) for v in value)
+                elif value is not None:
+                    dst.eSet(feature, mapping.get(id(value), value))
+    return copy
+
+
+def _path(obj: EObject | None) -> str:
+    parts = []
+    while obj is not None:
+        name = getattr(obj, "name", None)
+        parts.append(name if name else obj.eClass.name)
+        obj = obj.eContainer()
+    return ".".join(reversed(parts))
+
+
+def differences(a: EObject, b: EObject, where: str = "") -> Iterator[str]:
+    """Human-readable differences between two models (empty when they are equal).
+
+    Containment is compared in order; plain references are compared by the path of
+    their target, so two separately parsed models can be compared.
+    """
+    where = where or a.eClass.name
+    if a.eClass is not b.eClass:
+        yield f"{where}: {a.eClass.name} != {b.eClass.name}"
+        return
+    for feature in _features(a):
+        if isinstance(feature, EAttribute) and feature.transient:
+            continue
+        va, vb = a.eGet(feature), b.eGet(feature)
+        here = f"{where}.{feature.name}"
+        if isinstance(feature, EAttribute):
+            if (list(va) if feature.many else va) != (list(vb) if feature.many else vb):
+                yield f"{here}: {va!r} != {vb!r}"
+        elif feature.containment:
+            la = list(va) if feature.many else [v for v in (va,) if v is not None]
+            lb = list(vb) if feature.many else [v for v in (vb,) if v is not None]
+            if len(la) != len(lb):
+                yield f"{here}: {len(la)} elements != {len(lb)}"
+                continue
+            for i, (ca, cb) in enumerate(zip(la, lb, strict=True)):
+                yield from differences(ca, cb, f"{here}[{i}]")
+        else:
+            pa = [_path(v) for v in va] if feature.many else _path(va)
+            pb = [_path(v) for v in vb] if feature.many else _path(vb)
+            if pa != pb:
+                yield f"{here}: -> {pa} != -> {pb}"
