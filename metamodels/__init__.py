@@ -14,7 +14,7 @@ from types import SimpleNamespace
 from pyecore.ecore import EClass, EEnum, EPackage
 from pyecore.resources import URI, ResourceSet
 
-__all__ = ["load", "tsm", "fm", "rm", "resource_set"]
+__all__ = ["fm", "load", "resource_set", "rm", "tsm"]
 
 
 @cache
