@@ -20,6 +20,15 @@ def _features(obj: EObject):
 
 def copy_model(root: EObject) -> EObject:
     """Deep copy of the containment tree under ``root``; references inside it are remapped."""
+    return copy_with_map(root)[0]
+
+
+def copy_with_map(root: EObject) -> tuple[EObject, dict[int, EObject]]:
+    """Like :func:`copy_model`, also returning ``id(original) -> copy`` for every element.
+
+    Models that refer into the original (a resolution model into its template) use the
+    map to find the element they mean in the copy.
+    """
     mapping: dict[int, EObject] = {}
     pending: list[tuple[EObject, EObject]] = []
 
@@ -51,7 +60,7 @@ def copy_model(root: EObject) -> EObject:
                     dst.eGet(feature).extend(mapping.get(id(v), v) for v in value)
                 elif value is not None:
                     dst.eSet(feature, mapping.get(id(value), value))
-    return copy
+    return copy, mapping
 
 
 def _path(obj: EObject | None) -> str:

@@ -1,0 +1,95 @@
+"""The deployment bundle: every generator's files plus the manifest, written atomically.
+
+All files are produced in memory first, so a failing generator leaves nothing on disk;
+then they are written to a temporary sibling folder that is renamed into place. The
+manifest records the sha256 of every file, so bundles can be compared and cached.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import importlib
+import io
+import json
+import os
+import shutil
+from pathlib import Path
+from typing import Any
+
+from pyecore.resources import URI
+from pyecore.resources.xmi import XMIResource
+
+from spl import __version__
+from spl.dsl.tsm_printer import print_model
+from spl.resolver.product import ResolvedProduct
+
+# One module per target; each offers generate(product) -> {bundle path: bytes}.
+GENERATORS = ()
+
+
+def resolved_xmi(system: Any) -> bytes:
+    resource = XMIResource(URI("resolved.xmi"))
+    resource.append(system)
+    stream = io.BytesIO()
+    try:
+        resource.save(output=stream)
+    finally:
+        resource.remove(system)
+    return stream.getvalue()
+
+
+def bundle_files(product: ResolvedProduct) -> dict[str, bytes]:
+    files = {
+        "resolved.tsm": print_model(product.system).encode("utf-8"),
+        "resolved.xmi": resolved_xmi(product.system),
+    }
+    for module_name in GENERATORS:
+        generated = importlib.import_module(module_name).generate(product)
+        clash = files.keys() & generated.keys()
+        if clash:
+            raise ValueError(f"{module_name} writes {sorted(clash)} already written")
+        files.update(generated)
+    files["manifest.json"] = manifest(product, files)
+    return dict(sorted(files.items()))
+
+
+def manifest(product: ResolvedProduct, files: dict[str, bytes]) -> bytes:
+    system = product.system
+    document = {
+        "product": product.name,
+        "features": list(product.features),
+        "attributes": product.attributes,
+        "sharing": {
+            node.name: node.sharing.name
+            for container in system.containers
+            for node in container.nodes
+        },
+        "placement": {
+            node.name: container.name for container in system.containers for node in container.nodes
+        },
+        "migrations": [
+            {"node": m.node, "from": m.source, "to": m.target} for m in product.migrations
+        ],
+        "warnings": [str(w) for w in product.warnings],
+        "toolchain": {"name": "spl-robotics", "version": __version__},
+        "files": {path: hashlib.sha256(data).hexdigest() for path, data in sorted(files.items())},
+    }
+    return (json.dumps(document, indent=2, sort_keys=True) + "\n").encode("utf-8")
+
+
+def write_bundle(files: dict[str, bytes], out: Path) -> None:
+    out = Path(out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    staging = out.parent / f".{out.name}.tmp-{os.getpid()}"
+    retired = out.parent / f".{out.name}.old-{os.getpid()}"
+    try:
+        for relative, data in files.items():
+            target = staging / relative
+            target.parent.mkdir(parents=True, exist_ok=True)
+            target.write_bytes(data)
+        if out.exists():
+            out.rename(retired)
+        staging.rename(out)
+    finally:
+        shutil.rmtree(staging, ignore_errors=True)
+        shutil.rmtree(retired, ignore_errors=True)

@@ -1,0 +1,232 @@
+"""The Resolution Engine: one product's architecture from the product line (SPEC 5.1).
+
+Each step is a function over the model; this module only runs them in order:
+selection checked and completed (SAT), template copied, active resolution elements
+applied in file order (one module per transformation kind), sharing modes, pruning,
+endpoint rewiring, architecture checks.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+from typing import Any
+
+from spl.diagnostics import Diagnostic, DiagnosticSink, Location, ModelError, location_of
+from spl.emf import copy_with_map
+from spl.metamodels import tsm
+from spl.resolver import pruning, rewiring
+from spl.resolver.architecture_checks import check_architecture
+from spl.resolver.context import ResolutionContext, describe
+from spl.resolver.feature_selection import CompletedSelection, complete_selection
+from spl.resolver.product import ResolvedProduct
+from spl.resolver.product_line import ProductLine
+from spl.resolver.product_selection import ProductSelection
+from spl.resolver.trace import Trace
+from spl.resolver.transformations import APPLY
+
+
+@dataclass
+class Resolution:
+    product: ResolvedProduct
+    trace: Trace
+    completion: CompletedSelection
+    removed_nodes: tuple[str, ...]
+    kept_nodes: tuple[str, ...]
+
+
+def resolve(line: ProductLine, selection: ProductSelection) -> Resolution:
+    completion = complete_selection(line.fm, selection)  # step 2; raises on a bad selection
+    selected = set(completion.features)
+    sink = DiagnosticSink()
+    attributes = product_attributes(line.fm, selected, selection, sink)
+    sink.raise_if_errors()
+
+    system, copies = copy_with_map(line.tsm)  # step 3
+    trace = Trace()
+    for feature in completion.added:
+        trace.record(feature, "selected", "added by completion of the selection (feature model)")
+    _apply_deployment(system, selection, sink)
+    ctx = ResolutionContext(system, copies, trace, sink, attributes)
+
+    active = []
+    for element in line.rm.elements:  # step 4, file order
+        if (element.feature.name in selected) != element.activeIfSelected:
+            continue
+        active.append(element)
+        ctx.element = element
+        for required in element.required:
+            ctx.keep(copies[id(required)], f"required by {describe(element)}", location_of(element))
+        for transformation in element.transformations:
+            APPLY[transformation.eClass.name](transformation, ctx)
+    sink.raise_if_errors()  # step 5: conflicts found while applying
+
+    _apply_sharing(ctx, active, selection)  # step 6
+    sink.raise_if_errors()
+
+    before = {n.name for c in system.containers for n in c.nodes}
+    pruning.prune_unkept(system, ctx.kept, trace)  # step 7
+    _implement_data_clients(system)
+    warnings = rewiring.rewire(system, trace, {m.node for m in ctx.migrations})
+    pruning.prune_unused(system, trace)
+
+    problems = check_architecture(system) + warnings  # step 8
+    errors = [p for p in problems if p.severity == "error"]
+    if errors:
+        raise ModelError(errors)
+    kept = tuple(n.name for c in system.containers for n in c.nodes)
+    product = ResolvedProduct(
+        name=selection.name,
+        system=system,
+        features=tuple(sorted(selected)),
+        attributes=attributes,
+        migrations=tuple(ctx.migrations),
+        warnings=tuple(problems),
+    )
+    system.name = line.tsm.name
+    return Resolution(product, trace, completion, tuple(sorted(before - set(kept))), kept)
+
+
+def product_attributes(
+    fm: Any, selected: set[str], selection: ProductSelection, sink: DiagnosticSink
+) -> dict[str, Any]:
+    """Attribute values of the product: defaults, overridden by the selection."""
+    attributes: dict[str, tuple[Any, str]] = {}
+    for feature in _features(fm.root):
+        for attribute in feature.attributes:
+            key = f"{feature.name}.{attribute.name}"
+            attributes[key] = (_typed(attribute.value, attribute.type.name), attribute.type.name)
+    values = {k: v for k, (v, _) in attributes.items()}
+    for key, value in selection.attributes.items():
+        where = selection.location(key)
+        if key not in attributes:
+            sink.error(where, f"unknown feature attribute {key}")
+            continue
+        kind = attributes[key][1]
+        if not _fits(value, kind):
+            sink.error(where, f"attribute {key} is {kind}, got {value!r}")
+            continue
+        if key.split(".")[0] not in selected:
+            sink.error(
+                where, f"attribute {key} is set but feature {key.split('.')[0]} is not selected"
+            )
+            continue
+        values[key] = float(value) if kind == "double" else value
+    return {k: v for k, v in sorted(values.items()) if k.split(".")[0] in selected}
+
+
+def _features(feature: Any):
+    yield feature
+    for group in feature.groups:
+        for child in group.features:
+            yield from _features(child)
+
+
+def _typed(text: str | None, kind: str) -> Any:
+    if text is None:
+        return None
+    if kind == "int":
+        return int(text)
+    if kind == "double":
+        return float(text)
+    if kind == "bool":
+        return text == "true"
+    return text
+
+
+def _fits(value: Any, kind: str) -> bool:
+    if kind == "bool":
+        return isinstance(value, bool)
+    if kind == "int":
+        return isinstance(value, int) and not isinstance(value, bool)
+    if kind == "double":
+        return isinstance(value, int | float) and not isinstance(value, bool)
+    return isinstance(value, str) and not any(ord(c) < 32 for c in value)
+
+
+def _apply_deployment(system: Any, selection: ProductSelection, sink: DiagnosticSink) -> None:
+    robots = {c.name: c for c in system.containers if c.eClass.name == "RobotContainer"}
+    for name, settings in sorted(selection.deployment.items()):
+        container = robots.get(name)
+        if container is None:
+            sink.error(
+                selection.location(f"deployment:{name}"), f"deployment: no robot container {name}"
+            )
+            continue
+        if "robot_id" in settings:
+            container.endpoint.robotId = settings["robot_id"]
+        if "url" in settings:
+            container.endpoint.url = settings["url"]
+
+
+def _apply_sharing(ctx: ResolutionContext, active: list[Any], selection: ProductSelection) -> None:
+    """The sharing mode of a feature's functionality goes to the nodes its elements use."""
+    T = tsm()
+    features_with_sharing = set()
+    for element in active:
+        config = element.feature.sharing
+        if config is None:
+            continue
+        feature = element.feature.name
+        features_with_sharing.add(feature)
+        mode = selection.sharing.get(feature, config.mode.name)
+        origin = "product selection" if feature in selection.sharing else "feature model default"
+        targets = [ctx.copies[id(r)] for r in element.required] + [
+            ctx.copies[id(t.node)]
+            for t in element.transformations
+            if t.eClass.name in ("Implementation", "NodeMigration")
+        ]
+        for node in targets:
+            if not isinstance(node, T.Node):
+                continue
+            ctx.element = element
+            if ctx.decide("sharing mode", node, mode, location_of(element)):
+                node.sharing = T.SharingMode.getEEnumLiteral(mode)
+                ctx.trace.record(
+                    node.name,
+                    "sharing",
+                    f"{mode} ({origin} of feature {feature}), applied by {describe(element)}",
+                    location_of(element),
+                )
+    for feature in sorted(selection.sharing):
+        if feature not in features_with_sharing:
+            ctx.sink.error(
+                selection.location(f"sharing:{feature}"),
+                f"sharing given for {feature}, which has no sharing attribute or no active "
+                "resolution element in this product",
+            )
+
+
+def _implement_data_clients(system: Any) -> None:
+    """Writers and readers run the ROS package generated for them (clients/<package>)."""
+    T = tsm()
+    for container in system.containers:
+        for node in container.nodes:
+            if isinstance(node, (T.Writer, T.Reader)) and not node.package:
+                node.package = node.executable = data_client_package(node.name)
+
+
+def data_client_package(name: str) -> str:
+    """ROS package (and executable) name of a generated writer/reader: snake_case."""
+    return re.sub(r"(?<=[a-z0-9])(?=[A-Z])|(?<=[A-Z])(?=[A-Z][a-z])", "_", name).lower()
+
+
+def summary_lines(resolution: Resolution) -> list[str]:
+    product = resolution.product
+    lines = [f"product {product.name}: {', '.join(product.features)}"]
+    if resolution.completion.added:
+        lines.append(f"  added by completion: {', '.join(resolution.completion.added)}")
+    lines.append(
+        f"  nodes kept: {len(resolution.kept_nodes)}, removed: {len(resolution.removed_nodes)}"
+        + (f" ({', '.join(resolution.removed_nodes)})" if resolution.removed_nodes else "")
+    )
+    for migration in product.migrations:
+        lines.append(f"  migrated: {migration.node} from {migration.source} to {migration.target}")
+    return lines
+
+
+def warnings_of(resolution: Resolution) -> list[Diagnostic]:
+    return [w for w in resolution.product.warnings if w.severity != "error"]
+
+
+__all__ = ["Location", "Resolution", "resolve", "summary_lines"]

@@ -1,0 +1,56 @@
+"""A product line on disk: one folder with a .rm (naming its .tsm and .fm) and
+``products/*.yaml``. Parsed once and reused for every product derived from it."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from spl.diagnostics import Diagnostic, Location, ModelError
+from spl.dsl import rm
+
+
+@dataclass
+class ProductLine:
+    directory: Path
+    models: rm.ResolutionModelFiles
+
+    @property
+    def tsm(self) -> Any:
+        return self.models.tsm
+
+    @property
+    def fm(self) -> Any:
+        return self.models.fm
+
+    @property
+    def rm(self) -> Any:
+        return self.models.rm
+
+    @property
+    def name(self) -> str:
+        return self.directory.resolve().name
+
+    def product_files(self) -> list[Path]:
+        """The products the line's authors listed (``products/*.yaml``), by name."""
+        return sorted((self.directory / "products").glob("*.yaml"))
+
+
+def find_resolution_model(directory: Path) -> Path:
+    found = sorted(directory.glob("*.rm"))
+    if len(found) != 1:
+        what = "no .rm file" if not found else f"{len(found)} .rm files"
+        raise ModelError(
+            [
+                Diagnostic(
+                    Location(str(directory), 0, 0), f"a product line holds one .rm; found {what}"
+                )
+            ]
+        )
+    return found[0]
+
+
+def load_product_line(directory: str | Path) -> ProductLine:
+    directory = Path(directory)
+    return ProductLine(directory, rm.load(find_resolution_model(directory)))

@@ -1,0 +1,185 @@
+"""Product selections: the YAML file of SPEC section 4, or ``--features A,B,C`` inline.
+
+A selection is user input like any model, so it is validated with located errors:
+the YAML is composed (not just loaded) to keep the line and column of every key, and
+every name that will later reach a generated file is checked here.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+from spl.diagnostics import DiagnosticSink, Location
+
+IDENT = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
+ROBOT_ID = re.compile(r"[A-Za-z][A-Za-z0-9_-]{0,63}")
+URL = re.compile(r"wss?://[A-Za-z0-9.-]+(:[0-9]{1,5})?(/[A-Za-z0-9._~/-]*)?")
+SHARING_MODES = ("private", "protected", "public")
+TOP_LEVEL_KEYS = ("product", "features", "deselected", "sharing", "attributes", "deployment")
+DEPLOYMENT_KEYS = {"robot_id": ROBOT_ID, "url": URL}
+
+
+@dataclass
+class ProductSelection:
+    name: str
+    features: list[str]
+    deselected: list[str] = field(default_factory=list)
+    sharing: dict[str, str] = field(default_factory=dict)  # feature -> mode
+    attributes: dict[str, Any] = field(default_factory=dict)  # "Feature.attr" -> value
+    deployment: dict[str, dict[str, str]] = field(default_factory=dict)  # container -> settings
+    # where each name was given (feature name / "Feature.attr" / sharing feature), for errors
+    locations: dict[str, Location] = field(default_factory=dict)
+    source: str = "--features"
+
+    def location(self, key: str) -> Location:
+        return self.locations.get(key) or Location(self.source, 1, 1)
+
+
+def selection_from_list(text: str, name: str | None = None) -> ProductSelection:
+    """``--features YouBot,Stereo`` (commas and/or spaces)."""
+    sink = DiagnosticSink()
+    features = [f for f in re.split(r"[,\s]+", text.strip()) if f]
+    where = Location("--features", 1, 1)
+    for feature in features:
+        if not IDENT.fullmatch(feature):
+            sink.error(where, f"{feature!r} is not a feature name")
+    if not features:
+        sink.error(where, "no feature given")
+    sink.raise_if_errors()
+    return ProductSelection(name=name or "_".join(features), features=features)
+
+
+def load_selection_file(path: str | Path) -> ProductSelection:
+    path = Path(path)
+    filename = str(path)
+    sink = DiagnosticSink()
+    try:
+        root = yaml.compose(path.read_text(encoding="utf-8"), Loader=yaml.SafeLoader)
+    except yaml.MarkedYAMLError as exc:
+        mark = exc.problem_mark
+        where = Location(filename, mark.line + 1, mark.column + 1) if mark else None
+        sink.error(where, f"invalid YAML: {exc.problem}")
+        sink.raise_if_errors()
+        raise AssertionError("unreachable") from None
+
+    def at(node: yaml.Node) -> Location:
+        return Location(filename, node.start_mark.line + 1, node.start_mark.column + 1)
+
+    selection = ProductSelection(name=path.stem, features=[], source=filename)
+    if not isinstance(root, yaml.MappingNode):
+        sink.error(Location(filename, 1, 1), "a product selection is a mapping (product, features)")
+        sink.raise_if_errors()
+    for key_node, value_node in root.value:
+        key = key_node.value
+        if key not in TOP_LEVEL_KEYS:
+            sink.error(at(key_node), f"unknown key {key!r} (expected {', '.join(TOP_LEVEL_KEYS)})")
+        elif key == "product":
+            if isinstance(value_node, yaml.ScalarNode) and IDENT.fullmatch(value_node.value):
+                selection.name = value_node.value
+            else:
+                sink.error(at(value_node), "product: expected an identifier")
+        elif key in ("features", "deselected"):
+            names = _names(value_node, at, sink, key)
+            getattr(selection, key).extend(names)
+            for name, node in zip(names, value_node.value, strict=False):
+                selection.locations.setdefault(name, at(node))
+        elif key == "sharing":
+            for k, v in _pairs(value_node, at, sink, key):
+                if not IDENT.fullmatch(k.value):
+                    sink.error(at(k), f"sharing: {k.value!r} is not a feature name")
+                elif v.value not in SHARING_MODES:
+                    sink.error(at(v), f"sharing: expected one of {', '.join(SHARING_MODES)}")
+                else:
+                    selection.sharing[k.value] = v.value
+                    selection.locations[f"sharing:{k.value}"] = at(k)
+        elif key == "attributes":
+            for k, v in _pairs(value_node, at, sink, key):
+                if not re.fullmatch(r"[A-Za-z_]\w*\.[A-Za-z_]\w*", k.value, re.ASCII):
+                    sink.error(at(k), f"attributes: {k.value!r} is not FEATURE.ATTRIBUTE")
+                else:
+                    selection.attributes[k.value] = yaml.safe_load(yaml.serialize(v))
+                    selection.locations[k.value] = at(k)
+        else:
+            _deployment(value_node, at, sink, selection)
+    if not selection.features:
+        sink.error(Location(filename, 1, 1), "no features selected (key 'features')")
+    sink.raise_if_errors()
+    return selection
+
+
+def _names(node, at, sink, key) -> list[str]:
+    if not isinstance(node, yaml.SequenceNode):
+        sink.error(at(node), f"{key}: expected a list of feature names")
+        return []
+    names = []
+    for item in node.value:
+        if isinstance(item, yaml.ScalarNode) and IDENT.fullmatch(item.value):
+            names.append(item.value)
+        else:
+            sink.error(at(item), f"{key}: {getattr(item, 'value', item)!r} is not a feature name")
+    return names
+
+
+def _pairs(node, at, sink, key):
+    if not isinstance(node, yaml.MappingNode):
+        sink.error(at(node), f"{key}: expected a mapping")
+        return []
+    pairs = []
+    for k, v in node.value:
+        if isinstance(v, yaml.ScalarNode):
+            pairs.append((k, v))
+        else:
+            sink.error(at(v), f"{key}: {k.value}: expected a single value")
+    return pairs
+
+
+def _deployment(node, at, sink, selection: ProductSelection) -> None:
+    if not isinstance(node, yaml.MappingNode):
+        sink.error(at(node), "deployment: expected CONTAINER: {robot_id: ..., url: ...}")
+        return
+    for container_node, settings in node.value:
+        container = container_node.value
+        if not IDENT.fullmatch(container):
+            sink.error(at(container_node), f"deployment: {container!r} is not a container name")
+            continue
+        selection.locations[f"deployment:{container}"] = at(container_node)
+        values = {}
+        for k, v in _pairs(settings, at, sink, f"deployment: {container}"):
+            pattern = DEPLOYMENT_KEYS.get(k.value)
+            if pattern is None:
+                sink.error(at(k), f"deployment: unknown setting {k.value!r} (robot_id, url)")
+            elif not pattern.fullmatch(v.value):
+                sink.error(at(v), f"deployment: {k.value} {v.value!r} is not valid")
+            else:
+                values[k.value] = v.value
+        selection.deployment[container] = values
+
+
+def apply_overrides(
+    selection: ProductSelection, sharing: list[str], settings: list[str]
+) -> ProductSelection:
+    """Command-line ``--sharing F=mode`` and ``--set F.attr=value`` win over the file."""
+    sink = DiagnosticSink()
+    for text in sharing:
+        where = Location("--sharing", 1, 1)
+        feature, _, mode = text.partition("=")
+        if not IDENT.fullmatch(feature) or mode not in SHARING_MODES:
+            sink.error(where, f"{text!r}: expected FEATURE=private|protected|public")
+            continue
+        selection.sharing[feature] = mode
+        selection.locations[f"sharing:{feature}"] = where
+    for text in settings:
+        where = Location("--set", 1, 1)
+        key, _, value = text.partition("=")
+        if not re.fullmatch(r"[A-Za-z_]\w*\.[A-Za-z_]\w*", key, re.ASCII) or not value:
+            sink.error(where, f"{text!r}: expected FEATURE.ATTRIBUTE=VALUE")
+            continue
+        selection.attributes[key] = yaml.safe_load(value)
+        selection.locations[key] = where
+    sink.raise_if_errors()
+    return selection

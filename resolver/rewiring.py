@@ -1,0 +1,172 @@
+"""Endpoint rewiring after node migration (SPEC 5.3), minimal by construction.
+
+Rather than patching bridges migration by migration, the wiring across containers is
+derived once from the data flows of the template:
+
+1. The template's topics and endpoint connections give a directed graph of where data
+   published on a topic arrives (a bridge A.T1 -> B.T2 is an edge). A publisher feeds a
+   subscriber when the subscriber's template topic is reachable from the publisher's.
+   A service client is served by the real server behind any chain of stand-ins.
+2. Each node interface is bound to a topic of the container its node now lives in:
+   its own topic if it stayed, else a topic of the target container with the same ROS
+   name and type (reused when it exists, created otherwise).
+3. For every flow whose two ends now live in different containers, one bridge between
+   their topics; for every client whose server lives elsewhere, one service bridge.
+   Flows inside one container need nothing.
+
+So there is never a bridge inside one container, never a hairpin (a node that moved
+next to its peer is wired to it locally and the bridge that served it disappears),
+never a duplicate bridge for a topic several migrated nodes share, and same-named
+topics are reused. The result is the same whatever order migrations ran in.
+"""
+
+from __future__ import annotations
+
+from collections import defaultdict
+from typing import Any
+
+import networkx as nx
+
+from spl.diagnostics import Diagnostic, location_of
+from spl.metamodels import tsm
+from spl.resolver import endpoints
+from spl.resolver.context import qualified
+from spl.resolver.trace import Trace
+
+
+def rewire(system: Any, trace: Trace, migrated: set[str]) -> list[Diagnostic]:
+    T = tsm()
+    flow_graph = nx.DiGraph()
+    callers_of_stand_in: dict[int, Any] = {}
+    for connection in system.connections:
+        source, target = connection.source, connection.target
+        if isinstance(source, T.Subscriber) and isinstance(target, T.Publisher):
+            if source.topic is not None and target.topic is not None:
+                flow_graph.add_edge(id(source.topic), id(target.topic))
+        elif isinstance(source, T.ServiceServer) and isinstance(target, T.ServiceClient):
+            callers_of_stand_in[id(source)] = target
+
+    def real_server(server: Any) -> Any:
+        seen: set[int] = set()
+        while server is not None and endpoints.is_endpoint_interface(server):
+            if id(server) in seen:
+                return None
+            seen.add(id(server))
+            caller = callers_of_stand_in.get(id(server))
+            server = caller.server if caller is not None else None
+        return server
+
+    publishers, subscribers, clients = [], [], []
+    for container in system.containers:
+        for node in container.nodes:
+            for interface in node.interfaces:
+                if isinstance(interface, T.Publisher) and interface.topic is not None:
+                    publishers.append(interface)
+                elif isinstance(interface, T.Subscriber) and interface.topic is not None:
+                    subscribers.append(interface)
+                elif isinstance(interface, T.ServiceClient):
+                    clients.append(interface)
+    template_topic = {id(i): i.topic for i in publishers + subscribers}
+    served_by = {id(c): real_server(c.server) for c in clients}
+
+    for interface in publishers + subscribers:
+        container = interface.eContainer().eContainer()
+        if interface.topic.eContainer() is not container:
+            interface.topic = _local_topic(container, interface, trace)
+
+    subscribers_of: dict[int, list[Any]] = defaultdict(list)
+    for subscriber in subscribers:
+        subscribers_of[id(template_topic[id(subscriber)])].append(subscriber)
+    reach: dict[int, set[int]] = {}
+    bridges: dict[tuple[int, int], list[tuple[Any, Any]]] = {}
+    warnings: list[Diagnostic] = []
+    for publisher in publishers:
+        start = id(template_topic[id(publisher)])
+        if start not in reach:
+            downstream = nx.descendants(flow_graph, start) if start in flow_graph else set()
+            reach[start] = downstream | {start}
+        for topic_id in reach[start]:
+            for subscriber in subscribers_of.get(topic_id, ()):
+                if _container(publisher) is not _container(subscriber):
+                    bridges.setdefault((id(publisher.topic), id(subscriber.topic)), []).append(
+                        (publisher, subscriber)
+                    )
+                elif publisher.topic is not subscriber.topic:
+                    warnings.append(
+                        Diagnostic(
+                            location_of(subscriber),
+                            f"{qualified(subscriber)} was fed by {qualified(publisher)} through "
+                            f"another container; both now live in {_container(publisher).name} "
+                            f"on different topics ({qualified(publisher.topic)}, "
+                            f"{qualified(subscriber.topic)}): connect them to one topic",
+                            "warning",
+                            "SPL031",
+                        )
+                    )
+
+    for container in system.containers:
+        container.endpoint.interfaces.clear()
+    system.connections.clear()
+    for flows in bridges.values():
+        publisher, subscriber = flows[0]
+        endpoints.topic_bridge(system, publisher.topic, subscriber.topic)
+        if {publisher.eContainer().name, subscriber.eContainer().name} & migrated:
+            carried = ", ".join(f"{qualified(p)} -> {qualified(s)}" for p, s in flows)
+            trace.record(
+                qualified(publisher.topic),
+                "bridged",
+                f"to {qualified(subscriber.topic)} through the endpoints, carrying {carried}",
+            )
+    for client in clients:
+        server = served_by[id(client)]
+        if server is None:
+            client.server = None
+        elif _container(server) is _container(client):
+            client.server = server
+        else:
+            endpoints.service_bridge(system, client, server)
+            if {client.eContainer().name, server.eContainer().name} & migrated:
+                trace.record(
+                    qualified(client),
+                    "bridged",
+                    f"to {qualified(server)} through an endpoint stand-in in "
+                    f"{_container(client).name}",
+                )
+    return warnings
+
+
+def _container(interface: Any) -> Any:
+    return interface.eContainer().eContainer()
+
+
+def _local_topic(container: Any, interface: Any, trace: Trace) -> Any:
+    """The topic of ``container`` standing for ``interface``'s template topic."""
+    template = interface.topic
+    for topic in container.topics:
+        if topic.rosName == template.rosName and topic.type == template.type:
+            trace.record(
+                qualified(interface),
+                "rewired",
+                f"to {qualified(topic)} (reused: same ROS name {topic.rosName} and type "
+                f"as {qualified(template)})",
+            )
+            return topic
+    taken = {t.name for t in container.topics}
+    name, suffix = template.name, 1
+    while name in taken:
+        suffix += 1
+        name = f"{template.name}_{suffix}"
+    topic = tsm().Topic(name=name, type=template.type, rosName=template.rosName)
+    topic.srcFile, topic.srcLine, topic.srcCol = (
+        template.srcFile,
+        template.srcLine,
+        template.srcCol,
+    )
+    container.topics.append(topic)
+    trace.record(
+        qualified(topic),
+        "created",
+        f"in {container.name} for the migrated {interface.eContainer().name}, "
+        f"mirroring {qualified(template)} (ROS name {template.rosName})",
+    )
+    return topic

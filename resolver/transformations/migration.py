@@ -1,0 +1,31 @@
+"""Node migration: move a node to another container (SPEC 5.3).
+
+Moving is this function's whole job. The node's interfaces keep pointing at the
+topics and servers they used in the template; the endpoint rewiring
+(:mod:`spl.resolver.rewiring`) runs once after every transformation and rebuilds the
+cross-container wiring from those template-level data flows, which keeps the rewiring
+minimal however many nodes move and in whatever order.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from spl.diagnostics import location_of
+from spl.resolver.context import ResolutionContext
+from spl.resolver.product import NodeMigration
+
+
+def apply(transformation: Any, ctx: ResolutionContext) -> None:
+    node = ctx.copy_of(transformation.node)
+    target = ctx.copy_of(transformation.target)
+    where = location_of(transformation)
+    ctx.keep(node, f"it is migrated by {ctx.by()}", where)
+    if not ctx.decide("migration target", node, target.name, where):
+        return
+    source = node.eContainer()
+    target.nodes.append(node)
+    ctx.migrations.append(NodeMigration(node.name, source.name, target.name, where))
+    ctx.trace.record(
+        node.name, "migrated", f"from {source.name} to {target.name} by {ctx.by()}", where
+    )

@@ -1,0 +1,46 @@
+"""``spl explain DIR --features ... ELEMENT``: why an element is as it is in a product."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import click
+
+from spl.commands.selection_options import selection_from_options, selection_options
+from spl.resolver.engine import resolve
+from spl.resolver.product_line import load_product_line
+
+
+@click.command("explain")
+@click.argument("directory", type=click.Path(exists=True, file_okay=False, path_type=Path))
+@selection_options
+@click.argument("element")
+def command(directory: Path, features: str, sharing, settings, element: str) -> None:
+    """Say why ELEMENT (a node, topic, interface, container or feature) is present,
+    absent, migrated or configured as it is in the selected product, naming the
+    resolution elements and features responsible with their file locations."""
+    line = load_product_line(directory)
+    resolution = resolve(line, selection_from_options(features, sharing, settings))
+    system = resolution.product.system
+    placed = {n.name: c.name for c in system.containers for n in c.nodes}
+    if element in placed:
+        click.echo(f"{element}: present in container {placed[element]}")
+    elif element in resolution.product.features:
+        click.echo(f"{element}: selected feature")
+    entries = resolution.trace.about(element)
+    if not entries and element not in placed:
+        known = _template_names(line.tsm) | {f for f in resolution.product.features}
+        if element not in known:
+            raise click.BadParameter(f"no element named {element!r} in {directory}")
+        click.echo(f"{element}: nothing in this product decided about it")
+        return
+    for entry in entries:
+        click.echo(f"  {entry}")
+
+
+def _template_names(system) -> set[str]:
+    names = {c.name for c in system.containers}
+    for container in system.containers:
+        names |= {n.name for n in container.nodes} | {t.name for t in container.topics}
+        names |= {s.name for s in container.stores}
+    return names

@@ -1,0 +1,33 @@
+"""``spl resolve DIR --features LIST|FILE.yaml [-o OUT]``: derive one product, write its bundle."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import click
+
+from spl.commands.selection_options import selection_from_options, selection_options
+from spl.generators.bundle import bundle_files, write_bundle
+from spl.resolver.engine import resolve, summary_lines
+from spl.resolver.product_line import load_product_line
+
+
+@click.command("resolve")
+@click.argument("directory", type=click.Path(exists=True, file_okay=False, path_type=Path))
+@selection_options
+@click.option(
+    "-o", "--out", type=click.Path(path_type=Path), help="bundle folder (default: build/PRODUCT)"
+)
+def command(directory: Path, features: str, sharing, settings, out: Path | None) -> None:
+    """Derive the product selected by --features (a list or a YAML file) and write its
+    deployment bundle. The bundle is written atomically: on any error nothing is left."""
+    line = load_product_line(directory)
+    resolution = resolve(line, selection_from_options(features, sharing, settings))
+    files = bundle_files(resolution.product)
+    out = out or Path("build") / resolution.product.name
+    write_bundle(files, out)
+    for line_text in summary_lines(resolution):
+        click.echo(line_text)
+    for warning in resolution.product.warnings:
+        click.echo(str(warning), err=True)
+    click.echo(f"  wrote {len(files)} files to {out}")
