@@ -7,8 +7,6 @@ from pathlib import Path
 import click
 
 from spl.commands.selection_options import selection_from_options, selection_options
-from spl.resolver.engine import resolve
-from spl.resolver.product_line import load_product_line
 
 
 @click.command("explain")
@@ -19,6 +17,9 @@ def command(directory: Path, features: str, sharing, settings, element: str) -> 
     """Say why ELEMENT (a node, topic, interface, container or feature) is present,
     absent, migrated or configured as it is in the selected product, naming the
     resolution elements and features responsible with their file locations."""
+    from spl.resolver.engine import resolve
+    from spl.resolver.product_line import load_product_line
+
     line = load_product_line(directory)
     resolution = resolve(line, selection_from_options(features, sharing, settings))
     system = resolution.product.system

@@ -7,9 +7,6 @@ from pathlib import Path
 import click
 
 from spl.commands.selection_options import selection_from_options, selection_options
-from spl.generators.bundle import bundle_files, write_bundle
-from spl.resolver.engine import resolve, summary_lines
-from spl.resolver.product_line import load_product_line
 
 
 @click.command("resolve")
@@ -21,6 +18,10 @@ from spl.resolver.product_line import load_product_line
 def command(directory: Path, features: str, sharing, settings, out: Path | None) -> None:
     """Derive the product selected by --features (a list or a YAML file) and write its
     deployment bundle. The bundle is written atomically: on any error nothing is left."""
+    from spl.generators.bundle import bundle_files, write_bundle
+    from spl.resolver.engine import resolve, summary_lines
+    from spl.resolver.product_line import load_product_line
+
     line = load_product_line(directory)
     resolution = resolve(line, selection_from_options(features, sharing, settings))
     files = bundle_files(resolution.product)
