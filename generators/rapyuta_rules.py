@@ -1,0 +1,308 @@
+"""The RoboEarth Cloud Engine's own acceptance rules, checked on a set of rce-ros files.
+
+A JSON Schema says what one file may look like; it cannot say what the engine refuses
+when the file is applied: an ``...Interface`` type on a robot, a connection between two
+publishers, two message classes on one connection, a tag that names nothing. Those rules
+span files, because a connection may name an interface that another robot of the same
+user declares in its own file (the engine's ``lo_client.cfg`` connects to
+``lo_server.cfg``'s interfaces); so a product's files are checked together.
+
+Applying a product's files together is a union: a container, node, parameter,
+interface or connection declared *identically* in several files (the shared container
+of a group, declared by every robot of the group) is created once. Declaring one tag
+twice inside one file, or differently in two files, is what the engine would refuse.
+
+Every problem names the file and the JSON path of the offending entry, e.g.
+``Robot.json: connections[2]: ...``.
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass
+from functools import cache
+from importlib.resources import files
+from typing import Any
+
+import jsonschema
+
+ROLES = ("Publisher", "Subscriber", "ServiceClient", "ServiceProvider")
+CONTAINER_SUFFIXES = ("Interface",)
+ROBOT_SUFFIXES = ("Converter", "Forwarder")
+# Pairs the engine connects (either order), whatever the suffix of each side.
+CONNECTABLE = {
+    frozenset({"Publisher", "Subscriber"}),
+    frozenset({"ServiceClient", "ServiceProvider"}),
+}
+
+
+@dataclass(frozen=True, order=True)
+class ConfigurationProblem:
+    """One refusal: the file, the JSON path of the entry, what is wrong, which rule."""
+
+    file: str
+    path: str
+    message: str
+    rule: str
+
+    def __str__(self) -> str:
+        where = f"{self.path}: " if self.path else ""
+        return f"{self.file}: {where}{self.message} [{self.rule}]"
+
+
+@cache
+def schema() -> dict[str, Any]:
+    """The shipped JSON Schema (draft 2020-12) of the rce-ros configuration format."""
+    text = files("spl.generators").joinpath("schemas/rapyuta.schema.json").read_text("utf-8")
+    return json.loads(text)
+
+
+def schema_problems(config: Any, name: str) -> list[ConfigurationProblem]:
+    """Schema violations of one file, each at its JSON path."""
+    validator = jsonschema.Draft202012Validator(
+        schema(), format_checker=jsonschema.Draft202012Validator.FORMAT_CHECKER
+    )
+    problems = [
+        ConfigurationProblem(name, _json_path(error.absolute_path), error.message, "schema")
+        for error in validator.iter_errors(config)
+    ]
+    return sorted(problems)
+
+
+def check_all(configs: Sequence[Any], names: Sequence[str]) -> list[ConfigurationProblem]:
+    """Schema and engine rules together: what a product's file set must pass."""
+    problems: list[ConfigurationProblem] = []
+    for config, name in zip(configs, names, strict=True):
+        problems.extend(schema_problems(config, name))
+    return problems + check_configurations(configs, names)
+
+
+def _json_path(parts: Iterable[Any]) -> str:
+    text = ""
+    for part in parts:
+        text += f"[{part}]" if isinstance(part, int) else (f".{part}" if text else str(part))
+    return text
+
+
+def _entries(config: Any, key: str) -> list[tuple[int, dict[str, Any]]]:
+    """The well-formed entries of one list; malformed ones are the schema's to report."""
+    items = config.get(key) if isinstance(config, dict) else None
+    if not isinstance(items, list):
+        return []
+    return [(index, item) for index, item in enumerate(items) if isinstance(item, dict)]
+
+
+def _role_and_suffix(i_type: Any) -> tuple[str, str] | None:
+    if not isinstance(i_type, str):
+        return None
+    for role in ROLES:
+        suffix = i_type[len(role) :]
+        if i_type.startswith(role) and suffix in CONTAINER_SUFFIXES + ROBOT_SUFFIXES:
+            return role, suffix
+    return None
+
+
+class _Declarations:
+    """Declarations keyed by identity across the file set, merged when identical."""
+
+    def __init__(self, kind: str, report: Any) -> None:
+        self.kind = kind
+        self.report = report
+        self.first: dict[Any, tuple[str, str, Any]] = {}
+
+    def declare(self, key: Any, file: str, path: str, value: Any, label: str) -> None:
+        known = self.first.get(key)
+        if known is None:
+            self.first[key] = (file, path, value)
+            return
+        known_file, known_path, known_value = known
+        if known_file == file:
+            self.report(
+                file,
+                path,
+                f"{label} is declared twice in this file (first at {known_path})",
+                f"duplicate-{self.kind}",
+            )
+        elif known_value != value:
+            self.report(
+                file,
+                path,
+                f"{label} is declared differently in {known_file} ({known_path}): applying "
+                "both files would give it two definitions",
+                f"conflicting-{self.kind}",
+            )
+
+    def __contains__(self, key: Any) -> bool:
+        return key in self.first
+
+    def get(self, key: Any) -> Any:
+        known = self.first.get(key)
+        return known[2] if known else None
+
+
+def check_configurations(
+    configs: Sequence[Any], names: Sequence[str]
+) -> list[ConfigurationProblem]:
+    """The engine's rules over a set of files applied together (one user's robots).
+
+    Returns every problem found (empty when the engine would accept the whole set), in a
+    stable order: by file, then JSON path.
+    """
+    problems: list[ConfigurationProblem] = []
+
+    def report(file: str, path: str, message: str, rule: str) -> None:
+        problems.append(ConfigurationProblem(file, path, message, rule))
+
+    files_ = list(zip(names, configs, strict=True))
+    robots: dict[str, str] = {}
+    for name, config in files_:
+        robot = config.get("robotID") if isinstance(config, dict) else None
+        if not isinstance(robot, str):
+            continue
+        if robot in robots:
+            report(
+                name,
+                "robotID",
+                f"robot {robot!r} is also the robot of {robots[robot]}",
+                "duplicate-robot",
+            )
+        else:
+            robots[robot] = name
+
+    containers = _Declarations("container", report)
+    for name, config in files_:
+        for index, entry in _entries(config, "containers"):
+            c_tag = entry.get("cTag")
+            path = f"containers[{index}]"
+            if c_tag in robots:
+                report(
+                    name,
+                    path,
+                    f"container tag {c_tag!r} is already a robot's tag",
+                    "endpoint-tag-clash",
+                )
+            containers.declare(c_tag, name, path, entry, f"container {c_tag!r}")
+
+    def check_container_ref(file: str, path: str, c_tag: Any, what: str) -> None:
+        if c_tag not in containers:
+            report(
+                file,
+                path,
+                f"{what} names container {c_tag!r}, which no file declares",
+                "unknown-container",
+            )
+
+    nodes = _Declarations("node", report)
+    parameters = _Declarations("parameter", report)
+    for name, config in files_:
+        for index, entry in _entries(config, "nodes"):
+            path = f"nodes[{index}]"
+            check_container_ref(name, path, entry.get("cTag"), f"node {entry.get('nTag')!r}")
+            key = (entry.get("cTag"), entry.get("nTag"))
+            nodes.declare(key, name, path, entry, f"node {key[1]!r} in container {key[0]!r}")
+        for index, entry in _entries(config, "parameters"):
+            path = f"parameters[{index}]"
+            check_container_ref(name, path, entry.get("cTag"), f"parameter {entry.get('name')!r}")
+            key = (entry.get("cTag"), entry.get("name"))
+            parameters.declare(
+                key, name, path, entry, f"parameter {key[1]!r} in container {key[0]!r}"
+            )
+
+    interfaces = _Declarations("interface", report)
+    for name, config in files_:
+        for index, entry in _entries(config, "interfaces"):
+            path = f"interfaces[{index}]"
+            e_tag, i_tag, i_type = entry.get("eTag"), entry.get("iTag"), entry.get("iType")
+            label = f"interface {e_tag}/{i_tag}"
+            kind = _role_and_suffix(i_type)
+            if e_tag in robots:
+                if kind is not None and kind[1] not in ROBOT_SUFFIXES:
+                    report(
+                        name,
+                        f"{path}.iType",
+                        f"{label} is on robot {e_tag!r}: a robot endpoint takes "
+                        f"{kind[0]}Converter or {kind[0]}Forwarder, not {i_type}",
+                        "interface-type-on-robot",
+                    )
+            elif e_tag in containers:
+                if kind is not None and kind[1] not in CONTAINER_SUFFIXES:
+                    report(
+                        name,
+                        f"{path}.iType",
+                        f"{label} is on container {e_tag!r}: a container endpoint takes "
+                        f"{kind[0]}Interface, not {i_type}",
+                        "interface-type-on-container",
+                    )
+            else:
+                report(
+                    name,
+                    f"{path}.eTag",
+                    f"{label}: endpoint {e_tag!r} is neither a declared container nor a "
+                    "robot of this set",
+                    "unknown-endpoint",
+                )
+            interfaces.declare((e_tag, i_tag), name, path, entry, label)
+
+    for name, config in files_:
+        seen: dict[frozenset[str], str] = {}
+        for index, entry in _entries(config, "connections"):
+            path = f"connections[{index}]"
+            tags = [entry.get("tagA"), entry.get("tagB")]
+            declared = []
+            for side, tag in zip(("tagA", "tagB"), tags, strict=True):
+                parts = tag.split("/") if isinstance(tag, str) else []
+                if len(parts) != 2:
+                    report(
+                        name,
+                        f"{path}.{side}",
+                        f"{tag!r} is not of the form eTag/iTag",
+                        "malformed-tag",
+                    )
+                    continue
+                interface = interfaces.get(tuple(parts))
+                if interface is None:
+                    report(
+                        name,
+                        f"{path}.{side}",
+                        f"{tag} names no declared interface (no file declares interface "
+                        f"{parts[1]!r} on endpoint {parts[0]!r})",
+                        "unresolved-tag",
+                    )
+                else:
+                    declared.append(interface)
+            if all(isinstance(tag, str) for tag in tags):
+                pair = frozenset(tags)
+                if len(pair) == 1:
+                    report(name, path, f"connects {tags[0]} to itself", "self-connection")
+                elif pair in seen:
+                    report(
+                        name,
+                        path,
+                        f"{tags[0]} and {tags[1]} are already connected by {seen[pair]}",
+                        "duplicate-connection",
+                    )
+                else:
+                    seen[pair] = path
+            if len(declared) != 2:
+                continue
+            a, b = declared
+            kind_a, kind_b = _role_and_suffix(a.get("iType")), _role_and_suffix(b.get("iType"))
+            if kind_a and kind_b and frozenset({kind_a[0], kind_b[0]}) not in CONNECTABLE:
+                report(
+                    name,
+                    path,
+                    f"{tags[0]} ({a.get('iType')}) cannot be connected to {tags[1]} "
+                    f"({b.get('iType')}): only Publisher with Subscriber or ServiceClient "
+                    "with ServiceProvider",
+                    "unconnectable-pair",
+                )
+            if a.get("iCls") != b.get("iCls"):
+                report(
+                    name,
+                    path,
+                    f"{tags[0]} carries {a.get('iCls')} but {tags[1]} carries "
+                    f"{b.get('iCls')}: both sides must have the same iCls",
+                    "message-class-mismatch",
+                )
+    return sorted(problems)
