@@ -1,0 +1,95 @@
+"""``spl render DIR [--features ...] [--what fm|tsm|product] -o FILE.svg``: diagrams.
+
+Three views of one product line: its feature model (with a selection highlighted when
+``--features`` is given), its template architecture (the TSM as written), or the
+resolved architecture of one product. The output format follows the file suffix.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import click
+
+from spl.commands.selection_options import selection_from_options
+
+VIEWS = ("fm", "tsm", "product")
+
+
+@click.command("render")
+@click.argument("directory", type=click.Path(exists=True, file_okay=False, path_type=Path))
+@click.option(
+    "--features",
+    default=None,
+    metavar="LIST|FILE.yaml",
+    help="selected features (needed for --what product; highlights them with --what fm)",
+)
+@click.option(
+    "--sharing",
+    multiple=True,
+    metavar="FEATURE=MODE",
+    help="sharing mode private|protected|public for a feature (overrides the file)",
+)
+@click.option(
+    "--set",
+    "settings",
+    multiple=True,
+    metavar="FEATURE.ATTR=VALUE",
+    help="set a feature attribute (overrides the file)",
+)
+@click.option(
+    "--what",
+    type=click.Choice(VIEWS),
+    default=None,
+    help="diagram to draw (default: product with --features, else tsm)",
+)
+@click.option(
+    "-o",
+    "--out",
+    required=True,
+    type=click.Path(dir_okay=False, path_type=Path),
+    help="output file, .svg or .png",
+)
+def command(
+    directory: Path,
+    features: str | None,
+    sharing: tuple[str, ...],
+    settings: tuple[str, ...],
+    what: str | None,
+    out: Path,
+) -> None:
+    """Draw the feature model, the template architecture or a resolved product of the
+    product line in DIRECTORY, in the notation of the mapping paper (seeds/003 Fig. 4
+    and Fig. 5)."""
+    if out.suffix.lower() not in (".svg", ".png"):
+        raise click.BadParameter(f"{out}: the file must end in .svg or .png", param_hint="-o")
+    what = what or ("product" if features else "tsm")
+    if what == "product" and not features:
+        raise click.UsageError("--what product needs --features")
+
+    import graphviz
+
+    from spl.generators import diagrams
+    from spl.resolver.product_line import load_product_line
+
+    line = load_product_line(directory)
+    resolution = None
+    if features:
+        from spl.resolver.engine import resolve
+
+        resolution = resolve(line, selection_from_options(features, sharing, settings))
+    if what == "fm":
+        selected = set(resolution.product.features) if resolution else None
+        graph = diagrams.feature_model_graph(line.fm, selected)
+    elif what == "tsm":
+        graph = diagrams.architecture_graph(line.tsm)
+    else:
+        graph = diagrams.architecture_graph(resolution.product.system, resolution.product)
+    try:
+        diagrams.render(graph, out)
+    except graphviz.ExecutableNotFound as error:
+        raise click.ClickException(
+            "Graphviz's 'dot' program is needed to draw diagrams "
+            "(Debian/Ubuntu: apt-get install graphviz)"
+        ) from error
+    click.echo(f"wrote {out}")
