@@ -15,8 +15,12 @@ public         ``<C>_public``         one for everybody
 A robot *uses* ``C`` when endpoint connections link the two, directly or through other
 cloud containers (robots never relay for each other). Each robot's file declares its
 private containers and every shared container it uses; a shared container is declared
-with the same nodes, parameters and interfaces in every file that names it, so applying
-the files of a group creates it once.
+with the same nodes, parameters and interfaces in every file that names it (its
+interfaces are the union over all robots), so applying the files of a group creates it
+once. A private container serves its own robot alone: data of another robot reaches it,
+or leaves it for another robot, only through a shared container's nodes. A connection
+is written in the file of the robot it belongs to (its robot or private container is
+one side), and a connection between two shared containers in every file declaring both.
 
 Wiring. Instead of copying the TSM's endpoint interfaces, every data flow of the
 architecture is followed from the node that produces it to each node that consumes it
@@ -59,6 +63,7 @@ import yaml
 
 from spl.diagnostics import Diagnostic, ModelError, location_of
 from spl.generators.rapyuta_rules import check_all
+from spl.generators.ros1 import server_ros_name, topic_ros_name
 from spl.metamodels import tsm
 from spl.resolver.product import ResolvedProduct
 
@@ -214,12 +219,13 @@ def _ros_name(name: str, namespace: str | None) -> str:
 
 
 def _topic_name(topic: Any) -> str:
-    return _ros_name(topic.rosName or topic.name, topic.eContainer().namespace)
+    """The topic's ROS name exactly as the launch files remap to it."""
+    return _ros_name(topic_ros_name(topic), topic.eContainer().namespace)
 
 
-def _service_name(server: Any, container: Any) -> str:
-    """The ROS name of a server as resolved in ``container`` (where the interface sits)."""
-    return _ros_name(server.rosName or server.name, container.namespace)
+def _service_name(server: Any, container: Any, system: Any) -> str:
+    """The ROS name a server (or stand-in) is called by in ``container``, as in launch."""
+    return _ros_name(server_ros_name(server, system), container.namespace)
 
 
 def _end(
@@ -378,10 +384,7 @@ class _Wiring:
                     f"srv_{tag}",
                     "ServiceProvider",
                     server.type,
-                    _ros_name(
-                        client.server.rosName or server.rosName or server.name,
-                        node.eContainer().namespace,
-                    ),
+                    _service_name(client.server, node.eContainer(), self.system),
                     client,
                 ),
                 _end(
@@ -389,7 +392,7 @@ class _Wiring:
                     f"cli_{tag}",
                     "ServiceClient",
                     server.type,
-                    _service_name(server, server_node.eContainer()),
+                    _service_name(server, server_node.eContainer(), self.system),
                     server,
                 ),
             )

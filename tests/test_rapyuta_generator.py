@@ -441,3 +441,73 @@ def test_type_mismatch_across_a_bridge_is_refused():
     ].type = "sensor_msgs/CompressedImage"
     with pytest.raises(ModelError, match="sensor_msgs/Image but it expects"):
         generate(product(system))
+
+
+def test_namespaces_and_unnamed_ros_names_resolve_as_in_the_launch_files():
+    system = T.System(name="S")
+    r = robot(system, "Robot", "robot_1")
+    c = cloud(system, "Cloud", namespace="mapping")
+    odom_cloud = topic(c, "Odom", "nav_msgs/Odometry", None)  # launch: /Odom
+    odom_robot = topic(r, "Odom", "nav_msgs/Odometry", None)
+    planner = node(c, "Planner", "nav/planner", params=[("rate", "double", "5")])
+    pub(planner, "odom", odom_cloud)
+    plan = provides(planner, "plan", "nav_msgs/GetPlan", None)  # relative: plan
+    navigator = node(r, "Navigator", "nav/navigator")
+    sub(navigator, "odom", odom_robot)
+    client = calls(navigator, "plan", plan)
+    endpoints.topic_bridge(system, odom_cloud, odom_robot)
+    endpoints.service_bridge(system, client, plan)
+    files = generate(product(system))
+    assert_engine_accepts(files)
+    doc = documents(files)["rapyuta/Robot.json"]
+    assert {(i["eTag"], i["iTag"]): i["addr"] for i in doc["interfaces"]} == {
+        ("Cloud_robot_1", "cli_Planner_plan"): "/mapping/plan",
+        ("Cloud_robot_1", "sub_Odom"): "/Odom",
+        ("robot_1", "pub_Odom"): "/Odom",
+        ("robot_1", "srv_Planner_plan"): "plan",
+    }
+    assert doc["nodes"][0]["namespace"] == "mapping"
+    assert doc["parameters"] == [
+        {"cTag": "Cloud_robot_1", "name": "/mapping/Planner/rate", "value": 5.0}
+    ]
+
+
+def test_robot_to_robot_bridge_like_the_engines_loopback_example():
+    # as lo_client.cfg / lo_server.cfg: each robot declares its own converters
+    system = T.System(name="S")
+    server, client = robot(system, "Server", "server"), robot(system, "Client", "client")
+    request_s = topic(server, "Req", "std_msgs/String", "/stringEchoReq")
+    request_c = topic(client, "Req", "std_msgs/String", "/clientReq")
+    echo = node(server, "Echo", "Test/stringEcho")
+    sub(echo, "req", request_s)
+    echo_service = provides(echo, "echo", "Test/StringEcho", "/stringEchoService")
+    user = node(client, "User", "Test/user")
+    pub(user, "req", request_c)
+    endpoints.topic_bridge(system, request_c, request_s)
+    endpoints.service_bridge(system, calls(user, "echo", echo_service), echo_service)
+    files = generate(product(system))
+    assert_engine_accepts(files)
+    docs = documents(files)
+    assert docs["rapyuta/Client.json"]["interfaces"] == [
+        {
+            "addr": "/stringEchoService",
+            "eTag": "client",
+            "iCls": "Test/StringEcho",
+            "iTag": "srv_Echo_echo",
+            "iType": "ServiceProviderConverter",
+        },
+        {
+            "addr": "/clientReq",
+            "eTag": "client",
+            "iCls": "std_msgs/String",
+            "iTag": "sub_Req",
+            "iType": "SubscriberConverter",
+        },
+    ]
+    assert [i["iType"] for i in docs["rapyuta/Server.json"]["interfaces"]] == [
+        "ServiceClientConverter",
+        "PublisherConverter",
+    ]
+    # the connection belongs to both robots; identical declarations are applied once
+    assert docs["rapyuta/Client.json"]["connections"] == docs["rapyuta/Server.json"]["connections"]
+    assert "containers" not in docs["rapyuta/Client.json"]
