@@ -73,6 +73,11 @@ def _e(text: Any) -> str:
     return html.escape(str(text), quote=True)
 
 
+def _plain(text: str) -> str:
+    """A plain-label text shown literally: no ``\\N``-style escapes, never read as HTML."""
+    return graphviz.escape(text)
+
+
 def _id(*parts: str) -> str:
     return ".".join(parts)
 
@@ -179,7 +184,7 @@ def _add_container(
 ) -> None:
     style = CONTAINER_STYLE[container.eClass.name]
     with graph.subgraph(name=f"cluster_{container.name}") as cluster:
-        cluster.attr(label=_container_label(container), fontname=FONT, **style)
+        cluster.attr(label=_plain(_container_label(container)), fontname=FONT, **style)
         if container.endpoint is not None:
             cluster.node(
                 _id(container.name, "endpoint"), label=_endpoint_label(container), shape="plain"
@@ -188,7 +193,7 @@ def _add_container(
             text = f"{topic.name}\n{topic_ros_name(topic)}\n{topic.type}"
             cluster.node(
                 _topic_id(topic),
-                label=text,
+                label=_plain(text),
                 shape="box",
                 style="filled",
                 fillcolor=TOPIC_GREEN,
@@ -197,7 +202,9 @@ def _add_container(
         for store in container.stores:
             cluster.node(
                 _id(container.name, "store", store.name),
-                label=f"«store»\n{store.name}\n{store.raw.name if store.raw else ''}".rstrip(),
+                label=_plain(
+                    f"«store»\n{store.name}\n{store.raw.name if store.raw else ''}".rstrip()
+                ),
                 shape="cylinder",
                 style="filled",
                 fillcolor=STORE_BLUE,
@@ -226,7 +233,7 @@ def _data_flow_edges(graph: graphviz.Digraph, container: Any) -> None:
                 graph.edge(
                     _interface_ref(interface.server),
                     _interface_ref(interface),
-                    label=server_ros_name(interface.server, container.eContainer()),
+                    label=_plain(server_ros_name(interface.server, container.eContainer())),
                     fontsize="9",
                     color="#555555",
                 )
@@ -285,7 +292,9 @@ def architecture_graph(system: Any, product: ResolvedProduct | None = None) -> g
         compound="true",
         nodesep="0.25",
         ranksep="0.6",
-        label=f"{system.name}" + (f" — product {product.name}" if product is not None else ""),
+        label=_plain(
+            f"{system.name}" + (f" — product {product.name}" if product is not None else "")
+        ),
         labelloc="t",
     )
     graph.attr("node", fontname=FONT)
@@ -364,7 +373,7 @@ def feature_model_graph(fm: Any, selected: set[str] | None = None) -> graphviz.D
     """The feature tree in the notation of seeds/003 Fig. 5, selection in green."""
     selected = set(selected or ())
     graph = graphviz.Digraph(name=fm.name or "features")
-    graph.attr(rankdir="TB", fontname=FONT, label=f"feature model {fm.name}", labelloc="t")
+    graph.attr(rankdir="TB", fontname=FONT, label=_plain(f"feature model {fm.name}"), labelloc="t")
     graph.attr("node", fontname=FONT, shape="box", style="rounded,filled", fillcolor="white")
     graph.attr("edge", arrowsize="0.8")
 
@@ -393,7 +402,7 @@ def feature_model_graph(fm: Any, selected: set[str] | None = None) -> graphviz.D
                 height="0.2",
                 style="filled",
                 fillcolor="black" if kind == "or" else "white",
-                xlabel=_group_text(group),
+                xlabel=_plain(_group_text(group)),
                 fontsize="9",
             )
             graph.edge(_id("feature", feature.name), connector, arrowhead="none")

@@ -131,3 +131,13 @@ def test_render_by_suffix_atomically(product, tmp_path):
     with pytest.raises(ValueError, match=r"only render \.svg or \.png"):
         diagrams.render(graph, tmp_path / "arch.pdf")
     assert sorted(p.name for p in tmp_path.rglob("*")) == ["arch.png", "arch.svg", "out"]
+
+
+def test_model_text_is_shown_literally():
+    product = mapping_product()
+    product.system.containers[1].group = 'mappers\\N <i>"x"</i> & \\l'
+    product.name = "p\\G"
+    svg = diagrams.generate(product)["architecture.svg"]
+    shown = texts(etree.fromstring(svg))
+    assert 'group mappers\\N <i>"x"</i> & \\l' in shown
+    assert "Mapping3D — product p\\G" in shown
