@@ -126,6 +126,8 @@ class _Placement:
                 self.neighbours[id(a)].add(id(b))
                 self.neighbours[id(b)].add(id(a))
         self.tags: dict[str, Place] = {}
+        for robot in self.robots:  # robots first: a container tag may not take their ids
+            self.place(robot, "private", robot)
 
     def _robot_id(self, robot: Any) -> str:
         robot_id = robot.endpoint.robotId if robot.endpoint is not None else None
@@ -197,7 +199,7 @@ class _Placement:
 
 def _describe(place: Place) -> str:
     if place.is_robot:
-        return f"robot {place.owner}"
+        return f"robot container {place.container}"
     return f"the {place.kind} partition of {place.container}"
 
 
@@ -460,6 +462,14 @@ def _json_scalar(value: Any) -> bool:
 
 def _credentials(robot: Any, errors: list[Diagnostic]) -> dict[str, str]:
     endpoint = robot.endpoint
+    if endpoint is None:
+        errors.append(
+            Diagnostic(
+                location_of(robot),
+                f"robot container {robot.name} has no endpoint (robot_id, url, user, password env)",
+            )
+        )
+        return {}
     where = location_of(endpoint) or location_of(robot)
     values = {
         "url": endpoint.url,
@@ -585,16 +595,6 @@ def configurations(system: Any) -> dict[str, dict[str, Any]]:
         }
         document.update({key: value for key, value in lists.items() if value})
         documents[robot.name] = document
-    taken = {place.tag for place in placement.tags.values() if not place.is_robot}
-    for robot in placement.robots:
-        if placement.robot_ids[id(robot)] in taken:
-            errors.append(
-                Diagnostic(
-                    location_of(robot.endpoint) or location_of(robot),
-                    f"robot_id {placement.robot_ids[id(robot)]!r} is also "
-                    "the tag of a generated container",
-                )
-            )
     if errors:
         raise ModelError(_unique(errors))
     return documents

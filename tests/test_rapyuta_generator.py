@@ -511,3 +511,15 @@ def test_robot_to_robot_bridge_like_the_engines_loopback_example():
     # the connection belongs to both robots; identical declarations are applied once
     assert docs["rapyuta/Client.json"]["connections"] == docs["rapyuta/Server.json"]["connections"]
     assert "containers" not in docs["rapyuta/Client.json"]
+
+
+def test_two_robots_with_one_robot_id_are_refused():
+    system = mapping_system(robots=(("Robot", "robot_1"), ("Other", "robot_1")))
+    other = system.containers[2]
+    other.srcFile, other.srcLine, other.srcCol = "m.tsm", 40, 1
+    with pytest.raises(ModelError) as caught:
+        generate(product(system))
+    assert str(caught.value) == (
+        "m.tsm:40:1: error: Rapyuta tag 'robot_1' would name both robot container Robot and "
+        "robot container Other: rename a container, group or robot_id"
+    )
