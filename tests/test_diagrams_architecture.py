@@ -10,6 +10,7 @@ from lxml import etree
 
 from spl.emf import copy_model
 from spl.generators import diagrams
+from spl.metamodels import tsm
 
 SVG = {"s": "http://www.w3.org/2000/svg"}
 
@@ -141,3 +142,33 @@ def test_model_text_is_shown_literally():
     shown = texts(etree.fromstring(svg))
     assert 'group mappers\\N <i>"x"</i> & \\l' in shown
     assert "Mapping3D — product p\\G" in shown
+
+
+def test_stores_writers_and_readers():
+    T = tsm()
+    system = T.System(name="DataAcquisition")
+    raw = T.DataType(name="PositionInSecond")
+    refined = T.DataType(name="PositionInDEG")
+    system.dataTypes.extend([raw, refined])
+    cloud = T.CloudContainer(name="DataCloud", endpoint=T.Endpoint())
+    store = T.Store(name="PositionStore", raw=raw)
+    cloud.stores.append(store)
+    rover = T.RobotContainer(name="Rover", endpoint=T.Endpoint(robotId="rover_1"))
+    gps = T.Topic(name="GpsSeconds", type="rover_msgs/PositionInSecond", rosName="/gps/seconds")
+    rover.topics.append(gps)
+    writer = T.Writer(name="PositionWriter", dataType=raw, store=store)
+    writer.package = writer.executable = "position_writer"
+    writer.interfaces.append(T.Subscriber(name="input", type=gps.type, topic=gps))
+    reader = T.Reader(name="PositionReader", dataType=refined, store=store, period=1.0)
+    reader.package = reader.executable = "position_reader"
+    rover.nodes.extend([writer, reader])
+    system.containers.extend([cloud, rover])
+    svg = diagrams.render_bytes(diagrams.architecture_graph(system), "svg")
+    root = etree.fromstring(svg)
+    edges = {
+        g.findtext("s:title", namespaces=SVG) for g in root.iterfind(".//s:g[@class='edge']", SVG)
+    }
+    assert "Rover.node.PositionWriter->DataCloud.store.PositionStore" in edges
+    assert "DataCloud.store.PositionStore->Rover.node.PositionReader" in edges
+    assert "Rover.topic.GpsSeconds->Rover.node.PositionWriter:i_input" in edges
+    assert {"«writer»", "«reader»", "PositionStore"} <= set(texts(root))
