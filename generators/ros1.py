@@ -3,9 +3,10 @@
 The XML is built as an lxml tree, never by string concatenation, so no model text can
 add markup. Escaping XML is not enough for roslaunch, though: it expands ``$(...)``
 substitution args in every attribute (``$(eval ...)`` runs Python) and has no escape
-for ``$``. A string parameter value containing ``$`` is therefore written as a
-``<rosparam>`` whose YAML text roslaunch does not substitute, and any other attribute
-that would carry a ``$`` is refused.
+for ``$``; it also strips ``<param value>``. A string parameter value containing ``$``
+or surrounding blanks is therefore written as a ``<rosparam>`` whose YAML text
+roslaunch takes as written, and any other attribute that would carry a ``$`` is
+refused.
 
 The remapping rules here (which ROS name every connected interface is bound to) are
 shared with the ROS 2 generator, so both launch flavours of one product agree.
@@ -146,8 +147,9 @@ def _parameter_element(node_element: Any, parameter: Any) -> None:
         return
     text = checked_value(parameter)
     kind = parameter.type.name
-    if kind == "yaml" or (kind == "string" and "$" in text):
-        # rosparam text is YAML and is not substituted (subst_value defaults to false).
+    if kind == "yaml" or (kind == "string" and ("$" in text or text != text.strip())):
+        # roslaunch substitutes and strip()s <param value>; rosparam text is YAML, taken
+        # as written (subst_value defaults to false).
         element = etree.SubElement(node_element, "rosparam", param=parameter.name)
         element.text = text if kind == "yaml" else json.dumps(text, ensure_ascii=False)
         return

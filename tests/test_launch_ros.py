@@ -143,6 +143,26 @@ def test_hostile_string_is_escaped_and_never_substituted():
     assert re.search(r"(?<!\\)\$", value) is None
 
 
+@pytest.mark.parametrize("text", ["  padded\t", "line\nbreak ", ""])
+def test_ros1_strings_roslaunch_would_strip(text):
+    launch = ros1.generate(mapping_product(string_value=text))["ros1/Robot.launch"]
+    assert validate_ros1_launch(launch) == []
+    optimizer = by_name(launch, "MapOptimizer")
+    if text == text.strip():
+        assert optimizer.find("param").get("value") == text
+    else:
+        assert yaml.safe_load(optimizer.find("rosparam").text) == text
+    value = (
+        by_name(
+            ros2.generate(mapping_product(string_value=text))["ros2/Robot.launch.xml"],
+            "MapOptimizer",
+        )
+        .find("param")
+        .get("value")
+    )
+    assert ros2_unescape(value) == text
+
+
 def test_plain_markup_characters_round_trip_in_a_ros1_param():
     text = '<tag attr="x">&amp;\'</tag>'
     optimizer = by_name(
