@@ -1,0 +1,187 @@
+"""Running generated data-acquisition services for real in tests: write the generated
+files, start the service with uvicorn on a free port of 127.0.0.1, import a generated
+client's HTTP module, and a throw-away PostgreSQL cluster from Debian's binaries."""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+import os
+import shutil
+import signal
+import socket
+import subprocess
+import sys
+import time
+import urllib.error
+import urllib.request
+from pathlib import Path
+from types import ModuleType
+from typing import Any
+
+TOKEN = "test-token-not-a-secret"
+
+
+def write_files(files: dict[str, bytes], root: Path) -> Path:
+    for relative, data in files.items():
+        path = root / relative
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_bytes(data)
+    return root
+
+
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+class RunningService:
+    """One generated service process; ``kill()`` is kill -9, ``start()`` starts it again."""
+
+    def __init__(self, directory: Path, package: str, env: dict[str, str]) -> None:
+        self.directory = directory
+        self.package = package
+        self.port = free_port()
+        self.env = {**os.environ, "HOST": "127.0.0.1", "PORT": str(self.port), **env}
+        self.process: subprocess.Popen | None = None
+        self.log = directory / "service.log"
+
+    @property
+    def url(self) -> str:
+        return f"http://127.0.0.1:{self.port}"
+
+    def start(self) -> RunningService:
+        log = self.log.open("ab")
+        self.process = subprocess.Popen(
+            [sys.executable, "-m", self.package], cwd=self.directory, env=self.env,
+            stdout=log, stderr=subprocess.STDOUT,
+        )
+        deadline = time.monotonic() + 30
+        while time.monotonic() < deadline:
+            if self.process.poll() is not None:
+                raise RuntimeError(f"service exited: {self.log.read_text()[-3000:]}")
+            try:
+                with urllib.request.urlopen(self.url + "/", timeout=1):
+                    return self
+            except (urllib.error.URLError, OSError):
+                time.sleep(0.05)
+        raise RuntimeError(f"service did not start: {self.log.read_text()[-3000:]}")
+
+    def kill(self) -> None:
+        if self.process is not None and self.process.poll() is None:
+            self.process.send_signal(signal.SIGKILL)
+            self.process.wait()
+
+    def stop(self) -> None:
+        if self.process is not None and self.process.poll() is None:
+            self.process.terminate()
+            try:
+                self.process.wait(10)
+            except subprocess.TimeoutExpired:
+                self.kill()
+
+
+def request(method: str, url: str, body: Any = None, token: str | None = TOKEN,
+            headers: dict[str, str] | None = None, raw: bytes | None = None
+            ) -> tuple[int, dict[str, str], Any]:
+    """(status, headers lower-cased, parsed JSON body or None) without raising on 4xx/5xx."""
+    all_headers = dict(headers or {})
+    data = raw
+    if body is not None:
+        data = json.dumps(body).encode()
+    if data is not None:
+        all_headers.setdefault("Content-Type", "application/json")
+    if token:
+        all_headers["Authorization"] = f"Bearer {token}"
+    req = urllib.request.Request(url, data=data, method=method, headers=all_headers)
+    try:
+        with urllib.request.urlopen(req, timeout=30) as response:
+            status, head, content = response.status, response.headers, response.read()
+    except urllib.error.HTTPError as error:
+        status, head, content = error.code, error.headers, error.read()
+    parsed = json.loads(content) if content else None
+    return status, {k.lower(): v for k, v in head.items()}, parsed
+
+
+def load_module(path: Path, name: str) -> ModuleType:
+    spec = importlib.util.spec_from_file_location(name, path)
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[name] = module
+    spec.loader.exec_module(module)
+    return module
+
+
+def wait_for(condition, timeout: float = 20.0, interval: float = 0.05) -> Any:  # type: ignore[no-untyped-def]
+    deadline = time.monotonic() + timeout
+    while True:
+        value = condition()
+        if value:
+            return value
+        if time.monotonic() > deadline:
+            raise AssertionError(f"condition not met within {timeout} s (last: {value!r})")
+        time.sleep(interval)
+
+
+def postgres_binaries() -> Path | None:
+    candidates = sorted(Path("/usr/lib/postgresql").glob("*/bin/initdb"))
+    return candidates[-1].parent if candidates else None
+
+
+class PostgresCluster:
+    """A temporary PostgreSQL server (initdb + postgres) on a free port, trust auth.
+
+    PostgreSQL refuses to run as root; as root the cluster runs as ``nobody``.
+    """
+
+    def __init__(self, bin_dir: Path, base: Path) -> None:
+        self.bin = bin_dir
+        self.base = base
+        self.data = base / "pgdata"
+        self.port = free_port()
+        self.process: subprocess.Popen | None = None
+        self.prefix: list[str] = []
+        if os.geteuid() == 0:
+            self.prefix = ["runuser", "-u", "nobody", "--"]
+
+    def _owned(self) -> None:
+        if self.prefix:
+            shutil.chown(self.base, "nobody")
+
+    def start(self) -> PostgresCluster:
+        self._owned()
+        subprocess.run(
+            [*self.prefix, str(self.bin / "initdb"), "-D", str(self.data), "-U", "spl",
+             "--auth=trust", "--no-sync", "-E", "UTF8"],
+            check=True, capture_output=True,
+        )
+        self.process = subprocess.Popen(
+            [*self.prefix, str(self.bin / "postgres"), "-D", str(self.data), "-p", str(self.port),
+             "-h", "127.0.0.1", "-k", str(self.base), "-c", "fsync=off"],
+            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+        )
+        import psycopg
+
+        def ready() -> bool:
+            try:
+                psycopg.connect(self.dsn("postgres"), connect_timeout=1).close()
+                return True
+            except psycopg.OperationalError:
+                return False
+
+        wait_for(ready, timeout=30, interval=0.1)
+        with psycopg.connect(self.dsn("postgres"), autocommit=True) as conn:
+            conn.execute("CREATE DATABASE spl")
+        return self
+
+    def dsn(self, database: str = "spl") -> str:
+        return f"postgresql://spl@127.0.0.1:{self.port}/{database}"
+
+    def stop(self) -> None:
+        if self.process is not None and self.process.poll() is None:
+            self.process.terminate()  # runuser forwards SIGTERM: smart shutdown
+            try:
+                self.process.wait(15)
+            except subprocess.TimeoutExpired:
+                self.process.kill()
+                self.process.wait()
