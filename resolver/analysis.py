@@ -1,0 +1,398 @@
+"""Automated analysis of feature models with a CDCL SAT solver.
+
+Solver choice: Glucose 4 through python-sat. The analyses here are thousands of small
+*incremental* queries on one formula ("is there a product without feature f?"), each
+answered under assumptions on the same clause database. Glucose keeps its learnt clauses
+across calls, answers such easy queries in microseconds and supports the three things
+this module needs: assumptions, unsat cores over assumptions (for explaining a
+selection) and ``propagate`` without search. CaDiCaL 1.9.5 is the stronger solver on
+hard single instances, but feature models are easy instances; on the benchmark models
+its per-call overhead made the backbone loop slower (measured with
+``bench/fm_analysis.py --solver cadical195``).
+
+Everything is computed from one :class:`FeatureModelFormula`, which owns one solver:
+
+* backbone (core and dead features) — one model gives candidate literals, every further
+  model found drops the candidates it disagrees with (solution-based filtering), and
+  only the survivors are tested, each with one assumption call;
+* false-optional features — filtered first by every model found so far, then one call
+  ``parent and not feature`` per survivor;
+* exact counting of products — a projected #SAT counter (DPLL with unit propagation,
+  connected components and component caching) over the CNF, bounded in time and memory:
+  when the bound is hit the count is ``None`` with a note, never an estimate.
+"""
+
+from __future__ import annotations
+
+import gc
+import sys
+import time
+from collections import defaultdict
+from collections.abc import Iterator
+from dataclasses import dataclass
+from typing import Any
+
+from pysat.solvers import Solver
+
+from spl.resolver.cnf import Clause, FeatureModelCNF, encode
+
+SOLVER_NAME = "glucose4"
+# Counting bound: wall time and number of cached components. Generous enough for
+# BerkeleyDB and axTLS (well under a second) and for BusyBox; automotive01-sized models
+# with dense cross-tree constraints may exceed it, and then the count is reported unknown.
+COUNT_SECONDS = 10.0
+COUNT_CACHE_ENTRIES = 2_000_000
+
+
+@dataclass(frozen=True)
+class ProductCount:
+    """An exact count, or ``None`` with the reason in ``note``."""
+
+    value: int | None
+    note: str = ""
+
+
+class FeatureModelFormula:
+    """A feature model and one incremental SAT solver over its CNF; reuse it for queries."""
+
+    def __init__(self, model: Any, solver_name: str = SOLVER_NAME) -> None:
+        self.model = model
+        # the encoding allocates tens of thousands of acyclic tuples: cyclic garbage
+        # collection passes over a big loaded model would only slow it down
+        collecting = gc.isenabled()
+        gc.disable()
+        try:
+            self.cnf: FeatureModelCNF = encode(model)
+        finally:
+            if collecting:
+                gc.enable()
+        self.solver_name = solver_name
+        self.solver = Solver(name=solver_name, bootstrap_with=list(self.cnf.clauses))
+        self._satisfiable: bool | None = None
+        self._backbone: tuple[frozenset[str], frozenset[str]] | None = None
+        self._false_optional: list[str] | None = None
+        # the feature literals of each model found so far
+        self._samples: list[set[int]] = []
+
+    # --- plumbing -------------------------------------------------------------------
+    def close(self) -> None:
+        self.solver.delete()
+
+    def __enter__(self) -> FeatureModelFormula:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    def _sample(self) -> set[int]:
+        """The feature literals of the solver's current model, remembered for filtering."""
+        model = set(self.solver.get_model()[: self.cnf.num_features])
+        self._samples.append(model)
+        return model
+
+    def names(self, variables: set[int] | list[int]) -> list[str]:
+        """Feature names of variables, sorted by name (the order every report uses)."""
+        return sorted(self.cnf.names[v - 1] for v in variables)
+
+    # --- operations -----------------------------------------------------------------
+    def satisfiable(self) -> bool:
+        if self._satisfiable is None:
+            self._satisfiable = bool(self.solver.solve())
+            if self._satisfiable:
+                self._sample()
+        return self._satisfiable
+
+    def backbone(self) -> tuple[frozenset[str], frozenset[str]]:
+        """(core, dead): features in every product, features in none.
+
+        Candidates are the literals of the first model; each model found drops the
+        candidates it contradicts. Before every call the solver's preferred phases are set
+        to the *negation* of the remaining candidates, so each model it finds flips as many
+        of them as it can: on automotive01 this cuts ~1350 solver calls to ~370.
+        A void model has no products: every feature is dead and none is core.
+        """
+        if self._backbone is not None:
+            return self._backbone
+        n = self.cnf.num_features
+        if not self.satisfiable():
+            self._backbone = (frozenset(), frozenset(self.cnf.names))
+            return self._backbone
+        solver = self.solver
+        candidates: set[int] = set.intersection(*self._samples)
+        for _ in range(3):  # a few unconstrained flips first: cheap and they remove most
+            before = len(candidates)
+            solver.set_phases([-lit for lit in candidates])
+            solver.solve()
+            candidates &= self._sample()
+            if len(candidates) == before:
+                break
+        core: set[int] = set()
+        dead: set[int] = set()
+        phases_stale = True
+        for v in range(1, n + 1):
+            literal = v if v in candidates else -v if -v in candidates else 0
+            if not literal:
+                continue
+            candidates.discard(literal)
+            if phases_stale:  # only a new model changes the candidates much
+                solver.set_phases([-lit for lit in candidates])
+            if solver.solve(assumptions=[-literal]):
+                candidates &= self._sample()
+                phases_stale = True
+            else:
+                (core if literal > 0 else dead).add(v)
+                solver.add_clause([literal])  # implied: keeps later queries short
+                phases_stale = False
+        self._backbone = (frozenset(self.names(core)), frozenset(self.names(dead)))
+        return self._backbone
+
+    def core_features(self) -> list[str]:
+        return sorted(self.backbone()[0])
+
+    def dead_features(self) -> list[str]:
+        return sorted(self.backbone()[1])
+
+    def false_optional_features(self) -> list[str]:
+        """Features modelled as optional that every product with their parent contains.
+
+        "Modelled as optional": not the root, not a mandatory child and not the sole
+        member of a group that needs a member. Features whose parent is dead are not
+        reported (they are dead themselves; the dead list names them).
+        """
+        if self._false_optional is not None:
+            return self._false_optional
+        cnf = self.cnf
+        core, dead = self.backbone()
+        if not self.satisfiable():
+            self._false_optional = []
+            return []
+        candidates: list[tuple[int, int]] = []
+        result: list[int] = []
+        for name in cnf.names[1:]:
+            parent = cnf.parent.get(name)
+            if parent is None or name in cnf.modelled_mandatory or parent in dead:
+                continue
+            if name in core:  # in every product, so in every product with its parent
+                result.append(cnf.var[name])
+                continue
+            if parent in core:  # a product with the parent lacks the (non-core) feature
+                continue
+            candidates.append((cnf.var[name], cnf.var[parent]))
+        # a model found so far with the parent and without the feature disproves it; the
+        # list shrinks fast, so filtering model by model costs little
+        pending = candidates
+        for sample in self._samples:
+            pending = [(f, p) for f, p in pending if not (p in sample and -f in sample)]
+        solver = self.solver
+        while pending:
+            f, p = pending.pop(0)
+            # prefer models with the parents on and the children off: each one found
+            # then rules out as many pending features as it can
+            phases = {q: q for _, q in pending}
+            phases.update((g, -g) for g, _ in pending)
+            solver.set_phases(list(phases.values()))
+            if solver.solve(assumptions=[p, -f]):
+                m = self._sample()
+                pending = [(g, q) for g, q in pending if not (q in m and -g in m)]
+            else:
+                result.append(f)
+        self._false_optional = self.names(result)
+        return self._false_optional
+
+    def count(self, seconds: float = COUNT_SECONDS,
+              cache_entries: int = COUNT_CACHE_ENTRIES) -> ProductCount:
+        """The exact number of products, or ``None`` when the bound is exceeded."""
+        if not self.satisfiable():
+            return ProductCount(0)
+        core, dead = self.backbone()
+        cnf = self.cnf
+        units = [(cnf.var[name],) for name in core] + [(-cnf.var[name],) for name in dead]
+        counter = _ProjectedCounter(cnf.num_features, seconds, cache_entries)
+        try:
+            return ProductCount(counter.count(list(cnf.clauses) + units))
+        except _BudgetExceeded as exc:
+            return ProductCount(None, str(exc))
+
+    def products(self) -> Iterator[frozenset[str]]:
+        """Every product once, as a set of feature names (a separate solver blocks them)."""
+        cnf = self.cnf
+        n = cnf.num_features
+        with Solver(name=self.solver_name, bootstrap_with=list(cnf.clauses)) as solver:
+            while solver.solve():
+                model = solver.get_model()[:n]
+                yield frozenset(cnf.names[lit - 1] for lit in model if lit > 0)
+                solver.add_clause([-lit for lit in model])
+
+
+def formula_of(model_or_formula: Any) -> FeatureModelFormula:
+    if isinstance(model_or_formula, FeatureModelFormula):
+        return model_or_formula
+    return FeatureModelFormula(model_or_formula)
+
+
+def is_satisfiable(model: Any) -> bool:
+    """Whether the feature model (or :class:`FeatureModelFormula`) has a product."""
+    return formula_of(model).satisfiable()
+
+
+def core_features(model: Any) -> list[str]:
+    return formula_of(model).core_features()
+
+
+def dead_features(model: Any) -> list[str]:
+    return formula_of(model).dead_features()
+
+
+def false_optional_features(model: Any) -> list[str]:
+    return formula_of(model).false_optional_features()
+
+
+def count_products(model: Any, seconds: float = COUNT_SECONDS) -> ProductCount:
+    return formula_of(model).count(seconds)
+
+
+def enumerate_products(model: Any) -> Iterator[frozenset[str]]:
+    return formula_of(model).products()
+
+
+# --- exact projected model counting ---------------------------------------------------
+
+
+class _BudgetExceeded(Exception):
+    pass
+
+
+class _ProjectedCounter:
+    """#SAT projected on the feature variables ``1..n``.
+
+    Auxiliary variables (cardinality encodings) need not be determined by the features,
+    so the counter never branches on them: a component left with auxiliaries only counts
+    1 if satisfiable, else 0. Components are cached by their clause set.
+    """
+
+    def __init__(self, num_features: int, seconds: float, cache_entries: int) -> None:
+        self.n = num_features
+        self.deadline = time.monotonic() + seconds
+        self.seconds = seconds
+        self.cache_entries = cache_entries
+        self.cache: dict[frozenset[Clause], int] = {}
+
+    def count(self, clauses: list[Clause]) -> int:
+        limit = sys.getrecursionlimit()
+        sys.setrecursionlimit(max(limit, 10 * self.n + 1000))
+        try:
+            reduced = _propagate(clauses, ())
+            if reduced is None:
+                return 0
+            rest, assigned = reduced
+            mentioned = {abs(lit) for c in rest for lit in c} | {abs(lit) for lit in assigned}
+            free = sum(1 for v in range(1, self.n + 1) if v not in mentioned)
+            return self._product(rest) << free
+        finally:
+            sys.setrecursionlimit(limit)
+
+    def _product(self, clauses: list[Clause]) -> int:
+        result = 1
+        for component in _components(clauses):
+            value = self._component(component)
+            if value == 0:
+                return 0
+            result *= value
+        return result
+
+    def _component(self, clauses: list[Clause]) -> int:
+        key = frozenset(clauses)
+        cached = self.cache.get(key)
+        if cached is not None:
+            return cached
+        if time.monotonic() > self.deadline:
+            raise _BudgetExceeded(f"counting stopped after {self.seconds:g} s")
+        if len(self.cache) >= self.cache_entries:
+            raise _BudgetExceeded(f"counting stopped at {self.cache_entries} cached components")
+        occurrences: dict[int, int] = defaultdict(int)
+        for clause in clauses:
+            for lit in clause:
+                v = abs(lit)
+                if v <= self.n:
+                    occurrences[v] += 1
+        if not occurrences:
+            with Solver(name="minisat22", bootstrap_with=clauses) as solver:
+                value = 1 if solver.solve() else 0
+        else:
+            branch = max(occurrences, key=lambda v: (occurrences[v], -v))
+            projected = set(occurrences)
+            value = 0
+            for lit in (branch, -branch):
+                reduced = _propagate(clauses, (lit,))
+                if reduced is None:
+                    continue
+                rest, assigned = reduced
+                still = {abs(x) for c in rest for x in c if abs(x) <= self.n}
+                freed = projected - still - {abs(x) for x in assigned}
+                value += self._product(rest) << len(freed)
+        self.cache[key] = value
+        return value
+
+
+def _propagate(
+    clauses: list[Clause], units: tuple[int, ...]
+) -> tuple[list[Clause], set[int]] | None:
+    """Unit propagation by repeated simplification; None on a conflict."""
+    assigned: set[int] = set(units)
+    pending = list(units)
+    current = clauses
+    while True:
+        if not pending and current is not clauses:
+            return current, assigned
+        out: list[Clause] = []
+        found: list[int] = []
+        for clause in current:
+            satisfied = False
+            kept: list[int] = []
+            for lit in clause:
+                if lit in assigned:
+                    satisfied = True
+                    break
+                if -lit not in assigned:
+                    kept.append(lit)
+            if satisfied:
+                continue
+            if not kept:
+                return None
+            if len(kept) == 1:
+                unit = kept[0]
+                if -unit in assigned:
+                    return None
+                if unit not in assigned:
+                    assigned.add(unit)
+                    found.append(unit)
+                continue
+            out.append(tuple(kept) if len(kept) != len(clause) else clause)
+        pending = found
+        current = out
+        if not found:
+            return current, assigned
+
+
+def _components(clauses: list[Clause]) -> list[list[Clause]]:
+    """Clauses split into groups that share no variable (independent sub-problems)."""
+    parent: dict[int, int] = {}
+
+    def find(v: int) -> int:
+        root = v
+        while parent.get(root, root) != root:
+            root = parent[root]
+        while parent.get(v, v) != root:
+            parent[v], v = root, parent[v]
+        return root
+
+    for clause in clauses:
+        first = find(abs(clause[0]))
+        for lit in clause[1:]:
+            other = find(abs(lit))
+            if other != first:
+                parent[other] = first
+    groups: dict[int, list[Clause]] = {}
+    for clause in clauses:
+        groups.setdefault(find(abs(clause[0])), []).append(clause)
+    return list(groups.values())

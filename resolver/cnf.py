@@ -1,0 +1,387 @@
+"""CNF encoding of an extended feature model, with the provenance of every clause.
+
+The encoding is the contract between the feature model and the SAT solver. Features get
+the variables ``1..n`` in tree pre-order (so the numbering, and everything derived from
+it, is deterministic); auxiliary variables (Tseitin definitions, cardinality encodings)
+come after them. Every clause belongs to exactly one :class:`Rule` — the root, a
+child-needs-parent edge, a mandatory child, a group, or a cross-tree constraint — and
+the rule keeps its model element and source location, so an unsatisfiable selection can
+be explained by naming the rules it violates, in the words the author wrote them.
+
+Semantics (SPEC section 3, metamodels/fm.ecore): the root is selected; a child implies
+its parent; a mandatory child is equivalent to its parent; an ``alternative`` group
+needs exactly one member when its parent is selected, ``or`` at least one, a
+``cardinality [l..u]`` group between ``l`` and ``u`` (``u = -1``: no upper bound).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+from typing import Any
+
+from pysat.card import CardEnc, EncType
+
+from spl.diagnostics import Location, location_of
+
+Clause = tuple[int, ...]
+
+# Pairwise at-most-one is aux-free and propagates best; beyond this size its quadratic
+# clause count loses against a sequential counter.
+PAIRWISE_AMO_LIMIT = 12
+# A constraint whose CNF by distribution stays under this many clauses is encoded
+# directly (no auxiliary variables); bigger ones get Tseitin definitions.
+DIRECT_CNF_LIMIT = 16
+
+_PRECEDENCE = {"iff": 1, "implies": 2, "requires": 2, "excludes": 2, "or": 3, "and": 4}
+_SYMBOL = {"iff": "<=>", "implies": "=>", "requires": "requires", "excludes": "excludes",
+           "or": "or", "and": "and"}
+
+
+@dataclass(frozen=True)
+class Rule:
+    """One model element's contribution to the formula; explanations quote ``text``.
+
+    ``features`` are the features the rule talks about: for tree rules (child, parent),
+    for a group (parent, *members); for a constraint its features in first-use order.
+    The wording is built only when asked for: encoding a 2500-feature model must not pay
+    for thousands of sentences nobody reads.
+    """
+
+    index: int
+    kind: str  # root | parent | mandatory | group | constraint
+    element: Any = field(compare=False, repr=False)
+    features: tuple[str, ...] = ()
+    bounds: tuple[int, int] = (0, -1)  # a group's (lower, upper as written, -1 = *)
+    formula: tuple | None = field(default=None, compare=False, repr=False)  # constraints
+
+    @property
+    def location(self) -> Location | None:
+        """Where the rule is written (looked up on demand: most rules are never reported)."""
+        where = location_of(self.element)
+        if where is None and self.kind == "constraint":
+            where = location_of(self.element.formula)
+        return where
+
+    @property
+    def text(self) -> str:
+        kind, names = self.kind, self.features
+        if kind == "root":
+            return f"{names[0]} is the root feature and always selected"
+        if kind == "parent":
+            return f"{names[0]} needs its parent {names[1]}"
+        if kind == "mandatory":
+            return f"{names[0]} is mandatory in {names[1]}"
+        if kind == "constraint":
+            return formula_text(self.formula)
+        group = self.element
+        parent, listed = names[0], ", ".join(names[1:])
+        lower, upper = self.bounds
+        if group_kind(group) == "alternative":
+            return f"{parent}: exactly one of {listed}"
+        if group_kind(group) == "or":
+            return f"{parent}: at least one of {listed}"
+        if upper < 0:
+            return f"{parent}: at least {lower} of {listed}"
+        return f"{parent}: between {lower} and {upper} of {listed}"
+
+    def __str__(self) -> str:
+        return f"{self.text} ({self.location})" if self.location else self.text
+
+
+@dataclass
+class FeatureModelCNF:
+    """The feature model as clauses over numbered variables, grouped by rule."""
+
+    names: list[str]  # names[v - 1] is the feature of variable v
+    var: dict[str, int]  # feature name -> variable
+    parent: dict[str, str | None]
+    modelled_mandatory: set[str]  # mandatory child, or sole member of a group with lower >= 1
+    rules: list[Rule]
+    rule_clauses: list[list[Clause]]  # rule_clauses[rule.index]
+    num_vars: int  # features and auxiliary variables
+
+    @property
+    def num_features(self) -> int:
+        return len(self.names)
+
+    @property
+    def clauses(self) -> Iterator[Clause]:
+        for clauses in self.rule_clauses:
+            yield from clauses
+
+    def literal(self, name: str, value: bool = True) -> int:
+        return self.var[name] if value else -self.var[name]
+
+    def name_of(self, literal: int) -> str:
+        return self.names[abs(literal) - 1]
+
+
+def features_preorder(model: Any) -> list[Any]:
+    """The features of ``model`` in tree pre-order: the variable order of the encoding."""
+    order: list[Any] = []
+    stack = [model.root]
+    while stack:
+        feature = stack.pop()
+        order.append(feature)
+        children = [child for group in feature.groups for child in group.features]
+        stack.extend(reversed(children))
+    return order
+
+
+def group_kind(group: Any) -> str:
+    kind = group.kind
+    return kind.name if hasattr(kind, "name") else str(kind)
+
+
+def group_bounds(group: Any) -> tuple[int, int]:
+    """(lower, upper) of a group, upper ``-1`` meaning unbounded."""
+    n = len(group.features)
+    kind = group_kind(group)
+    if kind == "mandatory":
+        return n, n
+    if kind == "optional":
+        return 0, n
+    if kind == "alternative":
+        return 1, 1
+    if kind == "or":
+        return 1, n
+    return int(group.lower or 0), int(group.upper if group.upper is not None else -1)
+
+
+def formula_tree(formula: Any) -> tuple:
+    """A constraint formula as plain tuples: ("ref", name) | ("not", t) | (op, l, r).
+
+    One pass over the pyecore objects; everything else (CNF, text, evaluation) works on
+    the tuples, which is several times faster than attribute access through pyecore.
+    """
+    cls = type(formula).__name__
+    if cls == "FeatureRef":
+        return ("ref", formula.feature.name)
+    if cls == "Not":
+        return ("not", formula_tree(formula.operand))
+    return (formula.operator, formula_tree(formula.left), formula_tree(formula.right))
+
+
+def formula_text(tree: Any, context: int = 0) -> str:
+    """A constraint printed the way the ``.fm`` language writes it, minimal parentheses.
+
+    Accepts a pyecore Formula or its :func:`formula_tree`.
+    """
+    if not isinstance(tree, tuple):
+        tree = formula_tree(tree)
+    if tree[0] == "ref":
+        return tree[1]
+    if tree[0] == "not":
+        return "not " + formula_text(tree[1], 5)
+    operator = tree[0]
+    precedence = _PRECEDENCE.get(operator, 0)
+    # implications and iff are not associative: parenthesise nested ones on both sides
+    inner = precedence + (operator not in ("and", "or"))
+    text = f"{formula_text(tree[1], inner)} {_SYMBOL.get(operator, operator)} " \
+           f"{formula_text(tree[2], inner)}"
+    return f"({text})" if precedence < context else text
+
+
+def formula_features(tree: tuple) -> tuple[str, ...]:
+    """The features a formula tree mentions, in first-use order."""
+    if tree[0] == "ref":
+        return (tree[1],)
+    if tree[0] == "not":
+        return formula_features(tree[1])
+    return tuple(dict.fromkeys(formula_features(tree[1]) + formula_features(tree[2])))
+
+
+def evaluate(tree: tuple, product: set[str] | frozenset[str]) -> bool:
+    """The truth of a formula tree in a product (a set of feature names)."""
+    head = tree[0]
+    if head == "ref":
+        return tree[1] in product
+    if head == "not":
+        return not evaluate(tree[1], product)
+    a, b = evaluate(tree[1], product), evaluate(tree[2], product)
+    if head == "and":
+        return a and b
+    if head == "or":
+        return a or b
+    if head in ("implies", "requires"):
+        return (not a) or b
+    if head == "excludes":
+        return not (a and b)
+    if head == "iff":
+        return a == b
+    raise ValueError(f"unknown operator {head!r}")
+
+
+class _Builder:
+    def __init__(self, model: Any) -> None:
+        self.model = model
+        self.features = features_preorder(model)
+        self.names = [f.name for f in self.features]
+        self.var = {name: i + 1 for i, name in enumerate(self.names)}
+        self.top = len(self.names)
+        self.rules: list[Rule] = []
+        self.rule_clauses: list[list[Clause]] = []
+        self.parent: dict[str, str | None] = {self.names[0]: None}
+        self.modelled_mandatory: set[str] = set()
+        self.definitions: list[Clause] = []
+
+    def rule(self, kind: str, element: Any, features: tuple[str, ...], clauses: list[Clause],
+             **extra: Any) -> None:
+        self.rules.append(Rule(len(self.rules), kind, element, features, **extra))
+        self.rule_clauses.append(clauses)
+
+    def fresh(self) -> int:
+        self.top += 1
+        return self.top
+
+    def build(self) -> FeatureModelCNF:
+        root = self.features[0]
+        self.rule("root", root, (root.name,), [(1,)])
+        for feature, name in zip(self.features, self.names, strict=True):
+            for group in feature.groups:
+                self.encode_group(name, group)
+        for constraint in self.model.constraints:
+            self.encode_constraint(constraint)
+        return FeatureModelCNF(self.names, self.var, self.parent, self.modelled_mandatory,
+                               self.rules, self.rule_clauses, self.top)
+
+    def encode_group(self, parent: str, group: Any) -> None:
+        p = self.var[parent]
+        children = list(group.features)
+        members = [child.name for child in children]
+        lits = [self.var[name] for name in members]
+        kind = group_kind(group)
+        for child, name, lit in zip(children, members, lits, strict=True):
+            self.parent[name] = parent
+            self.rule("parent", child, (name, parent), [(-lit, p)])
+        if kind == "optional" or not lits:
+            return
+        if kind == "mandatory":
+            for child, name, lit in zip(children, members, lits, strict=True):
+                self.modelled_mandatory.add(name)
+                self.rule("mandatory", child, (name, parent), [(-p, lit)])
+            return
+        lower, written_upper = group_bounds(group)
+        n = len(lits)
+        upper = n if written_upper < 0 or written_upper > n else written_upper
+        if lower >= 1 and n == 1:
+            self.modelled_mandatory.add(members[0])
+        clauses: list[Clause] = []
+        if lower > n or lower > upper:
+            clauses.append((-p,))
+        else:
+            if lower == 1:
+                clauses.append((-p, *lits))
+            elif lower > 1:
+                enc = CardEnc.atleast(lits=lits, bound=lower, top_id=self.top,
+                                      encoding=EncType.seqcounter)
+                self.top = max(self.top, enc.nv)
+                clauses.extend((-p, *c) for c in enc.clauses)
+            if upper < n:
+                # unconditional: with the parent off every member is off, which satisfies it
+                clauses.extend(self.at_most(lits, upper))
+        self.rule("group", group, (parent, *members), clauses, bounds=(lower, written_upper))
+
+    def at_most(self, lits: list[int], bound: int) -> list[Clause]:
+        if bound == 0:
+            return [(-lit,) for lit in lits]
+        if bound == 1 and len(lits) <= PAIRWISE_AMO_LIMIT:
+            return [(-a, -b) for i, a in enumerate(lits) for b in lits[i + 1:]]
+        enc = CardEnc.atmost(lits=lits, bound=bound, top_id=self.top,
+                             encoding=EncType.seqcounter)
+        self.top = max(self.top, enc.nv)
+        return [tuple(c) for c in enc.clauses]
+
+    def encode_constraint(self, constraint: Any) -> None:
+        tree = formula_tree(constraint.formula)
+        nnf = self.nnf(tree, True)
+        try:
+            clauses = _distribute(nnf)
+        except _TooBig:
+            clauses = [(self.tseitin(nnf),)]
+            clauses.extend(self.definitions)
+            self.definitions = []
+        self.rule("constraint", constraint, formula_features(tree), _simplify(clauses),
+                  formula=tree)
+
+    # --- formulas -------------------------------------------------------------------
+    def nnf(self, tree: tuple, positive: bool) -> tuple:
+        """Negation normal form as nested tuples: ("lit", l) | ("and"|"or", [parts])."""
+        op = tree[0]
+        if op == "ref":
+            v = self.var[tree[1]]
+            return ("lit", v if positive else -v)
+        if op == "not":
+            return self.nnf(tree[1], not positive)
+        a, b = tree[1], tree[2]
+        if op == "and":
+            parts, junctor = [self.nnf(a, positive), self.nnf(b, positive)], "and"
+        elif op == "or":
+            parts, junctor = [self.nnf(a, positive), self.nnf(b, positive)], "or"
+        elif op in ("implies", "requires"):
+            parts, junctor = [self.nnf(a, not positive), self.nnf(b, positive)], "or"
+        elif op == "excludes":
+            parts, junctor = [self.nnf(a, not positive), self.nnf(b, not positive)], "or"
+        elif op == "iff":
+            if positive:
+                return ("or", [("and", [self.nnf(a, True), self.nnf(b, True)]),
+                               ("and", [self.nnf(a, False), self.nnf(b, False)])])
+            return ("or", [("and", [self.nnf(a, True), self.nnf(b, False)]),
+                           ("and", [self.nnf(a, False), self.nnf(b, True)])])
+        else:
+            raise ValueError(f"unknown operator {op!r}")
+        if not positive:
+            junctor = "or" if junctor == "and" else "and"
+        return (junctor, parts)
+
+    def tseitin(self, node: tuple) -> int:
+        """A literal equivalent to ``node``; full equivalences keep auxiliaries determined."""
+        if node[0] == "lit":
+            return node[1]
+        lits = [self.tseitin(part) for part in node[1]]
+        x = self.fresh()
+        if node[0] == "and":
+            self.definitions.extend((-x, lit) for lit in lits)
+            self.definitions.append((x, *(-lit for lit in lits)))
+        else:
+            self.definitions.append((-x, *lits))
+            self.definitions.extend((x, -lit) for lit in lits)
+        return x
+
+
+class _TooBig(Exception):
+    pass
+
+
+def _distribute(node: tuple) -> list[Clause]:
+    if node[0] == "lit":
+        return [(node[1],)]
+    parts = [_distribute(part) for part in node[1]]
+    if node[0] == "and":
+        out = [c for part in parts for c in part]
+    else:
+        out = [()]
+        for part in parts:
+            out = [a + b for a in out for b in part]
+            if len(out) > DIRECT_CNF_LIMIT:
+                raise _TooBig
+    if len(out) > DIRECT_CNF_LIMIT:
+        raise _TooBig
+    return out
+
+
+def _simplify(clauses: list[Clause]) -> list[Clause]:
+    """Drop duplicate literals and tautologies (``A or not A``), keeping literal order."""
+    out: list[Clause] = []
+    for clause in clauses:
+        seen = tuple(dict.fromkeys(clause))
+        if len({abs(lit) for lit in seen}) != len(seen):
+            continue  # a literal and its negation: always true
+        out.append(seen)
+    return out
+
+
+def encode(model: Any) -> FeatureModelCNF:
+    """The CNF of a feature model (``spl.metamodels.fm`` FeatureModel)."""
+    return _Builder(model).build()
