@@ -254,7 +254,7 @@ def compile_transform(transform: Any) -> tuple[str, set[str]]:
         lines.append(f"            {field!r}: {CONVERTERS[output_types[field]]}({code}),")
     lines += [
         "        }",
-        "    except (ArithmeticError, ValueError, TypeError) as exc:",
+        "    except (ArithmeticError, ValueError, TypeError, RecordError) as exc:",
         f"        raise RecordError({name + ': '!r} + str(exc)) from exc",
         "",
     ]

@@ -185,3 +185,23 @@ class PostgresCluster:
             except subprocess.TimeoutExpired:
                 self.process.kill()
                 self.process.wait()
+
+
+def post_in_batches(url: str, records: list[dict], size: int = 1000) -> None:
+    for start in range(0, len(records), size):
+        status, _, body = request("POST", url, {"records": records[start:start + size]})
+        assert status == 201, body
+
+
+def crash_during_transformation(running: RunningService, count_refined, total: int,  # type: ignore[no-untyped-def]
+                                kills: int = 2) -> None:
+    """kill -9 the service while its transformer is part-way, ``kills`` times, restart
+    it each time, and let it finish; ``count_refined()`` reads the database directly."""
+    for _ in range(kills):
+        before = count_refined()
+        running.start()
+        wait_for(lambda before=before: count_refined() > before, timeout=30, interval=0.002)
+        running.kill()
+        assert count_refined() < total, "transformation finished before the kill"
+    running.start()
+    wait_for(lambda: count_refined() == total, timeout=60, interval=0.05)

@@ -1,0 +1,122 @@
+"""The generated services on a real PostgreSQL server (a throw-away cluster made with
+Debian's initdb): both case studies end to end and the kill -9 crash test."""
+
+from __future__ import annotations
+
+import math
+import shutil
+import tempfile
+from pathlib import Path
+
+import pytest
+from service_models import product
+from service_runtime import (
+    TOKEN,
+    PostgresCluster,
+    RunningService,
+    crash_during_transformation,
+    load_module,
+    post_in_batches,
+    postgres_binaries,
+    wait_for,
+    write_files,
+)
+
+from spl.generators import clients, service
+
+psycopg = pytest.importorskip("psycopg")
+BINARIES = postgres_binaries()
+pytestmark = pytest.mark.skipif(BINARIES is None, reason="PostgreSQL binaries not installed")
+POSTGRES_PRODUCT = ("DataAcquisition", "Follow", "Positions", "Postgres", "Storage")
+
+
+@pytest.fixture(scope="module")
+def cluster():  # type: ignore[no-untyped-def]
+    base = Path(tempfile.mkdtemp(prefix="spl-pg-", dir="/tmp"))
+    server = PostgresCluster(BINARIES, base).start()
+    yield server
+    server.stop()
+    shutil.rmtree(base, ignore_errors=True)
+
+
+@pytest.fixture(scope="module")
+def bundle(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    resolved = product(features=POSTGRES_PRODUCT)
+    files = {**service.generate(resolved), **clients.generate(resolved)}
+    return write_files(files, tmp_path_factory.mktemp("bundle"))
+
+
+def _service(bundle: Path, cluster: PostgresCluster, store: str, slug: str,
+             **env: str) -> RunningService:
+    environment = {f"{slug.upper()}_TOKEN": TOKEN, f"{slug.upper()}_TRANSFORM_PERIOD": "0.05",
+                   "DATABASE_URL": cluster.dsn(), **env}
+    return RunningService(bundle / "services" / store, f"{slug}_service", environment)
+
+
+def test_postgres_is_the_default_database_of_the_postgres_product(bundle: Path) -> None:
+    settings = (bundle / "services/PositionStore/position_store_service/settings.py").read_text()
+    assert "DEFAULT_DATABASE_URL = 'postgresql://spl@localhost:5432/spl'" in settings
+
+
+def test_both_case_studies_on_postgres(bundle: Path, cluster: PostgresCluster) -> None:
+    positions = _service(bundle, cluster, "PositionStore", "position_store").start()
+    follow = _service(bundle, cluster, "FollowStore", "follow_store").start()
+    try:
+        writer = load_module(
+            bundle / "clients/position_writer/position_writer/store_client.py", "pg_pw")
+        writer.StoreClient(positions.url, token=TOKEN).post(
+            [writer.to_record("rover_1", 10.0 + i, {"lat": 3600.0 * i, "lon": 1800.0})
+             for i in range(5)])
+        reader = load_module(
+            bundle / "clients/position_reader/position_reader/store_client.py", "pg_pr")
+        poller = reader.PollingReader(reader.StoreClient(positions.url))
+        degrees: list[dict] = []
+        wait_for(lambda: degrees.extend(poller.poll()) or len(degrees) >= 5)
+        assert [(d["lat"], d["lon"]) for d in degrees] == [(float(i), 0.5) for i in range(5)]
+
+        velocity = load_module(
+            bundle / "clients/velocity_writer/velocity_writer/store_client.py", "pg_vw")
+        velocity.StoreClient(follow.url, token=TOKEN).post(
+            [velocity.to_record("ev3_a", t, {"vx": 0.1, "vy": 0.0, "va": 0.0})
+             for t in (1.0, 3.5, 4.0)])
+        commands_http = load_module(
+            bundle / "clients/command_reader/command_reader/store_client.py", "pg_cr")
+        commands = commands_http.PollingReader(commands_http.StoreClient(follow.url))
+        received: list[dict] = []
+        wait_for(lambda: received.extend(commands.poll()) or len(received) >= 2)
+        assert [c["duration"] for c in received] == [2.5, 0.5]
+        assert all(math.isclose(c["vx"], 0.1) for c in received)
+    finally:
+        positions.stop()
+        follow.stop()
+
+
+def test_kill_9_during_transformation_on_postgres(bundle: Path, cluster: PostgresCluster) -> None:
+    total = 8000
+    running = _service(bundle, cluster, "PositionStore", "position_store", TRANSFORMER="off",
+                       POSITION_STORE_TRANSFORM_PERIOD="0.02").start()
+    records = [{"robot": f"crash_{i % 4}", "timestamp": 1e6 + i, "data": {"lat": 7200.0,
+                                                                        "lon": float(i)}}
+               for i in range(total)]
+    post_in_batches(f"{running.url}/PositionStore/records/batch", records)
+    running.kill()
+
+    def count_refined() -> int:
+        with psycopg.connect(cluster.dsn()) as conn:
+            return conn.execute(
+                "SELECT count(*) FROM position_store_position_in_deg WHERE robot LIKE 'crash_%'"
+            ).fetchone()[0]
+
+    running.env["TRANSFORMER"] = "embedded"
+    try:
+        crash_during_transformation(running, count_refined, total)
+    finally:
+        running.stop()
+    with psycopg.connect(cluster.dsn()) as conn:
+        rows = conn.execute(
+            "SELECT d.lat, d.lon, r.document FROM position_store_position_in_deg d "
+            "JOIN position_store_raw r ON r.id = d.raw_id WHERE d.robot LIKE 'crash_%'"
+        ).fetchall()
+    assert len(rows) == total
+    assert sorted(r[1] for r in rows) == [i / 3600.0 for i in range(total)]
+    assert all(r[0] == 2.0 and r[2]["lon"] / 3600.0 == r[1] for r in rows)
