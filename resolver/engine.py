@@ -12,16 +12,16 @@ import re
 from dataclasses import dataclass
 from typing import Any
 
-from spl.diagnostics import Diagnostic, DiagnosticSink, Location, ModelError, location_of
+from spl.diagnostics import DiagnosticSink, Location, ModelError, location_of
 from spl.emf import copy_with_map
 from spl.metamodels import tsm
 from spl.resolver import pruning, rewiring
 from spl.resolver.architecture_checks import check_architecture
 from spl.resolver.context import ResolutionContext, describe
-from spl.resolver.feature_selection import CompletedSelection, complete_selection
 from spl.resolver.product import ResolvedProduct
 from spl.resolver.product_line import ProductLine
 from spl.resolver.product_selection import ProductSelection
+from spl.resolver.selection import SelectionCheck, check_selection
 from spl.resolver.trace import Trace
 from spl.resolver.transformations import APPLY
 
@@ -30,13 +30,20 @@ from spl.resolver.transformations import APPLY
 class Resolution:
     product: ResolvedProduct
     trace: Trace
-    completion: CompletedSelection
+    completion: SelectionCheck
     removed_nodes: tuple[str, ...]
     kept_nodes: tuple[str, ...]
 
 
 def resolve(line: ProductLine, selection: ProductSelection) -> Resolution:
-    completion = complete_selection(line.fm, selection)  # step 2; raises on a bad selection
+    completion = check_selection(  # step 2: an invalid or open selection is refused
+        line.formula,
+        selection.features,
+        selection.deselected,
+        selection.locations,
+        Location(selection.source, 1, 1),
+    )
+    completion.raise_unless_complete()
     selected = set(completion.features)
     sink = DiagnosticSink()
     attributes = product_attributes(line.fm, selected, selection, sink)
@@ -223,10 +230,3 @@ def summary_lines(resolution: Resolution) -> list[str]:
     for migration in product.migrations:
         lines.append(f"  migrated: {migration.node} from {migration.source} to {migration.target}")
     return lines
-
-
-def warnings_of(resolution: Resolution) -> list[Diagnostic]:
-    return [w for w in resolution.product.warnings if w.severity != "error"]
-
-
-__all__ = ["Location", "Resolution", "resolve", "summary_lines"]

@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 from pathlib import Path
 from typing import Any
 
@@ -11,7 +12,7 @@ from spl.diagnostics import Diagnostic, Location, ModelError
 from spl.dsl import rm
 
 
-@dataclass
+@dataclass(eq=False)
 class ProductLine:
     directory: Path
     models: rm.ResolutionModelFiles
@@ -27,6 +28,13 @@ class ProductLine:
     @property
     def rm(self) -> Any:
         return self.models.rm
+
+    @cached_property
+    def formula(self) -> Any:
+        """The feature model's CNF in an incremental solver, built once for every product."""
+        from spl.resolver.analysis import formula_of
+
+        return formula_of(self.fm)
 
     @property
     def name(self) -> str:
