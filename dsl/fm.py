@@ -1,0 +1,376 @@
+"""The extended Feature Model language (.fm): parse, build the pyecore model, check.
+
+The textX grammar (``fm.tx``) only recognises the shape of the text; this module
+turns the parse tree into an ``fm.FeatureModel`` (metamodels/fm.ecore), resolves the
+feature names used in constraints and reports every problem at once, located at the
+offending name, so a user fixes a file in one pass. UVL and FeatureIDE XML readers
+build the same model (``dsl/uvl.py``, ``dsl/featureide.py``); ``fm_printer`` writes it
+back in the canonical form described there.
+"""
+
+from __future__ import annotations
+
+import bisect
+import re
+from collections.abc import Iterator
+from functools import cache
+from importlib.resources import files
+from pathlib import Path
+from typing import Any
+
+from textx import TextXSyntaxError, metamodel_from_file
+
+from spl.diagnostics import Diagnostic, DiagnosticSink, Location, ModelError
+from spl.metamodels import fm as fm_metamodel
+
+# Words of the .fm language that can never name a feature (the grammar rejects them
+# where a feature name is expected); importers rename features called like this.
+RESERVED_WORDS = frozenset(
+    {
+        "abstract",
+        "and",
+        "attribute",
+        "constraints",
+        "excludes",
+        "group",
+        "mandatory",
+        "not",
+        "optional",
+        "or",
+        "requires",
+        "sharing",
+        "xor",
+    }
+)
+IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
+ATTRIBUTE_TYPES = ("int", "double", "string", "bool")
+SHARING_MODES = ("public", "protected", "private")
+# Binary operators of the metamodel, as the .fm language spells them.
+OPERATORS = ("and", "or", "implies", "iff", "requires", "excludes")
+
+
+def is_feature_name(name: str) -> bool:
+    """True when ``name`` can be written as a feature name in a .fm file."""
+    return bool(IDENTIFIER.match(name)) and name not in RESERVED_WORDS
+
+
+@cache
+def _grammar():
+    return metamodel_from_file(
+        str(files(__package__).joinpath("fm.tx")), autokwd=True, use_regexp_group=False
+    )
+
+
+def parse_file(path: str | Path) -> Any:
+    """Parse a .fm file into an ``fm.FeatureModel``; raise ModelError with every problem."""
+    path = Path(path)
+    return parse_text(path.read_text(encoding="utf-8"), str(path))
+
+
+def parse_text(text: str, filename: str = "<string>") -> Any:
+    """Parse .fm source text; ``filename`` is only used in locations."""
+    try:
+        tree = _grammar().model_from_str(text, file_name=filename)
+    except TextXSyntaxError as exc:
+        raise ModelError([syntax_diagnostic(exc, filename)]) from None
+    sink = DiagnosticSink()
+    model = _Builder(text, filename, sink).build(tree)
+    sink.raise_if_errors()
+    return model
+
+
+def syntax_diagnostic(exc: TextXSyntaxError, filename: str) -> Diagnostic:
+    """A textX syntax error as one located diagnostic naming what was expected."""
+    expected = sorted({_rule_label(r) for r in (exc.expected_rules or [])})
+    if expected:
+        reason = "syntax error: expected " + ", ".join(expected)
+    else:
+        reason = "syntax error: " + str(exc.message).split(" at position")[0]
+    return Diagnostic(Location(filename, exc.line or 0, exc.col or 0), reason)
+
+
+_RULE_LABELS = {
+    "FeatureName": "feature name",
+    "Ident": "name",
+    "Natural": "number",
+    "Bound": "number or '*'",
+    "QuotedString": "string",
+    "BoolWord": "true or false",
+    "DoubleNumber": "number",
+    "IntNumber": "number",
+    "EOF": "end of file",
+}
+
+
+def _rule_label(rule: Any) -> str:
+    name = getattr(rule, "rule_name", "") or ""
+    if name in _RULE_LABELS:
+        return _RULE_LABELS[name]
+    text = str(rule)
+    if text.startswith("/(?!(abstract"):
+        return "feature name"
+    return text
+
+
+def summary(model: Any) -> str:
+    """One line for ``spl check``: how many features and constraints."""
+    features = sum(1 for _ in all_features(model))
+    constraints = len(model.constraints)
+    return f"{_plural(features, 'feature')}, {_plural(constraints, 'constraint')}"
+
+
+def _plural(count: int, word: str) -> str:
+    return f"{count} {word}{'' if count == 1 else 's'}"
+
+
+def all_features(model_or_feature: Any) -> Iterator[Any]:
+    """Every feature of a model (or below a feature), parents before children."""
+    start = getattr(model_or_feature, "root", model_or_feature)
+    if start is None:
+        return
+    stack = [start]
+    while stack:
+        feature = stack.pop()
+        yield feature
+        children = [child for group in feature.groups for child in group.features]
+        stack.extend(reversed(children))
+
+
+def parent_of(feature: Any) -> Any:
+    """The parent feature (None for the root)."""
+    group = feature.eContainer()
+    return group.eContainer() if group is not None and group.eClass.name == "Group" else None
+
+
+def canonical_value(type_name: str, text: str) -> str | None:
+    """The canonical text of a default value of ``type_name``, or None when it does not fit.
+
+    Canonical means one spelling per value (``1.0`` and ``1.`` are the same double), so
+    comparing models compares values, and every importer agrees with the .fm language.
+    """
+    if type_name == "bool":
+        return text if text in ("true", "false") else None
+    if type_name == "int":
+        return str(int(text)) if re.fullmatch(r"[-+]?\d+", text) else None
+    if type_name == "double":
+        try:
+            number = float(text)
+        except ValueError:
+            return None
+        if number != number or number in (float("inf"), float("-inf")):
+            return None
+        return repr(number)
+    return text
+
+
+def _unquote(literal: str) -> str:
+    escapes = {"n": "\n", "t": "\t", '"': '"', "\\": "\\"}
+    return re.sub(r"\\(.)", lambda m: escapes[m.group(1)], literal[1:-1])
+
+
+class _Builder:
+    """Turns the textX tree into an fm.FeatureModel, collecting located problems."""
+
+    def __init__(self, text: str, filename: str, sink: DiagnosticSink) -> None:
+        self.text = text
+        self.filename = filename
+        self.sink = sink
+        self.F = fm_metamodel()
+        self.line_starts = [0] + [m.end() for m in re.finditer("\n", text)]
+        self.features: dict[str, Any] = {}
+
+    # -- locations -------------------------------------------------------------------
+    def loc_at(self, position: int) -> Location:
+        line = bisect.bisect_right(self.line_starts, position)
+        return Location(self.filename, line, position - self.line_starts[line - 1] + 1)
+
+    def loc(self, node: Any) -> Location:
+        return self.loc_at(node._tx_position)
+
+    def name_loc(self, decl: Any) -> Location:
+        """Where the feature's name is written (after a leading ``abstract``)."""
+        position = decl._tx_position
+        if decl.abstract:
+            match = re.compile(r"\b" + re.escape(decl.name) + r"\b").search(self.text, position)
+            position = match.start() if match else position
+        return self.loc_at(position)
+
+    def locate(self, element: Any, where: Location) -> Any:
+        element.srcFile, element.srcLine, element.srcCol = where.file, where.line, where.col
+        return element
+
+    # -- model -----------------------------------------------------------------------
+    def build(self, tree: Any) -> Any:
+        F = self.F
+        model = self.locate(F.FeatureModel(name=tree.name), self.loc(tree))
+        model.root = self.feature(tree.root)
+        for constraint_tree in tree.constraints:
+            formula = self.formula(constraint_tree.formula)
+            constraint = self.locate(F.Constraint(), self.loc(constraint_tree))
+            constraint.formula = formula
+            model.constraints.append(constraint)
+        return model
+
+    def feature(self, decl: Any) -> Any:
+        F = self.F
+        where = self.name_loc(decl)
+        feature = self.locate(F.Feature(name=decl.name, abstract=bool(decl.abstract)), where)
+        earlier = self.features.get(decl.name)
+        if earlier is not None:
+            self.sink.error(
+                where,
+                f"duplicate feature {decl.name} (first declared at line {earlier.srcLine})",
+            )
+        else:
+            self.features[decl.name] = feature
+        if decl.head is not None:
+            feature.groups.append(self.choice_group(decl.head))
+        attribute_names: dict[str, Any] = {}
+        # `mandatory A` `mandatory B` written one after the other share one group
+        child_group = None
+        for item in decl.items:
+            kind = type(item).__name__
+            if kind == "AttributeDecl":
+                attribute = self.attribute(item)
+                if item.name in attribute_names:
+                    self.sink.error(
+                        self.loc(item),
+                        f"feature {decl.name} has two attributes named {item.name}",
+                    )
+                attribute_names[item.name] = attribute
+                feature.attributes.append(attribute)
+            elif kind == "SharingDecl":
+                if feature.sharing is not None:
+                    self.sink.error(
+                        self.loc(item),
+                        f"feature {decl.name} has two sharing attributes "
+                        f"(first at line {feature.sharing.srcLine})",
+                    )
+                    continue
+                config = self.locate(F.SharingConfig(), self.loc(item))
+                config.mode = F.SharingMode.getEEnumLiteral(item.mode)
+                feature.sharing = config
+            elif kind == "Child":
+                child = self.feature(item.feature)
+                if child_group is None or child_group.kind.name != item.kind:
+                    child_group = self.group(item.kind, item)
+                    feature.groups.append(child_group)
+                child_group.features.append(child)
+            elif kind == "KindBlock":
+                group = self.group(item.kind, item)
+                group.features.extend(self.feature(member) for member in item.members)
+                feature.groups.append(group)
+                child_group = None
+            else:
+                feature.groups.append(self.choice_group(item))
+                child_group = None
+        return feature
+
+    def group(self, kind: str, node: Any) -> Any:
+        group = self.locate(self.F.Group(), self.loc(node))
+        group.kind = self.F.GroupKind.getEEnumLiteral(kind)
+        return group
+
+    def choice_group(self, node: Any) -> Any:
+        kind = type(node).__name__
+        if kind == "XorGroup":
+            group = self.group("alternative", node)
+        elif kind == "OrGroup":
+            group = self.group("or", node)
+        else:
+            group = self.group("cardinality", node)
+            lower = int(node.lower)
+            upper = (
+                lower
+                if node.upper in ("", None)
+                else (-1 if node.upper == "*" else int(node.upper))
+            )
+            group.lower, group.upper = lower, upper
+            if upper == 0:
+                self.sink.error(
+                    self.loc(node), "bad cardinality: the upper bound must be at least 1"
+                )
+            elif upper != -1 and lower > upper:
+                self.sink.error(
+                    self.loc(node),
+                    f"bad cardinality [{lower}..{upper}]: the lower bound exceeds the upper bound",
+                )
+        group.features.extend(self.feature(member) for member in node.members)
+        return group
+
+    def attribute(self, item: Any) -> Any:
+        F = self.F
+        attribute = self.locate(F.Attribute(name=item.name), self.loc(item))
+        attribute.type = F.AttributeType.getEEnumLiteral(item.type)
+        literal = item.value
+        literal_kind = type(literal).__name__
+        fits = {
+            "int": ("IntLiteral",),
+            "double": ("IntLiteral", "DoubleLiteral"),
+            "string": ("StringLiteral",),
+            "bool": ("BoolLiteral",),
+        }[item.type]
+        text = _unquote(literal.text) if literal_kind == "StringLiteral" else literal.text
+        if literal_kind not in fits:
+            self.sink.error(
+                self.loc(literal),
+                f"attribute {item.name} is {item.type}, but its default {literal.text} is "
+                f"{_LITERAL_KINDS[literal_kind]}",
+            )
+        else:
+            value = canonical_value(item.type, text)
+            if value is None:
+                self.sink.error(
+                    self.loc(literal), f"attribute {item.name}: {literal.text} is not a {item.type}"
+                )
+            attribute.value = value
+        return attribute
+
+    # -- formulas --------------------------------------------------------------------
+    def formula(self, node: Any) -> Any:
+        kind = type(node).__name__
+        F = self.F
+        if kind == "Reference":
+            ref = self.locate(F.FeatureRef(), self.loc(node))
+            target = self.features.get(node.name)
+            if target is None:
+                self.sink.error(self.loc(node), f"unknown feature {node.name}")
+            else:
+                ref.feature = target
+            return ref
+        if kind == "NotFormula":
+            negation = self.locate(F.Not(), self.loc(node))
+            negation.operand = self.formula(node.operand)
+            return negation
+        result = self.formula(node.first)
+        if not node.rest:
+            return result
+        operator = {"Iff": "iff", "Disjunction": "or", "Conjunction": "and"}.get(kind)
+        if kind == "Implication":
+            # implication-level operators associate to the right: a => b => c is a => (b => c)
+            operands = [result] + [self.formula(tail.operand) for tail in node.rest]
+            symbols = [tail.operator for tail in node.rest]
+            right = operands[-1]
+            for index in range(len(symbols) - 1, -1, -1):
+                right = self.binary(
+                    _IMPLICATION_OPERATORS[symbols[index]], operands[index], right, node.rest[index]
+                )
+            return right
+        for tail in node.rest:
+            result = self.binary(operator, result, self.formula(tail.operand), tail)
+        return result
+
+    def binary(self, operator: str, left: Any, right: Any, node: Any) -> Any:
+        formula = self.F.BinaryFormula(operator=operator)
+        formula.srcFile, formula.srcLine, formula.srcCol = left.srcFile, left.srcLine, left.srcCol
+        formula.left, formula.right = left, right
+        return formula
+
+
+_IMPLICATION_OPERATORS = {"=>": "implies", "requires": "requires", "excludes": "excludes"}
+_LITERAL_KINDS = {
+    "IntLiteral": "an int",
+    "DoubleLiteral": "a double",
+    "StringLiteral": "a string",
+    "BoolLiteral": "a bool",
+}

@@ -1,0 +1,148 @@
+"""Feature models in any of the three formats, and the names they share.
+
+``load_feature_model`` / ``save_feature_model`` pick the format from the file suffix
+(``.fm``, ``.uvl``, FeatureIDE ``.xml``) so the analysis, ``spl convert`` and the
+resolution model accept any of them.
+
+UVL and FeatureIDE allow feature names our tools cannot carry (spaces, dots,
+non-ASCII letters, words of the .fm language): those names end up in generated XML,
+JSON and shell files, so importers give such a feature a valid identifier and keep its
+original name in a string attribute ``original_name``. Exporters write the original
+name back, so a community model survives import and export unchanged.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import tempfile
+from collections.abc import Iterable
+from pathlib import Path
+from typing import Any
+
+from spl.diagnostics import Diagnostic, Location, ModelError
+from spl.dsl.fm import RESERVED_WORDS, is_feature_name
+
+FORMATS = {".fm": "FeatureModel (.fm)", ".uvl": "UVL", ".xml": "FeatureIDE XML"}
+ORIGINAL_NAME = "original_name"
+
+
+def load_feature_model(path: str | Path) -> Any:
+    """Read a feature model from a .fm, .uvl or FeatureIDE .xml file."""
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix == ".fm":
+        from spl.dsl.fm import parse_file
+
+        return parse_file(path)
+    if suffix == ".uvl":
+        from spl.dsl.uvl import read_uvl
+
+        return read_uvl(path)
+    if suffix == ".xml":
+        from spl.dsl.featureide import read_featureide
+
+        return read_featureide(path)
+    raise ModelError([Diagnostic(Location(str(path), 1, 1), unsupported_format_message(path))])
+
+
+def render_feature_model(model: Any, suffix: str) -> bytes:
+    """The bytes of ``model`` in the format of ``suffix`` (.fm, .uvl or .xml)."""
+    suffix = suffix.lower()
+    if suffix == ".fm":
+        from spl.dsl.fm_printer import print_model
+
+        return print_model(model).encode("utf-8")
+    if suffix == ".uvl":
+        from spl.dsl.uvl import write_uvl
+
+        return write_uvl(model).encode("utf-8")
+    if suffix == ".xml":
+        from spl.dsl.featureide import write_featureide
+
+        return write_featureide(model)
+    raise ValueError(f"no feature-model format for {suffix!r}")
+
+
+def save_feature_model(model: Any, path: str | Path) -> None:
+    """Write ``model`` to ``path`` in the format its suffix names, atomically.
+
+    The text is rendered completely before anything is written, and written to a
+    temporary file renamed over the target, so a failed export never leaves half a file.
+    """
+    path = Path(path)
+    if path.suffix.lower() not in FORMATS:
+        raise ValueError(unsupported_format_message(path))
+    data = render_feature_model(model, path.suffix)
+    directory = path.parent if str(path.parent) else Path(".")
+    handle, temporary = tempfile.mkstemp(prefix=f".{path.name}.", dir=directory)
+    try:
+        with os.fdopen(handle, "wb") as stream:
+            stream.write(data)
+        os.chmod(temporary, 0o644)
+        os.replace(temporary, path)
+    except BaseException:
+        Path(temporary).unlink(missing_ok=True)
+        raise
+
+
+def unsupported_format_message(path: Path) -> str:
+    known = ", ".join(sorted(FORMATS))
+    return f"{path}: unsupported feature-model format {path.suffix or '(none)'!r} (use {known})"
+
+
+def sanitise(name: str) -> str:
+    """A valid .fm identifier close to ``name``: invalid characters become ``_``."""
+    text = re.sub(r"[^A-Za-z0-9_]", "_", name)
+    if not text or text[0].isdigit():
+        text = "_" + text
+    if text in RESERVED_WORDS:
+        text += "_"
+    return text
+
+
+class FeatureNames:
+    """The injective renaming of an imported model's feature names.
+
+    Names that are already valid identifiers keep themselves; every other name gets
+    :func:`sanitise` of itself, suffixed ``_2``, ``_3``... on a collision with any name
+    of the model, in the order the names are given, so the result depends only on the
+    input file.
+    """
+
+    def __init__(self, originals: Iterable[str]) -> None:
+        ordered = list(dict.fromkeys(originals))
+        self.identifiers: dict[str, str] = {}
+        used = {name for name in ordered if is_feature_name(name)}
+        for name in ordered:
+            if is_feature_name(name):
+                self.identifiers[name] = name
+                continue
+            base = sanitise(name)
+            candidate, counter = base, 2
+            while candidate in used:
+                candidate, counter = f"{base}_{counter}", counter + 1
+            used.add(candidate)
+            self.identifiers[name] = candidate
+
+    def __getitem__(self, original: str) -> str:
+        return self.identifiers[original]
+
+
+def model_name(name: str) -> str:
+    """A model name (namespace, file stem) as a valid identifier."""
+    text = re.sub(r"[^A-Za-z0-9_]", "_", name)
+    return text if text and not text[0].isdigit() else "_" + text
+
+
+def original_name(feature: Any) -> str:
+    """The name a feature had in the format it was imported from (its name otherwise)."""
+    for attribute in feature.attributes:
+        if attribute.name == ORIGINAL_NAME and attribute.type.name == "string":
+            return attribute.value or feature.name
+    return feature.name
+
+
+def exported_attributes(feature: Any) -> list[Any]:
+    """The attributes an exporter writes as attributes (not the kept original name)."""
+    return [a for a in feature.attributes if a.name != ORIGINAL_NAME]
