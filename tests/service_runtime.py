@@ -64,6 +64,8 @@ class RunningService:
             try:
                 with urllib.request.urlopen(self.url + "/", timeout=1):
                     return self
+            except urllib.error.HTTPError:  # it answers (reads may need the token)
+                return self
             except (urllib.error.URLError, OSError):
                 time.sleep(0.05)
         raise RuntimeError(f"service did not start: {self.log.read_text()[-3000:]}")

@@ -134,7 +134,8 @@ def test_rest_contract(positions) -> None:
     status, headers, store = request("GET", base)
     assert status == 200 and store["raw"]["type"] == "PositionInSecond"
     assert headers["link"] == ('</PositionStore/records>; rel="related", '
-                               '</PositionStore/PositionInDEG>; rel="related"')
+                               '</PositionStore/PositionInDEG>; rel="related", '
+                               '</PositionStore/errors>; rel="related"')
     assert 'rel="related"' in request("GET", positions.url + "/")[1]["link"]
     for path, allow in [("", "GET, HEAD, OPTIONS"), ("/records", "GET, HEAD, POST, OPTIONS"),
                         ("/PositionInDEG", "GET, HEAD, OPTIONS"),
