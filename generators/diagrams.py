@@ -310,7 +310,6 @@ def architecture_graph(system: Any, product: ResolvedProduct | None = None) -> g
             style="dashed",
             color="#d9730d",
             penwidth="1.5",
-            constraint="false",
         )
     _store_edges(graph, system)
     _legend(graph)
