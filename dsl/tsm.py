@@ -44,14 +44,15 @@ __all__ = [
 ]
 
 # Functions a transform may call, with (fewest, most) arguments; `if(c, a, b)` is the
-# conditional. Nothing else can be called, so generated code can map each one safely.
-FUNCTIONS: dict[str, tuple[int, int | None]] = {
+# conditional. Nothing else can be called, so generated code can map each one safely
+# (the same table as generators/expressions.py).
+FUNCTIONS: dict[str, tuple[int, int]] = {
     "abs": (1, 1),
-    "min": (2, None),
-    "max": (2, None),
+    "min": (2, 16),
+    "max": (2, 16),
     "sqrt": (1, 1),
     "exp": (1, 1),
-    "log": (1, 2),
+    "log": (1, 1),
     "sin": (1, 1),
     "cos": (1, 1),
     "tan": (1, 1),
@@ -61,7 +62,7 @@ FUNCTIONS: dict[str, tuple[int, int | None]] = {
     "atan2": (2, 2),
     "floor": (1, 1),
     "ceil": (1, 1),
-    "round": (1, 2),
+    "round": (1, 1),
     "if": (3, 3),
 }
 CONSTANTS = {"pi": math.pi, "e": math.e}
@@ -470,14 +471,8 @@ class _Builder:
             return None
         fewest, most = arity
         count = len(tree.arguments)
-        if count < fewest or (most is not None and count > most):
-            wanted = (
-                str(fewest)
-                if fewest == most
-                else f"{fewest} or more"
-                if most is None
-                else f"{fewest} to {most}"
-            )
+        if not fewest <= count <= most:
+            wanted = str(fewest) if fewest == most else f"{fewest} to {most}"
             self.error(tree.function, f"function {name} takes {wanted} arguments, got {count}")
             return None
         arguments = [self._expression(a, record_type) for a in tree.arguments]
