@@ -94,3 +94,28 @@ def test_store_refinements_must_match_their_transform() -> None:
     assert any("reads PositionInSecond, but the store's raw type is Velocity" in m
                for m in messages)
     assert any("produces PositionInDEG, not Command" in m for m in messages)
+
+
+def test_typing_problems_are_located_in_the_tsm_file() -> None:
+    from spl.dsl import tsm as tsm_language
+
+    system = tsm_language.parse_text(
+        "system S\n"
+        "data A { x : double  n : int  ok : bool }\n"
+        "data B { y : int  z : double }\n"
+        "transform F : A -> B {\n"
+        "    y = x / 2\n"
+        "    z = ok + 1\n"
+        "}\n"
+        "cloud container C {\n"
+        "    store St {\n"
+        "        raw A\n"
+        "        refined B by F every 1 s\n"
+        "    }\n"
+        "}\n",
+        "bad.tsm",
+    )
+    assert [str(d) for d in check_system(system)] == [
+        "bad.tsm:5:5: error: transform F: cannot assign double to B.y of type int",
+        "bad.tsm:6:9: error: transform F: operator '+' cannot combine bool and int",
+    ]
