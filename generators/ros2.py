@@ -7,9 +7,11 @@ in every attribute but, unlike roslaunch, lets a backslash escape ``$``, quotes 
 itself; every attribute value is escaped that way, so model text reaches the node
 exactly as written.
 
-Parameters carry the launch_ros ``type`` attribute: without it the frontend guesses
-the type from the text, and a string parameter ``"20"`` would reach the node as an
-integer.
+Parameters carry the launch_ros ``type`` attribute (read since Galactic; Humble and
+Jazzy have it): without it the frontend guesses the type from the text, and a string
+parameter ``"0483"`` would reach the node as the integer 483. ROS 2 parameters have no
+dictionary values, so a ``yaml`` mapping becomes nested ``<param>`` elements (the
+node sees ``filters.median.window``), as ROS 2 parameter files do.
 """
 
 from __future__ import annotations
@@ -17,6 +19,7 @@ from __future__ import annotations
 import re
 from typing import Any
 
+import yaml
 from lxml import etree
 
 from spl.generators.ros1 import (
@@ -44,6 +47,26 @@ def _set(element: Any, attribute: str, value: str) -> None:
     element.set(attribute, escape_substitutions(value))
 
 
+def _yaml_text(value: Any) -> str:
+    text = yaml.safe_dump(value, default_flow_style=True, width=2**31, allow_unicode=True)
+    return text.removesuffix("\n...\n").strip()
+
+
+def _yaml_parameter(parent: Any, name: str, value: Any, parameter: Any) -> None:
+    """A yaml parameter: mappings become nested ``<param>`` (ROS 2 has no dict values)."""
+    if value is None or value == {}:
+        where = f"{parameter.eContainer().name}.{parameter.name}"
+        raise ValueError(f"parameter {where}: ROS 2 parameters cannot be null or empty ({name})")
+    param = etree.SubElement(parent, "param")
+    _set(param, "name", name)
+    if isinstance(value, dict):
+        for key, item in value.items():
+            _yaml_parameter(param, str(key), item, parameter)
+        return
+    _set(param, "value", _yaml_text(value))
+    param.set("type", "yaml")
+
+
 def launch_document(product: ResolvedProduct, container: Any) -> etree._Element:
     """The ``<launch>`` tree of one container: its nodes, never its endpoint."""
     root = etree.Element("launch")
@@ -64,9 +87,13 @@ def launch_document(product: ResolvedProduct, container: Any) -> etree._Element:
                     etree.Comment(f" parameter {parameter.name}: left to the node's default ")
                 )
                 continue
+            text = checked_value(parameter)
+            if parameter.type.name == "yaml":
+                _yaml_parameter(element, parameter.name, yaml.safe_load(text), parameter)
+                continue
             param = etree.SubElement(element, "param")
             _set(param, "name", parameter.name)
-            _set(param, "value", checked_value(parameter))
+            _set(param, "value", text)
             param.set("type", ROS2_TYPES[parameter.type.name])
         for source, target in remappings(node, product.system):
             remap = etree.SubElement(element, "remap")

@@ -67,14 +67,20 @@ def test_parameters_from_text_keep_type_and_value(line):
         "filters": {"median": {"window": 5}, "range": [0.1, 30.0]},
     }
     lidar2 = node(ros2.generate(derived)["ros2/Scout.launch.xml"], "Lidar")
-    typed = {p.get("name"): p.get("type") for p in lidar2.iter("param")}
+    typed = {p.get("name"): p.get("type") for p in lidar2.findall("param")}
     assert typed == {
         "frame_id": "str",
         "angle_min": "float",
         "skip": "int",
         "intensity": "bool",
-        "filters": "yaml",
+        "filters": None,  # a mapping: nested params, as in a ROS 2 parameter file
     }
+    leaves = {
+        ".".join(a.get("name") for a in reversed([p, *p.iterancestors("param")])): p.get("value")
+        for p in lidar2.iter("param")
+        if p.get("value") is not None and p.get("type") == "yaml"
+    }
+    assert leaves == {"filters.median.window": "5", "filters.range": "[0.1, 30.0]"}
     assert lidar2.get("namespace") == "/scout"
 
 

@@ -108,10 +108,23 @@ def test_ros2_vocabulary():
     }
     params = {p.get("name"): (p.get("value"), p.get("type")) for p in driver.findall("param")}
     assert params["rate"] == ("20.0", "float")
-    assert params["limits"] == ("{max_vel: 0.8, joints: [1, 2, 3]}", "yaml")
+    # ROS 2 has no dict parameters: a yaml mapping becomes nested params
+    (limits,) = [p for p in driver.findall("param") if p.get("name") == "limits"]
+    assert limits.get("value") is None
+    nested = {p.get("name"): (p.get("value"), p.get("type")) for p in limits.findall("param")}
+    assert nested == {"max_vel": ("0.8", "yaml"), "joints": ("[1, 2, 3]", "yaml")}
     assert remaps(driver) == {"cmd_vel": "/cmd_vel"}
     ros1_optimizer = by_name(ros1.generate(mapping_product())["ros1/Robot.launch"], "MapOptimizer")
     assert remaps(by_name(launch, "MapOptimizer")) == remaps(ros1_optimizer)
+
+
+def test_ros2_refuses_yaml_values_ros2_cannot_hold():
+    product = mapping_product()
+    limits = product.system.containers[0].nodes[5].parameters[4]
+    limits.value = "{max_vel: {}}"
+    with pytest.raises(ValueError, match=r"RobotDriver\.limits: ROS 2 parameters cannot be null"):
+        ros2.generate(product)
+    assert validate_ros1_launch(ros1.generate(product)["ros1/Robot.launch"]) == []
 
 
 def test_deterministic_and_without_timestamps():
