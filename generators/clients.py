@@ -16,6 +16,7 @@ from spl.generators.expressions import IDENTIFIER
 from spl.generators.service import render, snake_case, store_context
 from spl.resolver.product import ResolvedProduct
 
+ROS_PACKAGE = re.compile(r"[a-z][a-z0-9_]*\Z")
 MESSAGE_TYPE = re.compile(r"([A-Za-z][A-Za-z0-9_]*)/(?:msg/)?([A-Za-z][A-Za-z0-9_]*)\Z")
 DEFAULT_STORE_URL = "http://localhost:8000"
 KINDS = {"Writer": ("writer", "Subscriber", "writer_node"),
@@ -63,7 +64,10 @@ def generate_client(container: Any, node: Any, product: ResolvedProduct) -> dict
     kind, interface_kind, module = KINDS[node.eClass.name]
     msg_type, msg_package, msg_name = _message(node, interface_kind)
     store = node.store
-    package = client_package_name(node.name)
+    # the Resolution Engine names the package in the node (launch files start it)
+    package = node.package if ROS_PACKAGE.match(node.package or "") else client_package_name(
+        node.name)
+    executable = node.executable if ROS_PACKAGE.match(node.executable or "") else package
     refined_names = [r.output.name for r in store.refinements if r.output is not None]
     if kind == "writer" and node.dataType is not store.raw:
         raise ModelError([Diagnostic(location_of(node), (
@@ -85,7 +89,7 @@ def generate_client(container: Any, node: Any, product: ResolvedProduct) -> dict
         "store": store_context(store, product),
         "msg": {"type": msg_type, "package": msg_package, "name": msg_name},
         "package": package,
-        "executable": package,
+        "executable": executable,
         "module": module,
         "collection": node.dataType.name if kind == "reader" else "records",
         "fields": fields,
