@@ -485,8 +485,13 @@ class _Builder:
     def _reference(self, tree: Any, record_type: Any) -> Any:
         parts = tree.parts
         names = [p.name for p in parts]
+        known = [f.name for f in record_type.fields] if record_type is not None else []
+        known.append(IMPLICIT_FIELD)
         if len(names) == 1 and names[0] in CONSTANTS:
             return self.locate(self.T.NumberLiteral(value=repr(CONSTANTS[names[0]])), tree)
+        if len(names) == 2 and names[0] not in NEIGHBOURS and names[0] not in known:
+            self.error(parts[0], f"unknown record {names[0]} (write prev.FIELD or next.FIELD)")
+            return None
         if len(names) > 2 or (len(names) == 2 and names[0] not in NEIGHBOURS):
             where = parts[2] if names[0] in NEIGHBOURS else parts[1]
             self.error(
@@ -497,14 +502,12 @@ class _Builder:
             return None
         record, field_tree = ("", parts[0]) if len(names) == 1 else (names[0], parts[1])
         field = field_tree.name
-        if record_type is not None:
-            known = [f.name for f in record_type.fields] + [IMPLICIT_FIELD]
-            if field not in known:
-                self.error(
-                    field_tree,
-                    f"unknown field {field} of {record_type.name} (fields: {', '.join(known)})",
-                )
-                return None
+        if record_type is not None and field not in known:
+            self.error(
+                field_tree,
+                f"unknown field {field} of {record_type.name} (fields: {', '.join(known)})",
+            )
+            return None
         return self.locate(self.T.FieldReference(record=record, field=field), tree)
 
     # -- containers ---------------------------------------------------------------------
@@ -998,10 +1001,12 @@ class _Builder:
         stand_in = self._endpoint_interface(
             tree, containers[0], "ServiceServer", endpoint_server_name(server), "server", server
         )
+        if stand_in is None:
+            return
         caller = self._endpoint_interface(
             tree, containers[1], "ServiceClient", endpoint_client_name(server), "server", server
         )
-        if stand_in is None or caller is None:
+        if caller is None:
             return
         client.server, client.type = stand_in, server.type
         self._connect(tree, stand_in, caller)
@@ -1050,13 +1055,17 @@ class _Builder:
         self.system.connections.append(self.locate(connection, tree))
 
 
+def _a(word: str) -> str:
+    return f"an {word}" if word[0] in "aeiou" else f"a {word}"
+
+
 def _parameter_value(tree: Any, ptype: str) -> tuple[str | None, str | None]:
     """(canonical text, None) or (None, what is wrong) for a literal of type ``ptype``."""
     kind = _kind(tree)
     if kind == "StringValue":
         text = _decode(tree.value.value)
         if ptype not in ("string", "yaml"):
-            return None, f"expected a {ptype} value, got a string"
+            return None, f"expected {_a(ptype)} value, got a string"
         if ptype == "yaml":
             try:
                 yaml.safe_load(text)
@@ -1065,7 +1074,9 @@ def _parameter_value(tree: Any, ptype: str) -> tuple[str | None, str | None]:
         return text, None
     text = tree.value
     if kind == "BoolValue":
-        return (text, None) if ptype == "bool" else (None, f"expected a {ptype} value, got {text}")
+        return (
+            (text, None) if ptype == "bool" else (None, f"expected {_a(ptype)} value, got {text}")
+        )
     if ptype == "int":
         if re.fullmatch(r"[-+]?\d+", text):
             value = int(text)
@@ -1078,4 +1089,4 @@ def _parameter_value(tree: Any, ptype: str) -> tuple[str | None, str | None]:
         if not math.isfinite(value):
             return None, f"{text} is out of range"
         return repr(value), None
-    return None, f"expected a {ptype} value, got {text}"
+    return None, f"expected {_a(ptype)} value, got {text}"
