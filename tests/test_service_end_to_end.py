@@ -143,6 +143,13 @@ def test_rest_contract(positions) -> None:
         status, headers, _ = request("OPTIONS", base + path)
         assert (status, headers["allow"]) == (204, allow)
 
+    for method, path, allow in [("DELETE", "/records/1", "GET, HEAD, OPTIONS"),
+                                ("PUT", "", "GET, HEAD, OPTIONS"),
+                                ("DELETE", "/records", "GET, HEAD, POST, OPTIONS"),
+                                ("POST", "/PositionInDEG", "GET, HEAD, OPTIONS")]:
+        status, headers, body = request(method, base + path)
+        assert (status, headers["allow"], body["detail"]) == (405, allow, "Method Not Allowed")
+
     refined = wait_for(lambda: request("GET", f"{base}/PositionInDEG?robot=rover_9")[2]["items"])
     assert refined[0]["lat"] == 0.01 and refined[0]["lon"] == 0.02
     status, _, one = request("GET", f"{base}/PositionInDEG/{refined[0]['id']}")
