@@ -83,7 +83,10 @@ def syntax_diagnostic(exc: TextXSyntaxError, filename: str) -> Diagnostic:
     """A textX syntax error as one located diagnostic naming what was expected."""
     expected = sorted({_rule_label(r) for r in (exc.expected_rules or [])})
     if expected:
-        reason = "syntax error: expected " + ", ".join(expected)
+        listed = (
+            ", ".join(expected[:-1]) + " or " + expected[-1] if len(expected) > 1 else expected[0]
+        )
+        reason = "syntax error: expected " + listed
     else:
         reason = "syntax error: " + str(exc.message).split(" at position")[0]
     return Diagnostic(Location(filename, exc.line or 0, exc.col or 0), reason)
@@ -109,7 +112,7 @@ def _rule_label(rule: Any) -> str:
     text = str(rule)
     if text.startswith("/(?!(abstract"):
         return "feature name"
-    return text
+    return f"'{text}'"
 
 
 def summary(model: Any) -> str:

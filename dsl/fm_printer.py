@@ -7,6 +7,8 @@ can turn community models into .fm files people then edit. The canonical form:
 - a feature whose only content is one ``xor``/``or``/``group`` group is written with
   the group after its name (``mandatory MobileBase xor { YouBot Roomba }``);
   otherwise its attributes, sharing mode and groups go in a ``{ }`` body in that order;
+- a group written right after a feature name belongs to that feature, so a leaf child
+  followed by a group of its parent is closed with an empty body (``optional A { }``);
 - a mandatory/optional group is written as ``mandatory A`` lines; a group directly
   following another group of the same kind would merge with it when parsed, so it is
   written as a block ``mandatory { A B }`` instead;
@@ -136,16 +138,26 @@ def _rest(feature: Any, indent: str) -> str:
     if feature.sharing is not None:
         lines.append(f"{inner}sharing {feature.sharing.mode.name}")
     previous_child_kind = None
-    for group in feature.groups:
+    groups = list(feature.groups)
+    for index, group in enumerate(groups):
         kind = group.kind.name
         if kind in ("mandatory", "optional"):
             if previous_child_kind == kind:
                 lines.append(f"{inner}{kind} " + _members(group, inner))
                 previous_child_kind = None
-            else:
-                for child in group.features:
-                    lines.append(f"{inner}{kind} " + _head(child) + _rest(child, inner))
-                previous_child_kind = kind
+                continue
+            for child in group.features:
+                lines.append(f"{inner}{kind} " + _head(child) + _rest(child, inner))
+            following = groups[index + 1] if index + 1 < len(groups) else None
+            if (
+                following is not None
+                and following.kind.name not in ("mandatory", "optional")
+                and group.features
+                and _is_leaf(group.features[-1])
+            ):
+                # a group right after a name belongs to that feature: end the leaf first
+                lines[-1] += " { }"
+            previous_child_kind = kind
         else:
             lines.append(inner + _choice_group(group, inner))
             previous_child_kind = None
