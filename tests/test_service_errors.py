@@ -74,6 +74,7 @@ def test_failing_records_are_reported_and_the_rest_refined(directory: Path) -> N
         status, _, body = request("GET", f"{base}/Ratio", token=None)
         assert (status, body["detail"]) == (401, "missing bearer token")
         assert request("GET", f"{base}/Ratio", token="wrong")[0] == 401
+        assert request("GET", f"{running.url}/", token=None)[0] == 200  # health check
     finally:
         running.stop()
 
