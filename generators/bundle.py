@@ -24,18 +24,29 @@ from spl.dsl.tsm_printer import print_model
 from spl.resolver.product import ResolvedProduct
 
 # One module per target; each offers generate(product) -> {bundle path: bytes}.
-GENERATORS = ()
+GENERATORS = ("spl.generators.ros1", "spl.generators.ros2", "spl.generators.diagrams")
+
+
+class _InMemoryURI(URI):
+    """Lets pyecore serialise into memory: the bundle is assembled before any write."""
+
+    def __init__(self) -> None:
+        super().__init__("resolved.xmi")
+        self.buffer = io.BytesIO()
+
+    def create_outstream(self) -> io.BytesIO:
+        return self.buffer
 
 
 def resolved_xmi(system: Any) -> bytes:
     resource = XMIResource(URI("resolved.xmi"))
     resource.append(system)
-    stream = io.BytesIO()
+    output = _InMemoryURI()
     try:
-        resource.save(output=stream)
+        resource.save(output=output)
     finally:
         resource.remove(system)
-    return stream.getvalue()
+    return output.buffer.getvalue()
 
 
 def bundle_files(product: ResolvedProduct) -> dict[str, bytes]:
