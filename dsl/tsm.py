@@ -623,16 +623,7 @@ class _Builder:
         T = self.T
         node = self._node_common(T.Node(name=tree.name.name), tree)
         node.sharing = T.SharingMode.getEEnumLiteral(tree.sharing or "private")
-        if tree.implementation is not None:
-            text = tree.implementation.value
-            if self.check(tree.implementation, rosnames.problem_implementation(text)):
-                node.package, node.executable = text.split("/", 1)
-            if tree.args is not None:
-                args = _decode(tree.args.value)
-                if self.check(tree.args, rosnames.problem_args(args)):
-                    node.args = args
-        elif tree.args is not None:
-            self.error(tree.args, "args need an implementation")
+        self._implementation(node, tree)
         parameters: dict[str, Any] = {}
         interfaces: dict[str, Any] = {}
         for member in tree.members:
@@ -650,6 +641,17 @@ class _Builder:
                 node.interfaces.append(interface)
                 self.trees.append((interface, member))
         return node
+
+    def _implementation(self, node: Any, tree: Any) -> None:
+        if tree.implementation is None:
+            return
+        text = tree.implementation.value
+        if self.check(tree.implementation, rosnames.problem_implementation(text)):
+            node.package, node.executable = text.split("/", 1)
+        if tree.args is not None:
+            args = _decode(tree.args.value)
+            if self.check(tree.args, rosnames.problem_args(args)):
+                node.args = args
 
     def _parameter(self, tree: Any) -> Any:
         T = self.T
@@ -830,6 +832,7 @@ class _Builder:
         node.sharing = self.T.SharingMode.private
         records = self.locate(getattr(self.T, interface_kind)(name="records"), tree.topic)
         node.interfaces.append(records)
+        self._implementation(node, tree)
         parameters: dict[str, Any] = {}
         for parameter_tree in tree.parameters:
             parameter = self._parameter(parameter_tree)

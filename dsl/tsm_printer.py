@@ -176,15 +176,19 @@ def _node(node: Any) -> list[str]:
     sharing = (
         f" sharing {node.sharing.name}" if node.sharing and node.sharing.name != "private" else ""
     )
-    lines = [f"{optional}node {node.name}{sharing} {{"]
-    if node.package or node.executable:
-        implementation = f"implementation {node.package}/{node.executable}"
-        if node.args:
-            implementation += f" args {_quote(node.args)}"
-        lines.append(_INDENT + implementation)
+    lines = [f"{optional}node {node.name}{sharing} {{", *_implementation(node)]
     lines += [_INDENT + _parameter(p) for p in node.parameters]
     lines += [_INDENT + _interface(i) for i in node.interfaces]
     return [*lines, "}"]
+
+
+def _implementation(node: Any) -> list[str]:
+    if not (node.package or node.executable):
+        return []
+    implementation = f"implementation {node.package}/{node.executable}"
+    if node.args:
+        implementation += f" args {_quote(node.args)}"
+    return [_INDENT + implementation]
 
 
 def _parameter(parameter: Any) -> str:
@@ -244,9 +248,8 @@ def _data_node(node: Any) -> list[str]:
             f"{optional}reader {node.name} : {node.dataType.name} from {store} -> {topic} "
             f"every {_number(node.period)} s"
         )
-    if not node.parameters:
-        return [text]
-    return [f"{text} {{", *(_INDENT + _parameter(p) for p in node.parameters), "}"]
+    body = _implementation(node) + [_INDENT + _parameter(p) for p in node.parameters]
+    return [f"{text} {{", *body, "}"] if body else [text]
 
 
 # -- bridges ------------------------------------------------------------------------------

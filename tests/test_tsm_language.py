@@ -246,6 +246,12 @@ def test_every_construct_means_what_it_says() -> None:
     assert len(system.connections) == 4
     spare = by_name(lab.stores, "Spare")
     assert spare.optional and list(spare.refinements) == []
+    built = by_name(rover.nodes, "BuiltWriter")
+    assert (built.package, built.executable, built.args) == (
+        "sample_writer",
+        "sample_writer",
+        "--verbose",
+    )
     reader = by_name(rover.nodes, "SummaryReader")
     assert reader.optional and reader.period == 0.25
     assert [(p.name, p.value) for p in reader.parameters] == [("verbose", "true")]
@@ -317,3 +323,22 @@ def test_canonical_endpoint_names() -> None:
     assert tsm.endpoint_publisher_name(topic) == "pub_RGBImg"
     assert tsm.endpoint_server_name(server) == "srv_Database_get_map"
     assert tsm.endpoint_client_name(server) == "cli_Database_get_map"
+
+
+@pytest.mark.parametrize(
+    "features", ["YouBot,Stereo,AdditionalPC,Room", "Roomba,Depth,Corridor"], ids=str
+)
+def test_printer_round_trip_of_resolved_products(features: str) -> None:
+    """Resolved architectures (migrated nodes, rewired endpoints) print back exactly."""
+    from spl.resolver.engine import resolve
+    from spl.resolver.product_line import load_product_line
+    from spl.resolver.product_selection import selection_from_list
+
+    resolution = resolve(load_product_line(MAPPING.parent), selection_from_list(features))
+    system = resolution.product.system
+    text = print_model(system)
+    assert list(differences(system, tsm.parse_text(text, "resolved.tsm"))) == []
+    if "AdditionalPC" in features:
+        assert "bridge Robot.MapOptimizer.add_keyframe -> MappingCloud.Database.add_keyframe" in (
+            text
+        )
