@@ -108,7 +108,7 @@ def parse_file(path: str | Path) -> Any:
     """Parse and check a .tsm file; raise ModelError with every problem found."""
     path = Path(path)
     try:
-        text = path.read_text(encoding="utf-8")
+        text = path.read_text(encoding="utf-8-sig")  # a byte order mark is not text
     except UnicodeDecodeError as exc:
         raise ModelError(
             [Diagnostic(Location(str(path), 1, 1), f"file is not UTF-8 text ({exc.reason})")]
@@ -219,7 +219,8 @@ def _syntax_diagnostic(exc: TextXSyntaxError, text: str, filename: str) -> Diagn
         if word not in words:
             words.append(word)
     expected = ", ".join(sorted(words)) or "something else"
-    found = f"'{token}'" if token else "end of file"
+    shown = token if token.isprintable() else token.encode("unicode_escape").decode("ascii")
+    found = f"'{shown}'" if token else "end of file"
     return Diagnostic(
         Location(filename, line, col), f"syntax error: expected {expected}, found {found}"
     )

@@ -538,3 +538,16 @@ def test_non_utf8_file_is_a_located_error(tmp_path: Path) -> None:
     with pytest.raises(ModelError) as info:
         tsm.parse_file(path)
     assert str(info.value.diagnostics[0]).startswith(f"{path}:1:1: error: file is not UTF-8")
+
+
+def test_control_characters_are_not_echoed_raw() -> None:
+    assert_errors(
+        "robot container R {\n    node @@\x1b[31mx {\n    }\n}\n",
+        "syntax error: expected a name, found '\\x1b[31mx'",
+    )
+
+
+def test_byte_order_mark_is_accepted(tmp_path: Path) -> None:
+    path = tmp_path / "bom.tsm"
+    path.write_bytes(b"\xef\xbb\xbfsystem Bom\n")
+    assert tsm.parse_file(path).name == "Bom"
