@@ -17,8 +17,8 @@ needs exactly one member when its parent is selected, ``or`` at least one, a
 from __future__ import annotations
 
 from collections.abc import Iterator
-from dataclasses import dataclass, field
-from typing import Any
+from dataclasses import dataclass
+from typing import Any, NamedTuple
 
 from pysat.card import CardEnc, EncType
 
@@ -38,22 +38,22 @@ _SYMBOL = {"iff": "<=>", "implies": "=>", "requires": "requires", "excludes": "e
            "or": "or", "and": "and"}
 
 
-@dataclass(frozen=True)
-class Rule:
+class Rule(NamedTuple):
     """One model element's contribution to the formula; explanations quote ``text``.
 
     ``features`` are the features the rule talks about: for tree rules (child, parent),
     for a group (parent, *members); for a constraint its features in first-use order.
-    The wording is built only when asked for: encoding a 2500-feature model must not pay
-    for thousands of sentences nobody reads.
+    The wording and the location are built only when asked for, and the rule is a named
+    tuple: encoding a 2500-feature model must not pay for thousands of sentences nobody
+    reads.
     """
 
     index: int
     kind: str  # root | parent | mandatory | group | constraint
-    element: Any = field(compare=False, repr=False)
+    element: Any
     features: tuple[str, ...] = ()
     bounds: tuple[int, int] = (0, -1)  # a group's (lower, upper as written, -1 = *)
-    formula: tuple | None = field(default=None, compare=False, repr=False)  # constraints
+    formula: tuple | None = None  # constraints: the formula as a tree of tuples
 
     @property
     def location(self) -> Location | None:
@@ -117,27 +117,15 @@ class FeatureModelCNF:
         return self.names[abs(literal) - 1]
 
 
-def features_preorder(model: Any) -> list[Any]:
-    """The features of ``model`` in tree pre-order: the variable order of the encoding."""
-    order: list[Any] = []
-    stack = [model.root]
-    while stack:
-        feature = stack.pop()
-        order.append(feature)
-        children = [child for group in feature.groups for child in group.features]
-        stack.extend(reversed(children))
-    return order
-
-
 def group_kind(group: Any) -> str:
     kind = group.kind
     return kind.name if hasattr(kind, "name") else str(kind)
 
 
-def group_bounds(group: Any) -> tuple[int, int]:
+def group_bounds(group: Any, kind: str | None = None, n: int | None = None) -> tuple[int, int]:
     """(lower, upper) of a group, upper ``-1`` meaning unbounded."""
-    n = len(group.features)
-    kind = group_kind(group)
+    n = len(group.features) if n is None else n
+    kind = group_kind(group) if kind is None else kind
     if kind == "mandatory":
         return n, n
     if kind == "optional":
@@ -216,19 +204,35 @@ def evaluate(tree: tuple, product: set[str] | frozenset[str]) -> bool:
 class _Builder:
     def __init__(self, model: Any) -> None:
         self.model = model
-        self.features = features_preorder(model)
-        self.names = [f.name for f in self.features]
-        self.var = {name: i + 1 for i, name in enumerate(self.names)}
-        self.top = len(self.names)
         self.rules: list[Rule] = []
         self.rule_clauses: list[list[Clause]] = []
-        self.parent: dict[str, str | None] = {self.names[0]: None}
         self.modelled_mandatory: set[str] = set()
         self.definitions: list[Clause] = []
+        # one pass over the pyecore tree (attribute access there is the slow part)
+        root = model.root
+        self.root = root
+        self.names: list[str] = []
+        self.parent: dict[str, str | None] = {}
+        self.groups: list[tuple[str, Any, list[Any], list[str]]] = []
+        stack: list[tuple[Any, str | None]] = [(root, None)]
+        while stack:
+            feature, parent = stack.pop()
+            name = feature.name
+            self.names.append(name)
+            self.parent[name] = parent
+            pushed = []
+            for group in feature.groups:
+                children = list(group.features)
+                members = [child.name for child in children]
+                self.groups.append((name, group, children, members))
+                pushed.extend(zip(children, [name] * len(children), strict=True))
+            stack.extend(reversed(pushed))
+        self.var = {name: i + 1 for i, name in enumerate(self.names)}
+        self.top = len(self.names)
 
     def rule(self, kind: str, element: Any, features: tuple[str, ...], clauses: list[Clause],
-             **extra: Any) -> None:
-        self.rules.append(Rule(len(self.rules), kind, element, features, **extra))
+             *extra: Any) -> None:
+        self.rules.append(Rule(len(self.rules), kind, element, features, *extra))
         self.rule_clauses.append(clauses)
 
     def fresh(self) -> int:
@@ -236,33 +240,31 @@ class _Builder:
         return self.top
 
     def build(self) -> FeatureModelCNF:
-        root = self.features[0]
-        self.rule("root", root, (root.name,), [(1,)])
-        for feature, name in zip(self.features, self.names, strict=True):
-            for group in feature.groups:
-                self.encode_group(name, group)
+        self.rule("root", self.root, (self.names[0],), [(1,)])
+        for parent, group, children, members in self.groups:
+            self.encode_group(parent, group, children, members)
         for constraint in self.model.constraints:
             self.encode_constraint(constraint)
         return FeatureModelCNF(self.names, self.var, self.parent, self.modelled_mandatory,
                                self.rules, self.rule_clauses, self.top)
 
-    def encode_group(self, parent: str, group: Any) -> None:
+    def encode_group(self, parent: str, group: Any, children: list[Any],
+                     members: list[str]) -> None:
         p = self.var[parent]
-        children = list(group.features)
-        members = [child.name for child in children]
-        lits = [self.var[name] for name in members]
+        var = self.var
+        lits = [var[name] for name in members]
         kind = group_kind(group)
+        rule = self.rule
         for child, name, lit in zip(children, members, lits, strict=True):
-            self.parent[name] = parent
-            self.rule("parent", child, (name, parent), [(-lit, p)])
+            rule("parent", child, (name, parent), [(-lit, p)])
         if kind == "optional" or not lits:
             return
         if kind == "mandatory":
             for child, name, lit in zip(children, members, lits, strict=True):
                 self.modelled_mandatory.add(name)
-                self.rule("mandatory", child, (name, parent), [(-p, lit)])
+                rule("mandatory", child, (name, parent), [(-p, lit)])
             return
-        lower, written_upper = group_bounds(group)
+        lower, written_upper = group_bounds(group, kind, len(lits))
         n = len(lits)
         upper = n if written_upper < 0 or written_upper > n else written_upper
         if lower >= 1 and n == 1:
@@ -281,7 +283,7 @@ class _Builder:
             if upper < n:
                 # unconditional: with the parent off every member is off, which satisfies it
                 clauses.extend(self.at_most(lits, upper))
-        self.rule("group", group, (parent, *members), clauses, bounds=(lower, written_upper))
+        rule("group", group, (parent, *members), clauses, (lower, written_upper))
 
     def at_most(self, lits: list[int], bound: int) -> list[Clause]:
         if bound == 0:
@@ -295,6 +297,14 @@ class _Builder:
 
     def encode_constraint(self, constraint: Any) -> None:
         tree = formula_tree(constraint.formula)
+        binary = _binary_clause(tree)
+        if binary is not None:  # most real constraints: requires, excludes, A => B, ...
+            a, b = self.var[binary[0][1]], self.var[binary[1][1]]
+            a, b = (a if binary[0][0] else -a), (b if binary[1][0] else -b)
+            clauses = [(a, b)] if a != -b else []
+            self.rule("constraint", constraint, tuple(dict.fromkeys((binary[0][1], binary[1][1]))),
+                      [(a,)] if a == b else clauses, (0, -1), tree)
+            return
         nnf = self.nnf(tree, True)
         try:
             clauses = _distribute(nnf)
@@ -303,7 +313,7 @@ class _Builder:
             clauses.extend(self.definitions)
             self.definitions = []
         self.rule("constraint", constraint, formula_features(tree), _simplify(clauses),
-                  formula=tree)
+                  (0, -1), tree)
 
     # --- formulas -------------------------------------------------------------------
     def nnf(self, tree: tuple, positive: bool) -> tuple:
@@ -352,6 +362,25 @@ class _Builder:
 
 class _TooBig(Exception):
     pass
+
+
+def _binary_clause(tree: tuple) -> tuple[tuple[bool, str], tuple[bool, str]] | None:
+    """``((sign, name), (sign, name))`` when the formula is one two-literal clause."""
+    op = tree[0]
+    if op == "not":
+        inner = tree[1]
+        if inner[0] == "and" and inner[1][0] == "ref" and inner[2][0] == "ref":
+            return (False, inner[1][1]), (False, inner[2][1])
+        return None
+    if op not in ("implies", "requires", "excludes", "or") or tree[1][0] != "ref" \
+            or tree[2][0] != "ref":
+        return None
+    left, right = tree[1][1], tree[2][1]
+    if op == "or":
+        return (True, left), (True, right)
+    if op == "excludes":
+        return (False, left), (False, right)
+    return (False, left), (True, right)
 
 
 def _distribute(node: tuple) -> list[Clause]:

@@ -169,3 +169,15 @@ def test_queries_reuse_one_solver_and_agree_with_fresh_ones() -> None:
         first = (f.core_features(), f.dead_features(), f.false_optional_features())
         assert (f.core_features(), f.dead_features(), f.false_optional_features()) == first
     assert (core_features(m), dead_features(m), false_optional_features(m)) == first
+
+
+def test_two_literal_constraints_on_one_feature() -> None:
+    root = feature("R", group("optional", feature("A"), feature("B"), feature("C")))
+    m = model(root)
+    fs = fs_of(m)
+    m.constraints.append(constraint(binary("requires", ref("A", fs), ref("A", fs)), 9))  # no-op
+    m.constraints.append(constraint(binary("excludes", ref("B", fs), ref("B", fs)), 10))  # B dead
+    m.constraints.append(constraint(binary("or", ref("C", fs), ref("C", fs)), 11))  # C core
+    assert dead_features(m) == ["B"]
+    assert core_features(m) == ["C", "R"]
+    assert count_products(m).value == len(brute_force_products(m)) == 2
