@@ -7,8 +7,8 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-
 from architecture_view import view
+
 from spl.resolver.engine import resolve
 from spl.resolver.product_line import load_product_line
 from spl.resolver.product_selection import selection_from_list
@@ -67,7 +67,10 @@ def test_cloud_to_robot_with_local_peers_and_shared_stand_in(line):
     # both robot clients share one stand-in for the cloud planner: one connection
     assert v["bindings"]["Mapper.plan"] == "Robot.endpoint.srv_Planner_plan"
     assert v["bindings"]["Navigator.plan"] == "Robot.endpoint.srv_Planner_plan"
-    assert v["bridges"].count("Robot.endpoint.srv_Planner_plan -> Cloud.endpoint.cli_Planner_plan") == 1
+    assert (
+        v["bridges"].count("Robot.endpoint.srv_Planner_plan -> Cloud.endpoint.cli_Planner_plan")
+        == 1
+    )
     assert len(v["bridges"]) == 2
 
 

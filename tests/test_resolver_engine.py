@@ -1,0 +1,172 @@
+"""Engine behaviour: conflicts, `not selected` elements, attributes, sharing, selection
+errors, the SPEC section 4 example, and the command line's determinism and atomicity."""
+
+from __future__ import annotations
+
+import hashlib
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+from spl.cli import main
+from spl.diagnostics import ModelError
+from spl.resolver.engine import resolve
+from spl.resolver.product_line import load_product_line
+from spl.resolver.product_selection import apply_overrides, selection_from_list
+
+MODELS = Path(__file__).parent / "models"
+CONFLICTS = MODELS / "resolver" / "conflicts"
+SPEC = MODELS / "rm" / "spec_example"
+MAPPING = Path(__file__).resolve().parents[1] / "product_lines" / "mapping3d"
+
+
+@pytest.fixture(scope="module")
+def conflicts():
+    return load_product_line(CONFLICTS)
+
+
+def errors_of(line, features: str, sharing=(), settings=()) -> list[str]:
+    selection = apply_overrides(selection_from_list(features), list(sharing), list(settings))
+    with pytest.raises(ModelError) as caught:
+        resolve(line, selection)
+    return [str(d) for d in caught.value.diagnostics]
+
+
+def nodes(line, features: str, sharing=(), settings=()):
+    selection = apply_overrides(selection_from_list(features), list(sharing), list(settings))
+    system = resolve(line, selection).product.system
+    return {n.name: n for c in system.containers for n in c.nodes}
+
+
+@pytest.mark.parametrize(
+    ("features", "kind", "line_no"),
+    [
+        ("Fast,Slow", "implementation", 10),
+        ("Remote,Local", "migration target", 17),
+    ],
+)
+def test_conflicts_name_both_elements(conflicts, features, kind, line_no):
+    message = errors_of(conflicts, features)[0]
+    assert message.startswith(f"{CONFLICTS / 'conflicts.rm'}:{line_no}:5: error: conflict:")
+    assert f"gives {kind}" in message
+    assert "'when Fast selected'" in message or "'when Remote selected'" in message
+    assert "conflicts.rm:" in message.split("but", 1)[1]
+
+
+def test_parameter_conflict(conflicts):
+    messages = errors_of(conflicts, "Fast,Slow")
+    assert any("gives value 1.5 to Driver.rate" in m and "50.0" in m for m in messages)
+
+
+def test_not_selected_element_and_attribute_values(conflicts):
+    driver = nodes(conflicts, "Fast", settings=["Fast.rate=75"])["Driver"]
+    params = {p.name: p.value for p in driver.parameters}
+    assert params == {"rate": "75.0", "port": "/dev/ttyACM0"}
+    assert nodes(conflicts, "Manual")["Driver"].parameters[1].value == "/dev/ttyUSB0"
+    assert "Teleop" in nodes(conflicts, "Manual") and "Teleop" not in nodes(conflicts, "Slow")
+
+
+def test_attribute_errors_are_located(conflicts):
+    (bad_type,) = errors_of(conflicts, "Fast", settings=["Fast.rate=fast"])
+    assert bad_type == "--set:1:1: error: attribute Fast.rate is double, got 'fast'"
+    (unknown,) = errors_of(conflicts, "Fast", settings=["Fast.speed=1"])
+    assert "unknown feature attribute Fast.speed" in unknown
+
+
+def test_sharing_default_and_override(conflicts):
+    assert nodes(conflicts, "Shared")["Planner"].sharing.name == "protected"
+    assert nodes(conflicts, "Shared", sharing=["Shared=public"])["Planner"].sharing.name == "public"
+    (message,) = errors_of(conflicts, "Slow", sharing=["Slow=public"])
+    assert "Slow, which has no sharing attribute" in message
+
+
+def test_bad_selections_are_explained(conflicts):
+    mapping = load_product_line(MAPPING)
+    (unknown,) = errors_of(mapping, "YouBot,Stereo,Room,Hovercraft")
+    assert unknown == "--features:1:1: error: unknown feature 'Hovercraft'"
+    (excluded,) = errors_of(mapping, "Roomba,Depth,Room,AdditionalPC")
+    assert "Roomba excludes AdditionalPC" in excluded and "mapping.fm:" in excluded
+    open_choices = errors_of(mapping, "YouBot,Room")
+    assert len(open_choices) == 1 and "exactly one of Stereo, Depth" in open_choices[0]
+
+
+def test_spec_section_4_example_resolves():
+    line = load_product_line(SPEC)
+    assert [e.feature.name for e in line.rm.elements] == [
+        "Mapping",
+        "YouBot",
+        "Stereo",
+        "AdditionalPC",
+        "Logging",
+        "Room",
+        "Room",
+    ]
+    room = nodes(line, "YouBot,Stereo,Room,Logging", settings=["Logging.rate=5.0"])
+    assert room["StrategyPlanner"].executable == "room_strategy"
+    assert room["LogWriter"].parameters[0].value == "5.0"
+    assert room["MapOptimizer"].eContainer().name == "Robot"
+    corridor = nodes(line, "Roomba,Depth,Corridor")
+    assert corridor["StrategyPlanner"].executable == "corridor_strategy"  # `not selected`
+    assert "LogWriter" not in corridor
+
+
+def run(*args):
+    return CliRunner().invoke(main, list(args))
+
+
+def digest(folder: Path) -> dict[str, str]:
+    return {
+        str(p.relative_to(folder)): hashlib.sha256(p.read_bytes()).hexdigest()
+        for p in sorted(folder.rglob("*"))
+        if p.is_file()
+    }
+
+
+def test_resolve_is_deterministic(tmp_path):
+    product = str(MAPPING / "products" / "youbot_stereo_room.yaml")
+    first, second = tmp_path / "a", tmp_path / "b"
+    assert run("resolve", str(MAPPING), "--features", product, "-o", str(first)).exit_code == 0
+    assert run("resolve", str(MAPPING), "--features", product, "-o", str(second)).exit_code == 0
+    assert digest(first) == digest(second)
+    assert {"manifest.json", "resolved.tsm", "resolved.xmi"} <= set(digest(first))
+
+
+def test_failing_resolve_leaves_nothing(tmp_path):
+    out = tmp_path / "bundle"
+    result = run("resolve", str(MAPPING), "--features", "Roomba,AdditionalPC", "-o", str(out))
+    assert result.exit_code == 1
+    assert "Roomba excludes AdditionalPC" in result.output
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_failed_resolve_keeps_the_previous_bundle(tmp_path):
+    out = tmp_path / "bundle"
+    assert (
+        run("resolve", str(MAPPING), "--features", "YouBot,Depth,Room", "-o", str(out)).exit_code
+        == 0
+    )
+    before = digest(out)
+    assert run("resolve", str(MAPPING), "--features", "YouBot", "-o", str(out)).exit_code == 1
+    assert digest(out) == before and [p.name for p in tmp_path.iterdir()] == ["bundle"]
+
+
+def test_resolved_tsm_checks_again(tmp_path):
+    out = tmp_path / "bundle"
+    run("resolve", str(MAPPING), "--features", "YouBot,Stereo,AdditionalPC,Room", "-o", str(out))
+    result = run("check", str(out / "resolved.tsm"))
+    assert result.exit_code == 0, result.output
+
+
+def test_explain_says_why(tmp_path):
+    result = run(
+        "explain", str(MAPPING), "--features", "YouBot,Stereo,AdditionalPC,Room", "MapOptimizer"
+    )
+    assert result.exit_code == 0
+    assert "MapOptimizer: present in container Robot" in result.output
+    assert "migrated: from MappingCloud to Robot by 'when AdditionalPC selected'" in result.output
+    absent = run(
+        "explain", str(MAPPING), "--features", "YouBot,Stereo,AdditionalPC,Room", "DepthCamera"
+    )
+    assert "removed: optional node that no active resolution element requires" in absent.output
+    assert "mapping.tsm:" in absent.output
