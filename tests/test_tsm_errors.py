@@ -1,11 +1,13 @@
 """Every class of .tsm error: reported at the exact column of the offending name, with
-its message, all problems of a file at once, and `spl check` exiting 1 without a trace.
+its message, all problems of a file at once, by the parser and by `spl check` (exit 1,
+no traceback).
 
 In each case text, ``@@`` marks where the error must point; it is removed before parsing.
 """
 
 from __future__ import annotations
 
+import tempfile
 import textwrap
 from pathlib import Path
 
@@ -53,7 +55,16 @@ def assert_errors(text: str, *messages: str) -> None:
         f"bad.tsm:{line}:{col}: error: {message}"
         for (line, col), message in zip(where, messages, strict=True)
     ]
-    assert errors_of(clean) == sorted(expected, key=lambda e: tuple(map(int, e.split(":")[1:3])))
+    expected.sort(key=lambda e: tuple(map(int, e.split(":")[1:3])))
+    assert errors_of(clean) == expected
+    # and the same through the command line: all of them on stderr, exit status 1
+    with tempfile.TemporaryDirectory() as folder:
+        path = Path(folder) / "bad.tsm"
+        path.write_text(clean, encoding="utf-8")
+        result = CliRunner().invoke(main, ["check", str(path)])
+    assert result.exit_code == 1
+    assert result.stderr.splitlines() == [f"{path}{e[len('bad.tsm') :]}" for e in expected]
+    assert result.stdout == ""
 
 
 # -- references ---------------------------------------------------------------------------
