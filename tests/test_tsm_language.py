@@ -284,7 +284,7 @@ def shipped_and_test_models() -> list[Path]:
     return found
 
 
-@pytest.mark.parametrize("path", shipped_and_test_models(), ids=lambda p: p.name)
+@pytest.mark.parametrize("path", shipped_and_test_models(), ids=lambda p: str(p.relative_to(ROOT)))
 def test_printer_round_trip(path: Path) -> None:
     model = tsm.parse_file(path)
     text = print_model(model)
