@@ -63,8 +63,25 @@ def _value(formula, true: set[str]) -> bool:
     }[formula.operator]
 
 
+def _shape(formula) -> tuple:
+    """The formula as a tuple, with requires/excludes spelled as exporters spell them."""
+    kind = formula.eClass.name
+    if kind == "FeatureRef":
+        return ("ref", formula.feature.name)
+    if kind == "Not":
+        return ("not", _shape(formula.operand))
+    left, right = _shape(formula.left), _shape(formula.right)
+    if formula.operator == "requires":
+        return ("implies", left, right)
+    if formula.operator == "excludes":
+        return ("implies", left, ("not", right))
+    return (formula.operator, left, right)
+
+
 def equivalent(a, b) -> bool:
-    """Truth-table equivalence of two constraint formulas (few variables each)."""
+    """Equivalence of two constraint formulas: same shape, or else by truth table."""
+    if _shape(a) == _shape(b):
+        return True
     names = sorted(_names(a) | _names(b))
     for values in assignments((False, True), repeat=len(names)):
         true = {n for n, v in zip(names, values, strict=True) if v}

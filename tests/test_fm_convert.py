@@ -1,0 +1,113 @@
+"""``spl convert``: every shared model survives every format, errors and exit codes."""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+from test_featureide_interop import equivalent, relations
+
+from spl.cli import main
+from spl.dsl.fm_formats import load_feature_model
+from spl.emf import differences
+
+ROOT = Path(__file__).resolve().parents[1]
+DATA = ROOT.parent / "shared" / "data" / "feature-models"
+SHARED = sorted(
+    [*DATA.glob("*.uvl"), *DATA.glob("*.xml"), *ROOT.glob("product_lines/*/*.fm")],
+    key=lambda p: p.name,
+)
+OTHER = {".fm": [".uvl", ".xml"], ".uvl": [".fm", ".xml"], ".xml": [".fm", ".uvl"]}
+
+
+def convert(*args: str | Path) -> tuple[int, str]:
+    result = CliRunner().invoke(main, ["convert", *map(str, args)])
+    return result.exit_code, result.output
+
+
+def test_shared_models_are_found() -> None:
+    suffixes = {p.suffix for p in SHARED}
+    assert suffixes == {".fm", ".uvl", ".xml"} and len(SHARED) >= 7
+
+
+@pytest.mark.parametrize("source", SHARED, ids=lambda p: p.name)
+def test_round_trip_through_every_format(source: Path, tmp_path: Path) -> None:
+    original = load_feature_model(source)
+    for via in OTHER[source.suffix]:
+        middle = tmp_path / via[1:] / f"{source.stem}{via}"
+        back = tmp_path / via[1:] / "back" / source.name
+        back.parent.mkdir(parents=True)
+        code, output = convert(source, middle)
+        assert code == 0, output
+        assert code == 0 and convert(middle, back)[0] == 0
+        again = load_feature_model(back)
+        if via == ".xml" or source.suffix == ".xml":
+            # FeatureIDE has no requires/excludes and one decomposition per feature
+            assert relations(again) == relations(original)
+            for mine, theirs in zip(again.constraints, original.constraints, strict=True):
+                assert equivalent(mine.formula, theirs.formula)
+        elif source.suffix == ".fm" and via == ".uvl":
+            # UVL spells requires/excludes with => and !
+            assert relations(again) == relations(original)
+            assert [a.srcLine for a in again.constraints] or not original.constraints
+        else:
+            assert list(differences(original, again)) == []
+
+
+def test_fm_through_uvl_keeps_everything_but_the_operator_spelling(tmp_path: Path) -> None:
+    source = ROOT / "tests" / "models" / "fm" / "all_constructs.fm"
+    original = load_feature_model(source)
+    assert convert(source, tmp_path / "a.uvl")[0] == 0
+    assert convert(tmp_path / "a.uvl", tmp_path / "all_constructs.fm")[0] == 0
+    again = load_feature_model(tmp_path / "all_constructs.fm")
+    tree = list(differences(original.root, again.root))
+    assert tree == []
+    for mine, theirs in zip(again.constraints, original.constraints, strict=True):
+        assert equivalent(mine.formula, theirs.formula)
+
+
+def test_output_is_deterministic(tmp_path: Path) -> None:
+    source = DATA / "berkeleydb.uvl"
+    for suffix in (".fm", ".xml", ".uvl"):
+        first, second = tmp_path / f"1{suffix}", tmp_path / f"2{suffix}"
+        assert convert(source, first)[0] == 0 and convert(source, second)[0] == 0
+        assert first.read_bytes() == second.read_bytes()
+
+
+def test_unsupported_extension_is_a_usage_error(tmp_path: Path) -> None:
+    code, output = convert(DATA / "axTLS.uvl", tmp_path / "out.json")
+    assert code == 2 and "unsupported feature-model format '.json'" in output
+    code, output = convert(tmp_path / "in.dimacs", tmp_path / "out.fm")
+    assert code == 2
+    code, output = convert(tmp_path / "missing.uvl", tmp_path / "out.fm")
+    assert code == 2 and "does not exist" in output
+
+
+def test_bad_input_is_a_located_error_and_writes_nothing(tmp_path: Path) -> None:
+    bad = tmp_path / "bad.uvl"
+    bad.write_text("features\n\tR\n\t\toptional\n\t\t\tA\nconstraints\n\tA => B\n")
+    code, output = convert(bad, tmp_path / "out.fm")
+    assert code == 1
+    assert f"{bad}:6:7: error: unknown feature B" in output
+    assert "Traceback" not in output
+    assert not (tmp_path / "out.fm").exists()
+
+
+def test_a_model_the_target_cannot_express_leaves_the_old_file(tmp_path: Path) -> None:
+    source = tmp_path / "mixed.fm"
+    source.write_text("feature model M\nroot R {\n  mandatory A { }\n  xor { B C }\n}\n")
+    target = tmp_path / "mixed.xml"
+    target.write_bytes(b"previous")
+    code, output = convert(source, target)
+    assert code == 1 and "mixed.fm:2:6: error:" in output
+    assert target.read_bytes() == b"previous"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["mixed.fm", "mixed.xml"]
+
+
+def test_convert_uses_the_shipped_data_unchanged(tmp_path: Path) -> None:
+    copy = tmp_path / "berkeleydb.xml"
+    shutil.copy(DATA / "berkeleydb.xml", copy)
+    code, output = convert(copy, tmp_path / "berkeleydb.fm")
+    assert code == 0 and "76 features, 20 constraints" in output
