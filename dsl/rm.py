@@ -382,11 +382,15 @@ class _Builder:
         return None
 
     def _ParameterStmt(self, stmt):
-        parameter = self._member(stmt, stmt.parameter, "parameters", "parameter")
-        if parameter is None:
-            return None
+        refinement = self._refinement(stmt, stmt.parameter)
+        if refinement is not None:
+            parameter, ptype, what = None, "double", f"{stmt.parameter}"
+        else:
+            parameter = self._member(stmt, stmt.parameter, "parameters", "parameter")
+            if parameter is None:
+                return None
+            ptype, what = parameter.type.name, f"parameter {parameter.name}"
         value = stmt.value
-        ptype = parameter.type.name
         if type(value).__name__ == "FeatureAttributeValue":
             feature = self.features.get(value.feature)
             if feature is None:
@@ -400,15 +404,33 @@ class _Builder:
                 self.error(
                     stmt,
                     f"attribute {feature.name}.{attribute.name} is {attribute.type.name}, "
-                    f"parameter {parameter.name} is {ptype}",
+                    f"{what} is {ptype}",
                 )
                 return None
-            return self.R.ParameterValue(parameter=parameter, attribute=attribute)
+            return self.R.ParameterValue(
+                parameter=parameter, refinement=refinement, attribute=attribute
+            )
         text, problem = canonical_parameter_value(value, ptype)
         if problem:
-            self.error(stmt, f"parameter {parameter.name} is {ptype}: {problem}")
+            self.error(stmt, f"{what} is {ptype}: {problem}")
             return None
-        return self.R.ParameterValue(parameter=parameter, value=text)
+        if refinement is not None and float(text) <= 0:
+            self.error(stmt, f"{what} must be a positive number of seconds")
+            return None
+        return self.R.ParameterValue(parameter=parameter, refinement=refinement, value=text)
+
+    def _refinement(self, stmt, ref: str):
+        """``[CONTAINER.]STORE.REFINED_TYPE.period``: the period of a store's transformer."""
+        parts = ref.split(".")
+        if len(parts) < 3 or parts[-1] != "period" or parts[-3] not in self.stores:
+            return None
+        store = self._by_qualified(stmt, ".".join(parts[:-2]), self.stores, "store")
+        if store is None:
+            return None
+        refinement = next((r for r in store.refinements if r.output.name == parts[-2]), None)
+        if refinement is None:
+            self.error(stmt, f"store {store.name} has no refinement into {parts[-2]}")
+        return refinement
 
     def _MigrateStmt(self, stmt):
         node = self._node(stmt, stmt.node)

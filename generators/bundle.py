@@ -24,7 +24,14 @@ from spl.dsl.tsm_printer import print_model
 from spl.resolver.product import ResolvedProduct
 
 # One module per target; each offers generate(product) -> {bundle path: bytes}.
-GENERATORS = ("spl.generators.ros1", "spl.generators.ros2", "spl.generators.diagrams")
+GENERATORS = (
+    "spl.generators.ros1",
+    "spl.generators.ros2",
+    "spl.generators.diagrams",
+    "spl.generators.service",
+    "spl.generators.clients",
+    "spl.generators.deploy",
+)
 
 
 class _InMemoryURI(URI):

@@ -162,6 +162,10 @@ def launch_document(product: ResolvedProduct, container: Any) -> etree._Element:
     root.append(etree.Comment(header_text(product, container)))
     system = product.system
     for node in container.nodes:
+        if node.eClass.name in ("Writer", "Reader"):
+            # generated data clients are rclpy (ROS 2) packages: roslaunch cannot start them
+            root.append(etree.Comment(f" {node.name}: ROS 2 data client, see ros2/ "))
+            continue
         package, executable = require_implementation(node)
         element = etree.SubElement(root, "node")
         element.set("pkg", _plain(package, "package"))

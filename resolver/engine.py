@@ -8,12 +8,12 @@ endpoint rewiring, architecture checks.
 
 from __future__ import annotations
 
-import re
 from dataclasses import dataclass
 from typing import Any
 
 from spl.diagnostics import DiagnosticSink, Location, ModelError, location_of
 from spl.emf import copy_with_map
+from spl.generators.clients import client_package_name
 from spl.metamodels import tsm
 from spl.resolver import pruning, rewiring
 from spl.resolver.architecture_checks import check_architecture
@@ -210,12 +210,7 @@ def _implement_data_clients(system: Any) -> None:
     for container in system.containers:
         for node in container.nodes:
             if isinstance(node, (T.Writer, T.Reader)) and not node.package:
-                node.package = node.executable = data_client_package(node.name)
-
-
-def data_client_package(name: str) -> str:
-    """ROS package (and executable) name of a generated writer/reader: snake_case."""
-    return re.sub(r"(?<=[a-z0-9])(?=[A-Z])|(?<=[A-Z])(?=[A-Z][a-z])", "_", name).lower()
+                node.package = node.executable = client_package_name(node.name)
 
 
 def summary_lines(resolution: Resolution) -> list[str]:

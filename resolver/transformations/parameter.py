@@ -20,17 +20,39 @@ def canonical_text(value: Any, parameter_type: str) -> str:
 
 
 def apply(transformation: Any, ctx: ResolutionContext) -> None:
+    where = location_of(transformation)
+    if transformation.refinement is not None:
+        _set_period(transformation, ctx, where)
+        return
     parameter = ctx.copy_of(transformation.parameter)
     node = parameter.eContainer()
-    where = location_of(transformation)
-    attribute = transformation.attribute
-    if attribute is not None:
-        key = f"{attribute.eContainer().name}.{attribute.name}"
-        value = canonical_text(ctx.attributes[key], parameter.type.name)
-        source = f"feature attribute {key} = {value}"
-    else:
-        value, source = transformation.value, f"{transformation.value!r}"
+    value, source = _value(transformation, ctx, parameter.type.name)
     ctx.keep(node, f"its parameter {parameter.name} is set by {ctx.by()}", where)
     if ctx.decide("value", parameter, value, where):
         parameter.value = value
         ctx.trace.record(qualified(parameter), "parameter", f"{source}, set by {ctx.by()}", where)
+
+
+def _value(transformation: Any, ctx: ResolutionContext, kind: str) -> tuple[str, str]:
+    attribute = transformation.attribute
+    if attribute is None:
+        return transformation.value, repr(transformation.value)
+    key = f"{attribute.eContainer().name}.{attribute.name}"
+    value = canonical_text(ctx.attributes[key], kind)
+    return value, f"feature attribute {key} = {value}"
+
+
+def _set_period(transformation: Any, ctx: ResolutionContext, where) -> None:
+    """The transformer period of a store's refinement (seconds)."""
+    refinement = ctx.copy_of(transformation.refinement)
+    store = refinement.eContainer()
+    value, source = _value(transformation, ctx, "double")
+    ctx.keep(store, f"its transformer period is set by {ctx.by()}", where)
+    if ctx.decide("period", refinement, value, where):
+        refinement.period = float(value)
+        ctx.trace.record(
+            f"{qualified(store)}.{refinement.output.name}",
+            "period",
+            f"{source} s, set by {ctx.by()}",
+            where,
+        )
