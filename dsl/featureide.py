@@ -257,7 +257,11 @@ def write_featureide(model: Any) -> bytes:
     if problems:
         raise ModelError(problems)
     etree.indent(document, space="\t")
-    return etree.tostring(document, xml_declaration=True, encoding="UTF-8", standalone=False)
+    body = etree.tostring(document, encoding="unicode")
+    return (_DECLARATION + body + "\n").encode("utf-8")
+
+
+_DECLARATION = '<?xml version="1.0" encoding="UTF-8" standalone="no"?>\n'
 
 
 def _where(element: Any) -> Location | None:

@@ -64,7 +64,7 @@ def _grammar():
 def parse_file(path: str | Path) -> Any:
     """Parse a .fm file into an ``fm.FeatureModel``; raise ModelError with every problem."""
     path = Path(path)
-    return parse_text(path.read_text(encoding="utf-8"), str(path))
+    return parse_text(path.read_text(encoding="utf-8-sig"), str(path))
 
 
 def parse_text(text: str, filename: str = "<string>") -> Any:
@@ -235,6 +235,12 @@ class _Builder:
             kind = type(item).__name__
             if kind == "AttributeDecl":
                 attribute = self.attribute(item)
+                if item.name in _RESERVED_ATTRIBUTES:
+                    self.sink.error(self.loc(item), _RESERVED_ATTRIBUTES[item.name])
+                elif item.name == "original_name" and item.type != "string":
+                    self.sink.error(
+                        self.loc(item), "attribute original_name holds a name: it is a string"
+                    )
                 if item.name in attribute_names:
                     self.sink.error(
                         self.loc(item),
@@ -370,6 +376,12 @@ class _Builder:
         return formula
 
 
+# Attribute names UVL and FeatureIDE use for the feature's own properties; a .fm
+# attribute called like this would come back from an export as that property.
+_RESERVED_ATTRIBUTES = {
+    "abstract": "attribute name abstract is reserved: write 'abstract' before the feature name",
+    "sharing": "attribute name sharing is reserved: write 'sharing public|protected|private'",
+}
 _IMPLICATION_OPERATORS = {"=>": "implies", "requires": "requires", "excludes": "excludes"}
 _LITERAL_KINDS = {
     "IntLiteral": "an int",

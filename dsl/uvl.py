@@ -97,7 +97,7 @@ class _Line:
 def read_uvl(path: str | Path) -> Any:
     """Import a UVL file as an ``fm.FeatureModel``; raise ModelError with every problem."""
     path = Path(path)
-    return parse_uvl(path.read_text(encoding="utf-8"), str(path), default_name=path.stem)
+    return parse_uvl(path.read_text(encoding="utf-8-sig"), str(path), default_name=path.stem)
 
 
 def parse_uvl(text: str, filename: str = "<string>", default_name: str = "FeatureModel") -> Any:

@@ -219,3 +219,19 @@ def test_keywords_are_whole_words() -> None:
 def test_comments_are_ignored() -> None:
     model = fm.parse_text("// c\nfeature model M /* x\ny */ root R { optional A // A\n }")
     assert groups_of(model.root) == [("optional", ["A"])]
+
+
+def test_attribute_names_with_a_meaning_in_the_exchange_formats_are_refused() -> None:
+    errors = error_list(
+        "feature model M\nroot R {\n  attribute abstract : bool = true\n"
+        '  attribute sharing : string = "public"\n  attribute original_name : int = 1\n}\n'
+    )
+    assert [(line, col) for line, col, _ in errors] == [(3, 3), (4, 3), (5, 3)]
+    assert "reserved" in errors[0][2] and "reserved" in errors[1][2]
+    assert "string" in errors[2][2]
+
+
+def test_byte_order_mark_is_accepted(tmp_path: Path) -> None:
+    path = tmp_path / "bom.fm"
+    path.write_bytes("\ufefffeature model M root R { optional A }".encode())
+    assert fm.summary(fm.parse_file(path)) == "2 features, 0 constraints"
