@@ -9,7 +9,6 @@ whose types agree. Problems are reported all at once, located in the .rm file.
 from __future__ import annotations
 
 import importlib
-import re
 from dataclasses import dataclass
 from functools import cache
 from importlib.resources import files
@@ -20,6 +19,7 @@ import yaml
 from textx import TextXSyntaxError, get_location, metamodel_from_file
 
 from spl.diagnostics import Diagnostic, DiagnosticSink, Location, ModelError
+from spl.dsl import rosnames
 from spl.metamodels import rm as rm_metamodel
 from spl.metamodels import tsm as tsm_metamodel
 
@@ -171,8 +171,9 @@ class _Builder:
                     continue
                 container = interface.eContainer().eContainer()
                 ros_name = stmt.rosName or f"/{stmt.name}"
-                if not _valid_graph_name(ros_name):
-                    self.error(stmt, f"new topic {stmt.name}: {ros_name!r} is not a valid ROS name")
+                problem = rosnames.problem_graph_name(ros_name)
+                if problem:
+                    self.error(stmt, f"new topic {stmt.name}: {problem}")
                 key = (container.name, stmt.name)
                 if any(t.name == stmt.name for t in container.topics):
                     self.error(
@@ -286,8 +287,9 @@ class _Builder:
         if node is None:
             return None
         package, executable = stmt.implementation.split("/", 1)
-        if not _valid_package(package):
-            self.error(stmt, f"{package!r} is not a valid ROS package name")
+        problem = rosnames.problem_implementation(stmt.implementation)
+        if problem:
+            self.error(stmt, problem)
             return None
         return self.R.Implementation(node=node, package=package, executable=executable)
 
@@ -486,11 +488,3 @@ def canonical_parameter_value(value: Any, ptype: str) -> tuple[str | None, str |
     if ptype == "double":
         return repr(float(text)), None
     return None, f"expected a {ptype} value, got {text}"
-
-
-def _valid_graph_name(name: str) -> bool:
-    return re.fullmatch(r"/?[A-Za-z][A-Za-z0-9_]*(/[A-Za-z][A-Za-z0-9_]*)*", name) is not None
-
-
-def _valid_package(name: str) -> bool:
-    return re.fullmatch(r"[a-z][a-z0-9_]*", name) is not None

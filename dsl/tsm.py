@@ -27,7 +27,7 @@ import yaml
 from textx import TextXSyntaxError, metamodel_from_file
 
 from spl.diagnostics import Diagnostic, DiagnosticSink, Location, ModelError
-from spl.dsl import rosnames
+from spl.dsl import rosnames, transform_types
 from spl.metamodels import tsm as tsm_metamodel
 
 __all__ = [
@@ -124,6 +124,9 @@ def parse_text(text: str, filename: str = "<string>") -> Any:
         raise ModelError([_syntax_diagnostic(exc, text, filename)]) from None
     sink = DiagnosticSink()
     system = _Builder(text, filename, sink).build(tree)
+    sink.raise_if_errors()
+    # types of transform expressions, once every name is known to resolve
+    sink.diagnostics.extend(transform_types.check_system(system))
     sink.raise_if_errors()
     return system
 
