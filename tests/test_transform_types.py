@@ -6,6 +6,7 @@ import pytest
 from service_models import data_acquisition_system
 from test_transform_expressions import IN, T, binary, call, data, num, ref, transform
 
+from spl.diagnostics import ModelError
 from spl.dsl.transform_types import check_system, check_transform, expression_type
 
 TYPED = [
@@ -62,12 +63,14 @@ def test_assignments_must_fit_and_cover_the_refined_type() -> None:
     t = T.Transform(name="Refine", input=IN, output=out)
     located = T.Assignment(field="whole", expression=ref("x"))
     located.srcFile, located.srcLine, located.srcCol = "data.tsm", 20, 5
-    t.assignments.extend([
-        located,                                               # double -> int: refused
-        T.Assignment(field="real", expression=ref("n")),      # int -> double: widened
-        T.Assignment(field="real", expression=ref("x")),      # twice
-        T.Assignment(field="nothing", expression=num("1")),
-    ])
+    t.assignments.extend(
+        [
+            located,  # double -> int: refused
+            T.Assignment(field="real", expression=ref("n")),  # int -> double: widened
+            T.Assignment(field="real", expression=ref("x")),  # twice
+            T.Assignment(field="nothing", expression=num("1")),
+        ]
+    )
     t.srcFile, t.srcLine, t.srcCol = "data.tsm", 18, 1
     problems = [str(p) for p in check_transform(t)]
     assert problems == [
@@ -91,31 +94,33 @@ def test_store_refinements_must_match_their_transform() -> None:
     system.dataTypes[0].fields.append(T.Field(name="robot", type=T.FieldType.double))
     messages = [p.message for p in check_system(system)]
     assert any("field name 'robot' is reserved" in m for m in messages)
-    assert any("reads PositionInSecond, but the store's raw type is Velocity" in m
-               for m in messages)
+    assert any(
+        "reads PositionInSecond, but the store's raw type is Velocity" in m for m in messages
+    )
     assert any("produces PositionInDEG, not Command" in m for m in messages)
 
 
-def test_typing_problems_are_located_in_the_tsm_file() -> None:
+def test_typing_problems_are_reported_by_the_tsm_checks_located() -> None:
     from spl.dsl import tsm as tsm_language
 
-    system = tsm_language.parse_text(
-        "system S\n"
-        "data A { x : double  n : int  ok : bool }\n"
-        "data B { y : int  z : double }\n"
-        "transform F : A -> B {\n"
-        "    y = x / 2\n"
-        "    z = ok + 1\n"
-        "}\n"
-        "cloud container C {\n"
-        "    store St {\n"
-        "        raw A\n"
-        "        refined B by F every 1 s\n"
-        "    }\n"
-        "}\n",
-        "bad.tsm",
-    )
-    assert [str(d) for d in check_system(system)] == [
+    with pytest.raises(ModelError) as raised:
+        tsm_language.parse_text(
+            "system S\n"
+            "data A { x : double  n : int  ok : bool }\n"
+            "data B { y : int  z : double }\n"
+            "transform F : A -> B {\n"
+            "    y = x / 2\n"
+            "    z = ok + 1\n"
+            "}\n"
+            "cloud container C {\n"
+            "    store St {\n"
+            "        raw A\n"
+            "        refined B by F every 1 s\n"
+            "    }\n"
+            "}\n",
+            "bad.tsm",
+        )
+    assert [str(d) for d in raised.value.diagnostics] == [
         "bad.tsm:5:5: error: transform F: cannot assign double to B.y of type int",
         "bad.tsm:6:9: error: transform F: operator '+' cannot combine bool and int",
     ]
