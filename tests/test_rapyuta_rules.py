@@ -222,3 +222,18 @@ def test_schema_refuses_broken_files(real, edit, path):
 def test_groupip_accepts_an_address(real):
     real[0]["containers"][1]["groupIp"] = "10.0.3.254"
     assert schema_problems(real[0], "debug.cfg") == []
+
+
+def test_connection_of_an_interface_to_itself(real):
+    real[0]["connections"][0]["tagB"] = real[0]["connections"][0]["tagA"]
+    problems = check_configurations(real, NAMES)
+    assert ("connections[0]", "self-connection") in [(p.path, p.rule) for p in problems]
+
+
+def test_interface_declared_differently_by_two_files(real):
+    twin = dict(real[2]["interfaces"][0], iCls="Test/Other")
+    real[1]["interfaces"].append(twin)
+    problems = check_configurations(real, NAMES)
+    assert ("lo_server.cfg", "interfaces[0]", "conflicting-interface") in [
+        (p.file, p.path, p.rule) for p in problems
+    ]
