@@ -96,3 +96,24 @@ def test_installed_wheel_runs_outside_the_source_tree(wheel, tmp_path):
     )
     assert check.returncode == 0, check.stderr
     assert "containers" in check.stdout and "nodes" in check.stdout
+    for line, features in (
+        ("mapping3d", "YouBot,Stereo,AdditionalPC,Room"),
+        ("data_acquisition", "Positions,Follow,Postgres"),
+    ):
+        out = tmp_path / "bundles" / line
+        resolved = subprocess.run(
+            [
+                str(spl),
+                "resolve",
+                str(ROOT / "product_lines" / line),
+                "--features",
+                features,
+                "-o",
+                str(out),
+            ],
+            cwd=tmp_path,
+            capture_output=True,
+            text=True,
+        )
+        assert resolved.returncode == 0, resolved.stderr
+        assert (out / "manifest.json").is_file() and (out / "architecture.svg").is_file()
