@@ -27,6 +27,7 @@ from spl.resolver.product import ResolvedProduct
 GENERATORS = (
     "spl.generators.ros1",
     "spl.generators.ros2",
+    "spl.generators.rapyuta",
     "spl.generators.diagrams",
     "spl.generators.service",
     "spl.generators.clients",
