@@ -17,6 +17,7 @@ from __future__ import annotations
 import bisect
 import re
 from dataclasses import dataclass, field
+from decimal import Decimal
 from pathlib import Path
 from typing import Any, ClassVar
 
@@ -60,9 +61,13 @@ _UVL_KEYWORDS = frozenset(
         "len",
         "floor",
         "ceil",
+        "Type",
+        "Arithmetic",
     }
 )
 _PLAIN_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
+# What the UVL grammar (uvl-parser) accepts unquoted; quoted names exclude . " CR LF.
+_UVL_PLAIN_NAME = re.compile(r"[A-Za-z][A-Za-z0-9_]*\Z")
 
 _TOKEN = re.compile(
     r"""
@@ -510,11 +515,15 @@ def write_uvl(model: Any) -> str:
 
 def _uvl_name(feature: Any, problems: list[Diagnostic]) -> str:
     name = original_name(feature)
-    if _PLAIN_NAME.match(name) and name not in _UVL_KEYWORDS:
+    if _UVL_PLAIN_NAME.match(name) and name not in _UVL_KEYWORDS:
         return name
-    if '"' in name or "\n" in name or "\r" in name:
+    if any(c in name for c in '."\r\n'):
         problems.append(
-            Diagnostic(_where(feature), f"feature name {name!r} cannot be written in UVL")
+            Diagnostic(
+                _where(feature),
+                f"feature name {name!r} cannot be written in UVL (a quoted UVL name holds "
+                "no '.', '\"' or line break): rename the feature",
+            )
         )
     return f'"{name}"'
 
@@ -541,6 +550,8 @@ def _write_feature(feature: Any, depth: int, lines: list[str], problems: list[Di
                     )
                 )
             value = f"'{value}'"
+        elif attribute.type.name == "double":
+            value = _uvl_float(value)
         entries.append(f"{attribute.name} {value}")
     if feature.sharing is not None:
         entries.append(f"sharing '{feature.sharing.mode.name}'")
@@ -558,6 +569,12 @@ def _write_feature(feature: Any, depth: int, lines: list[str], problems: list[Di
         lines.append("\t" * (depth + 1) + keyword)
         for child in group.features:
             _write_feature(child, depth + 2, lines, problems)
+
+
+def _uvl_float(canonical: str) -> str:
+    """A double as UVL's FLOAT token (digits, a dot, digits: no exponent)."""
+    text = format(Decimal(canonical), "f")
+    return text if "." in text else text + ".0"
 
 
 def _without_requires_excludes(formula: Any) -> Any:

@@ -59,7 +59,7 @@ UVL_ODD = """namespace "my model"
 features
     "Root feature" {abstract}
         mandatory
-            "a.b"
+            "a-b"
             a_b
             "or"
         optional
@@ -73,7 +73,7 @@ features
         alternative
             G
 constraints
-    "a.b" => !"1st" & (C | D)
+    "a-b" => !"1st" & (C | D)
     // a comment
     G <=> "or"
         | E
@@ -86,7 +86,7 @@ def test_names_are_sanitised_injectively_and_written_back() -> None:
     names = [f.name for f in fm.all_features(model)]
     assert names == ["Root_feature", "a_b_2", "a_b", "or_", "_1st", "C", "D", "E", "F", "G"]
     by_name = {f.name: f for f in fm.all_features(model)}
-    assert original_name(by_name["a_b_2"]) == "a.b"
+    assert original_name(by_name["a_b_2"]) == "a-b"
     assert original_name(by_name["a_b"]) == "a_b"
     assert ORIGINAL_NAME not in [a.name for a in by_name["a_b"].attributes]
     first = by_name["_1st"]
@@ -106,9 +106,30 @@ def test_names_are_sanitised_injectively_and_written_back() -> None:
     second = model.constraints[1].formula
     assert second.operator == "iff" and second.right.operator == "or"
     text = write_uvl(model)
-    assert '"a.b"' in text and '"1st" {cost 3' in text and '"or"' in text
+    assert '"a-b"' in text and '"1st" {cost 3' in text and '"or"' in text
     again = parse_uvl(text, "again.uvl")
     assert list(differences(model, again)) == []
+
+
+def test_names_uvl_cannot_quote_are_reported_on_export() -> None:
+    model = parse_uvl('features\n\tR\n\t\toptional\n\t\t\t"x.y"\n\t\t\t"_z"\n', "dots.uvl")
+    assert [f.name for f in fm.all_features(model)] == ["R", "x_y", "_z"]
+    with pytest.raises(ModelError) as info:
+        write_uvl(model)
+    (problem,) = info.value.diagnostics
+    assert (problem.location.line, problem.location.col) == (4, 4)
+    assert "'x.y' cannot be written in UVL" in problem.message
+
+
+def test_uvl_tokens_follow_the_uvl_grammar() -> None:
+    model = fm.parse_text(
+        "feature model M root R { optional _x { attribute w : double = 0.00001 } "
+        "optional Type optional ok_1 }"
+    )
+    text = write_uvl(model)
+    # ID_STRICT starts with a letter; FLOAT has no exponent; keywords are quoted
+    assert '"_x" {w 0.00001}' in text and '"Type"' in text and "\t\t\tok_1\n" in text
+    assert list(differences(model, parse_uvl(text, "M.uvl"))) == []
 
 
 def test_constraint_precedence() -> None:
