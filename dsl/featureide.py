@@ -23,7 +23,7 @@ from typing import Any
 from lxml import etree
 
 from spl.diagnostics import Diagnostic, DiagnosticSink, Location, ModelError
-from spl.dsl.fm import SHARING_MODES, canonical_value
+from spl.dsl.fm import SHARING_MODES, canonical_value, too_deep
 from spl.dsl.fm_formats import (
     ORIGINAL_NAME,
     FeatureNames,
@@ -70,7 +70,10 @@ def parse_featureide(
         message = str(exc.msg).split(", line ")[0]
         where = Location(filename, line, col)
         raise ModelError([Diagnostic(where, f"XML syntax error: {message}")]) from None
-    return _Reader(filename).read(document, default_name)
+    try:
+        return _Reader(filename).read(document, default_name)
+    except RecursionError:
+        raise ModelError([too_deep(filename)]) from None
 
 
 class _Reader:

@@ -71,12 +71,21 @@ def parse_text(text: str, filename: str = "<string>") -> Any:
     """Parse .fm source text; ``filename`` is only used in locations."""
     try:
         tree = _grammar().model_from_str(text, file_name=filename)
+        sink = DiagnosticSink()
+        model = _Builder(text, filename, sink).build(tree)
     except TextXSyntaxError as exc:
         raise ModelError([syntax_diagnostic(exc, filename)]) from None
-    sink = DiagnosticSink()
-    model = _Builder(text, filename, sink).build(tree)
+    except RecursionError:
+        raise ModelError([too_deep(filename)]) from None
     sink.raise_if_errors()
     return model
+
+
+def too_deep(filename: str) -> Diagnostic:
+    """The error for input nested beyond what the readers follow (a hostile file)."""
+    return Diagnostic(
+        Location(filename, 1, 1), "the model is nested too deeply (features or parentheses)"
+    )
 
 
 def syntax_diagnostic(exc: TextXSyntaxError, filename: str) -> Diagnostic:

@@ -22,7 +22,7 @@ from pathlib import Path
 from typing import Any, ClassVar
 
 from spl.diagnostics import Diagnostic, DiagnosticSink, Location, ModelError
-from spl.dsl.fm import SHARING_MODES, canonical_value
+from spl.dsl.fm import SHARING_MODES, canonical_value, too_deep
 from spl.dsl.fm_formats import (
     ORIGINAL_NAME,
     FeatureNames,
@@ -107,7 +107,10 @@ def read_uvl(path: str | Path) -> Any:
 
 def parse_uvl(text: str, filename: str = "<string>", default_name: str = "FeatureModel") -> Any:
     """Import UVL text; ``default_name`` names the model when it has no namespace."""
-    return _Reader(text, filename).read(default_name)
+    try:
+        return _Reader(text, filename).read(default_name)
+    except RecursionError:
+        raise ModelError([too_deep(filename)]) from None
 
 
 class _Reader:

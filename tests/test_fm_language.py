@@ -235,3 +235,24 @@ def test_byte_order_mark_is_accepted(tmp_path: Path) -> None:
     path = tmp_path / "bom.fm"
     path.write_bytes("\ufefffeature model M root R { optional A }".encode())
     assert fm.summary(fm.parse_file(path)) == "2 features, 0 constraints"
+
+
+REAL = sorted((ROOT.parent / "shared" / "data" / "feature-models").glob("*.uvl"))
+
+
+@pytest.mark.parametrize("path", REAL, ids=lambda p: p.stem)
+def test_printer_round_trips_the_real_models(path: Path) -> None:
+    from spl.dsl.uvl import read_uvl
+
+    model = read_uvl(path)
+    assert list(differences(model, fm.parse_text(print_model(model), "printed.fm"))) == []
+
+
+def test_hostile_nesting_is_a_located_error_not_a_crash() -> None:
+    deep_formula = "(" * 5000 + "A" + ")" * 5000
+    errors = error_list(f"feature model M root R {{ optional A }} constraints {{ {deep_formula} }}")
+    assert errors == [(1, 1, "the model is nested too deeply (features or parentheses)")]
+    levels = 60
+    reasonable = "feature model M root R { "
+    reasonable += "".join(f"optional F{i} {{ " for i in range(levels)) + "}" * (levels + 1)
+    assert fm.summary(fm.parse_text(reasonable)) == f"{levels + 1} features, 0 constraints"

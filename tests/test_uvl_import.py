@@ -175,3 +175,12 @@ def test_all_errors_reported_at_once() -> None:
     with pytest.raises(ModelError) as info:
         parse_uvl(text, "bad.uvl")
     assert [d.location.line for d in info.value.diagnostics] == [6, 7]
+
+
+def test_hostile_nesting_is_a_located_error() -> None:
+    deep = "features\n\tR\n\t\toptional\n\t\t\tA\nconstraints\n\t" + "!" * 5000 + "A\n"
+    with pytest.raises(ModelError) as info:
+        parse_uvl(deep, "deep.uvl")
+    assert [str(d) for d in info.value.diagnostics] == [
+        "deep.uvl:1:1: error: the model is nested too deeply (features or parentheses)"
+    ]
