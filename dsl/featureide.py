@@ -176,8 +176,8 @@ class _Reader:
         if name == ORIGINAL_NAME:
             self.error(element, f"attribute name {ORIGINAL_NAME} is reserved")
             return
-        if name == "sharing" and type_name == "string":
-            if value not in SHARING_MODES or feature.sharing is not None:
+        if name == "sharing":
+            if type_name != "string" or value not in SHARING_MODES or feature.sharing is not None:
                 self.error(element, f"sharing must be one of {', '.join(SHARING_MODES)}")
                 return
             config = self.locate(F.SharingConfig(), element)

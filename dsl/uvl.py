@@ -276,7 +276,8 @@ class _Reader:
         seen: set[str] = set()
         while index < len(tokens) and tokens[index].text != "}":
             key = tokens[index]
-            if key.kind != "name" or not _PLAIN_NAME.match(key.text):
+            name = _unquote(key)
+            if key.kind not in ("name", "qname") or not _PLAIN_NAME.match(name):
                 self.error(key.position, f"expected an attribute name, got {key.text}")
                 return []
             index += 1
@@ -286,30 +287,37 @@ class _Reader:
                 index += 1
             if index < len(tokens) and tokens[index].text == ",":
                 index += 1
-            if key.text in seen:
-                self.error(key.position, f"attribute {key.text} given twice")
+            if name in seen:
+                self.error(key.position, f"attribute {name} given twice")
                 continue
-            seen.add(key.text)
-            if key.text == "abstract":
+            seen.add(name)
+            if name == "abstract":
                 if value is not None and value.text not in ("true", "false"):
                     self.error(value.position, "abstract takes true or false")
                 feature.abstract = value is None or value.text == "true"
                 continue
-            if key.text == ORIGINAL_NAME:
+            if name == ORIGINAL_NAME:
                 self.error(key.position, f"attribute name {ORIGINAL_NAME} is reserved")
                 continue
             type_name, text = self.attribute_value(value)
             if type_name is None:
                 continue
-            if key.text == "sharing" and type_name == "string":
-                if text not in SHARING_MODES or feature.sharing is not None:
-                    self.error(value.position, f"sharing must be one of {', '.join(SHARING_MODES)}")
+            if name == "sharing":
+                if (
+                    type_name != "string"
+                    or text not in SHARING_MODES
+                    or feature.sharing is not None
+                ):
+                    self.error(
+                        (value or key).position,
+                        f"sharing must be one of {', '.join(SHARING_MODES)}",
+                    )
                     continue
                 config = self.locate(F.SharingConfig(), key.position)
                 config.mode = F.SharingMode.getEEnumLiteral(text)
                 feature.sharing = config
                 continue
-            attribute = self.locate(F.Attribute(name=key.text), key.position)
+            attribute = self.locate(F.Attribute(name=name), key.position)
             attribute.type = F.AttributeType.getEEnumLiteral(type_name)
             attribute.value = canonical_value(type_name, text)
             feature.attributes.append(attribute)
@@ -495,7 +503,7 @@ def write_uvl(model: Any) -> str:
     such operators, and the formulas mean the same.
     """
     problems: list[Diagnostic] = []
-    lines = [f"namespace {model.name}", "", "features"]
+    lines = [f"namespace {_uvl_id(model.name)}", "", "features"]
     _write_feature(model.root, 1, lines, problems)
     if model.constraints:
         lines.append("")
@@ -531,6 +539,13 @@ def _uvl_name(feature: Any, problems: list[Diagnostic]) -> str:
     return f'"{name}"'
 
 
+def _uvl_id(identifier: str) -> str:
+    """An identifier (model or attribute name) as a UVL id, quoted when UVL needs it."""
+    if _UVL_PLAIN_NAME.match(identifier) and identifier not in _UVL_KEYWORDS:
+        return identifier
+    return f'"{identifier}"'
+
+
 def _where(element: Any) -> Location | None:
     if not getattr(element, "srcFile", None):
         return None
@@ -555,7 +570,7 @@ def _write_feature(feature: Any, depth: int, lines: list[str], problems: list[Di
             value = f"'{value}'"
         elif attribute.type.name == "double":
             value = _uvl_float(value)
-        entries.append(f"{attribute.name} {value}")
+        entries.append(f"{_uvl_id(attribute.name)} {value}")
     if feature.sharing is not None:
         entries.append(f"sharing '{feature.sharing.mode.name}'")
     text = _uvl_name(feature, problems)

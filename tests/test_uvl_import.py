@@ -184,3 +184,18 @@ def test_hostile_nesting_is_a_located_error() -> None:
     assert [str(d) for d in info.value.diagnostics] == [
         "deep.uvl:1:1: error: the model is nested too deeply (features or parentheses)"
     ]
+
+
+def test_identifiers_uvl_reserves_are_quoted_and_read_back() -> None:
+    model = parse_uvl("namespace features\nfeatures\n\tR {\"_k\" 1, sharing 'public'}\n", "q.uvl")
+    assert model.name == "features"
+    assert [(a.name, a.value) for a in model.root.attributes] == [("_k", "1")]
+    text = write_uvl(model)
+    assert text.startswith('namespace "features"\n') and '{"_k" 1, sharing' in text
+    assert list(differences(model, parse_uvl(text, "q.uvl"))) == []
+
+
+@pytest.mark.parametrize("attributes", ["{sharing 3}", "{sharing}", "{sharing 'open'}"])
+def test_sharing_must_be_a_mode(attributes: str) -> None:
+    with pytest.raises(ModelError, match="sharing must be one of public, protected, private"):
+        parse_uvl(f"features\n\tR {attributes}\n", "s.uvl")
