@@ -179,8 +179,8 @@ class FeatureModelFormula:
             if name in core:  # in every product, so in every product with its parent
                 result.append(cnf.var[name])
                 continue
-            if parent in core:  # a product with the parent lacks the (non-core) feature
-                continue
+            if parent in core or name in cnf.free_optional:
+                continue  # a product with the parent lacks the (non-core) feature
             candidates.append((cnf.var[name], cnf.var[parent]))
         # a model found so far with the parent and without the feature disproves it; the
         # list shrinks fast, so filtering model by model costs little

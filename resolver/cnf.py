@@ -18,6 +18,7 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any, NamedTuple
 
 from pysat.card import CardEnc, EncType
@@ -97,9 +98,17 @@ class FeatureModelCNF:
     var: dict[str, int]  # feature name -> variable
     parent: dict[str, str | None]
     modelled_mandatory: set[str]  # mandatory child, or sole member of a group with lower >= 1
-    rules: list[Rule]
+    # (kind, element, features, bounds, formula) per rule: Rule objects are made on demand
+    rule_data: list[tuple]
     rule_clauses: list[list[Clause]]  # rule_clauses[rule.index]
     num_vars: int  # features and auxiliary variables
+    # children of optional groups whose whole subtree no constraint mentions: dropping such
+    # a subtree from a product leaves a product, so none of them is false-optional
+    free_optional: set[str]
+
+    @cached_property
+    def rules(self) -> list[Rule]:
+        return [Rule(i, *data) for i, data in enumerate(self.rule_data)]
 
     @property
     def num_features(self) -> int:
@@ -204,7 +213,7 @@ def evaluate(tree: tuple, product: set[str] | frozenset[str]) -> bool:
 class _Builder:
     def __init__(self, model: Any) -> None:
         self.model = model
-        self.rules: list[Rule] = []
+        self.rule_data: list[tuple] = []
         self.rule_clauses: list[list[Clause]] = []
         self.modelled_mandatory: set[str] = set()
         self.definitions: list[Clause] = []
@@ -231,8 +240,8 @@ class _Builder:
         self.top = len(self.names)
 
     def rule(self, kind: str, element: Any, features: tuple[str, ...], clauses: list[Clause],
-             *extra: Any) -> None:
-        self.rules.append(Rule(len(self.rules), kind, element, features, *extra))
+             bounds: tuple[int, int] = (0, -1), tree: tuple | None = None) -> None:
+        self.rule_data.append((kind, element, features, bounds, tree))
         self.rule_clauses.append(clauses)
 
     def fresh(self) -> int:
@@ -246,7 +255,18 @@ class _Builder:
         for constraint in self.model.constraints:
             self.encode_constraint(constraint)
         return FeatureModelCNF(self.names, self.var, self.parent, self.modelled_mandatory,
-                               self.rules, self.rule_clauses, self.top)
+                               self.rule_data, self.rule_clauses, self.top,
+                               self.free_optional())
+
+    def free_optional(self) -> set[str]:
+        touched = {name for kind, _, names, _, _ in self.rule_data if kind == "constraint"
+                   for name in names}
+        for name in reversed(self.names):  # children before their parents
+            parent = self.parent[name]
+            if name in touched and parent is not None:
+                touched.add(parent)
+        return {name for parent, group, _, members in self.groups
+                if group_kind(group) == "optional" for name in members if name not in touched}
 
     def encode_group(self, parent: str, group: Any, children: list[Any],
                      members: list[str]) -> None:
@@ -255,8 +275,9 @@ class _Builder:
         lits = [var[name] for name in members]
         kind = group_kind(group)
         rule = self.rule
-        for child, name, lit in zip(children, members, lits, strict=True):
-            rule("parent", child, (name, parent), [(-lit, p)])
+        self.rule_data.extend(("parent", child, (name, parent), (0, -1), None)
+                              for child, name in zip(children, members, strict=True))
+        self.rule_clauses.extend([(-lit, p)] for lit in lits)
         if kind == "optional" or not lits:
             return
         if kind == "mandatory":
