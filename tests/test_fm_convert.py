@@ -83,6 +83,8 @@ def test_unsupported_extension_is_a_usage_error(tmp_path: Path) -> None:
     assert code == 2
     code, output = convert(tmp_path / "missing.uvl", tmp_path / "out.fm")
     assert code == 2 and "does not exist" in output
+    code, output = convert(DATA / "axTLS.uvl", tmp_path / "nowhere" / "out.fm")
+    assert code == 2 and "nowhere does not exist" in output
 
 
 def test_bad_input_is_a_located_error_and_writes_nothing(tmp_path: Path) -> None:

@@ -35,6 +35,8 @@ def command(source: Path, target: Path) -> None:
             raise click.UsageError(f"{role}: {unsupported_format_message(path)}")
     if not source.is_file():
         raise click.UsageError(f"IN: {source} does not exist")
+    if not target.parent.is_dir():
+        raise click.UsageError(f"OUT: directory {target.parent} does not exist")
     model = load_feature_model(source)
     save_feature_model(model, target)
     click.echo(f"{source} -> {target}: {summary(model)}")
