@@ -256,3 +256,21 @@ def test_hostile_nesting_is_a_located_error_not_a_crash() -> None:
     reasonable = "feature model M root R { "
     reasonable += "".join(f"optional F{i} {{ " for i in range(levels)) + "}" * (levels + 1)
     assert fm.summary(fm.parse_text(reasonable)) == f"{levels + 1} features, 0 constraints"
+
+
+def test_spl_check_reports_a_summary_or_every_error(tmp_path: Path) -> None:
+    from click.testing import CliRunner
+
+    from spl.cli import main
+
+    result = CliRunner().invoke(main, ["check", str(ROOT / "product_lines/mapping3d/mapping.fm")])
+    assert result.exit_code == 0
+    assert result.output.strip().endswith("mapping.fm: ok: 12 features, 1 constraint")
+    bad = tmp_path / "bad.fm"
+    bad.write_text("feature model M\nroot R { optional A optional A }\nconstraints { B }\n")
+    result = CliRunner().invoke(main, ["check", str(bad)])
+    assert result.exit_code == 1
+    assert result.output.splitlines() == [
+        f"{bad}:2:30: error: duplicate feature A (first declared at line 2)",
+        f"{bad}:3:15: error: unknown feature B",
+    ]
