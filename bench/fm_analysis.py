@@ -33,8 +33,12 @@ import time
 from pathlib import Path
 
 DATA = Path("/work/shared/data/feature-models")
-DEFAULT_MODELS = ["berkeleydb.uvl", "axTLS.uvl", "busybox_2010-05-02_14-17-07.uvl",
-                  "automotive01.uvl"]
+DEFAULT_MODELS = [
+    "berkeleydb.uvl",
+    "axTLS.uvl",
+    "busybox_2010-05-02_14-17-07.uvl",
+    "automotive01.uvl",
+]
 
 
 def flamapy_worker(path: str, repeat: int, bdd_max_features: int) -> dict:
@@ -100,8 +104,13 @@ def spl_run(path: str, repeat: int, solver: str) -> dict:
         done = time.perf_counter()
         best_load = min(best_load, loaded - start)
         best_analysis = min(best_analysis, done - loaded)
-        result = {"features": features, "satisfiable": satisfiable, "core": core,
-                  "dead": dead, "false_optional": false_optional}
+        result = {
+            "features": features,
+            "satisfiable": satisfiable,
+            "core": core,
+            "dead": dead,
+            "false_optional": false_optional,
+        }
     result["load_seconds"] = best_load
     result["analysis_seconds"] = best_analysis
     return result
@@ -126,8 +135,9 @@ def compare(name: str, spl: dict, flamapy: dict) -> list[str]:
     unsatisfiable because the parent never occurs). spl reports those as dead only, so
     flamapy's list is compared without its dead features.
     """
-    flamapy = dict(flamapy, false_optional=sorted(set(flamapy["false_optional"])
-                                                  - set(flamapy["dead"])))
+    flamapy = dict(
+        flamapy, false_optional=sorted(set(flamapy["false_optional"]) - set(flamapy["dead"]))
+    )
     out = []
     for key in ("satisfiable", "core", "dead", "false_optional"):
         a, b = spl[key], flamapy[key]
@@ -149,47 +159,68 @@ def main() -> int:
     parser.add_argument("--solver", default="glucose4", help="python-sat solver name for spl")
     parser.add_argument("--count-seconds", type=float, default=10.0)
     parser.add_argument("--json-out", help="store flamapy's answers here (test fixtures)")
-    parser.add_argument("--bdd-max-features", type=int, default=200,
-                        help="also count products with flamapy's BDD plugin up to this size "
-                             "(BusyBox does not finish in 5 minutes)")
+    parser.add_argument(
+        "--bdd-max-features",
+        type=int,
+        default=200,
+        help="also count products with flamapy's BDD plugin up to this size "
+        "(BusyBox does not finish in 5 minutes)",
+    )
     parser.add_argument("--flamapy-worker", help=argparse.SUPPRESS)
     args = parser.parse_args()
 
     if args.flamapy_worker:
-        print(json.dumps(flamapy_worker(args.flamapy_worker, args.repeat,
-                                        args.bdd_max_features)))
+        print(json.dumps(flamapy_worker(args.flamapy_worker, args.repeat, args.bdd_max_features)))
         return 0
 
     models = [Path(m) for m in args.models] or [DATA / m for m in DEFAULT_MODELS]
     rows, problems, fixtures = [], [], {}
     for path in models:
         worker = subprocess.run(
-            [args.flamapy_python, __file__, "--flamapy-worker", str(path),
-             "--repeat", str(args.repeat), "--bdd-max-features", str(args.bdd_max_features)],
-            capture_output=True, text=True, check=True)
+            [
+                args.flamapy_python,
+                __file__,
+                "--flamapy-worker",
+                str(path),
+                "--repeat",
+                str(args.repeat),
+                "--bdd-max-features",
+                str(args.bdd_max_features),
+            ],
+            capture_output=True,
+            text=True,
+            check=True,
+        )
         flamapy = json.loads(worker.stdout)
         spl = spl_run(str(path), args.repeat, args.solver)
         products, note, count_seconds = spl_count(str(path), args.count_seconds)
         problems += compare(path.stem, spl, flamapy)
-        fixtures[path.name] = {k: flamapy[k] for k in ("features", "satisfiable", "core", "dead",
-                                                       "false_optional", "products")
-                               if k in flamapy}
+        fixtures[path.name] = {
+            k: flamapy[k]
+            for k in ("features", "satisfiable", "core", "dead", "false_optional", "products")
+            if k in flamapy
+        }
         if "products" in flamapy and flamapy["products"] != products:
-            problems.append(f"{path.stem}: products: spl {products}, flamapy BDD "
-                            f"{flamapy['products']}")
+            problems.append(
+                f"{path.stem}: products: spl {products}, flamapy BDD {flamapy['products']}"
+            )
         ratio = flamapy["analysis_seconds"] / spl["analysis_seconds"]
         overall = (flamapy["load_seconds"] + flamapy["analysis_seconds"]) / (
-            spl["load_seconds"] + spl["analysis_seconds"])
+            spl["load_seconds"] + spl["analysis_seconds"]
+        )
         rows.append(
             f"| {path.stem} | {spl['features']} | {len(spl['core'])}/{len(spl['dead'])}/"
             f"{len(spl['false_optional'])} | {flamapy['load_seconds']:.3f} | "
             f"{flamapy['analysis_seconds']:.3f} | {spl['load_seconds']:.3f} | "
             f"{spl['analysis_seconds']:.3f} | {ratio:.1f}x | {overall:.1f}x | "
             f"{'same' if not compare(path.stem, spl, flamapy) else 'DIFFERENT'} | "
-            f"{_count_cell(products, note, count_seconds)} |")
-    print("| model | features | core/dead/false-opt | flamapy load s | flamapy analysis s "
-          "| spl load s | spl analysis s | speed-up analysis | speed-up load+analysis "
-          "| same answers | spl exact count (s) |")
+            f"{_count_cell(products, note, count_seconds)} |"
+        )
+    print(
+        "| model | features | core/dead/false-opt | flamapy load s | flamapy analysis s "
+        "| spl load s | spl analysis s | speed-up analysis | speed-up load+analysis "
+        "| same answers | spl exact count (s) |"
+    )
     print("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | --- | --- |")
     for row in rows:
         print(row)
@@ -201,13 +232,18 @@ def main() -> int:
 
 
 def write_fixtures(fixtures: dict, path: Path) -> None:
-    text = json.dumps({
-        "produced_by": "bench/fm_analysis.py --json-out, flamapy 2.6 (flamapy-fm UVLReader, "
-                       "flamapy-sat FmToPysat + PySATSatisfiable, PySATCoreFeatures, "
-                       "PySATDeadFeatures, PySATFalseOptionalFeatures; products: flamapy-bdd "
-                       "BDDConfigurationsNumber, small models only) on the UVL files of "
-                       "/work/shared/data/feature-models",
-        "models": fixtures}, indent=1, sort_keys=True)
+    text = json.dumps(
+        {
+            "produced_by": "bench/fm_analysis.py --json-out, flamapy 2.6 (flamapy-fm UVLReader, "
+            "flamapy-sat FmToPysat + PySATSatisfiable, PySATCoreFeatures, "
+            "PySATDeadFeatures, PySATFalseOptionalFeatures; products: flamapy-bdd "
+            "BDDConfigurationsNumber, small models only) on the UVL files of "
+            "/work/shared/data/feature-models",
+            "models": fixtures,
+        },
+        indent=1,
+        sort_keys=True,
+    )
     path.write_text(text + "\n", encoding="utf-8")
 
 

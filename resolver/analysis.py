@@ -119,8 +119,11 @@ class FeatureModelFormula:
             self._backbone = (frozenset(), frozenset(self.cnf.names))
             return self._backbone
         solver = self.solver
-        candidates = {lit for lit in self._samples[0][:n]
-                      if all(m[abs(lit) - 1] == lit for m in self._samples)}
+        candidates = {
+            lit
+            for lit in self._samples[0][:n]
+            if all(m[abs(lit) - 1] == lit for m in self._samples)
+        }
         for _ in range(3):  # a few unconstrained flips first: cheap and they remove most
             before = len(candidates)
             solver.set_phases([-lit for lit in candidates])
@@ -203,8 +206,9 @@ class FeatureModelFormula:
         self._false_optional = self.names(result)
         return self._false_optional
 
-    def count(self, seconds: float = COUNT_SECONDS,
-              cache_entries: int = COUNT_CACHE_ENTRIES) -> ProductCount:
+    def count(
+        self, seconds: float = COUNT_SECONDS, cache_entries: int = COUNT_CACHE_ENTRIES
+    ) -> ProductCount:
         """The exact number of products, or ``None`` when the bound is exceeded."""
         if not self.satisfiable():
             return ProductCount(0)

@@ -35,8 +35,14 @@ PAIRWISE_AMO_LIMIT = 12
 DIRECT_CNF_LIMIT = 16
 
 _PRECEDENCE = {"iff": 1, "implies": 2, "requires": 2, "excludes": 2, "or": 3, "and": 4}
-_SYMBOL = {"iff": "<=>", "implies": "=>", "requires": "requires", "excludes": "excludes",
-           "or": "or", "and": "and"}
+_SYMBOL = {
+    "iff": "<=>",
+    "implies": "=>",
+    "requires": "requires",
+    "excludes": "excludes",
+    "or": "or",
+    "and": "and",
+}
 
 
 class Rule(NamedTuple):
@@ -175,8 +181,10 @@ def formula_text(tree: Any, context: int = 0) -> str:
     precedence = _PRECEDENCE.get(operator, 0)
     # implications and iff are not associative: parenthesise nested ones on both sides
     inner = precedence + (operator not in ("and", "or"))
-    text = f"{formula_text(tree[1], inner)} {_SYMBOL.get(operator, operator)} " \
-           f"{formula_text(tree[2], inner)}"
+    text = (
+        f"{formula_text(tree[1], inner)} {_SYMBOL.get(operator, operator)} "
+        f"{formula_text(tree[2], inner)}"
+    )
     return f"({text})" if precedence < context else text
 
 
@@ -239,8 +247,15 @@ class _Builder:
         self.var = {name: i + 1 for i, name in enumerate(self.names)}
         self.top = len(self.names)
 
-    def rule(self, kind: str, element: Any, features: tuple[str, ...], clauses: list[Clause],
-             bounds: tuple[int, int] = (0, -1), tree: tuple | None = None) -> None:
+    def rule(
+        self,
+        kind: str,
+        element: Any,
+        features: tuple[str, ...],
+        clauses: list[Clause],
+        bounds: tuple[int, int] = (0, -1),
+        tree: tuple | None = None,
+    ) -> None:
         self.rule_data.append((kind, element, features, bounds, tree))
         self.rule_clauses.append(clauses)
 
@@ -254,29 +269,48 @@ class _Builder:
             self.encode_group(parent, group, children, members)
         for constraint in self.model.constraints:
             self.encode_constraint(constraint)
-        return FeatureModelCNF(self.names, self.var, self.parent, self.modelled_mandatory,
-                               self.rule_data, self.rule_clauses, self.top,
-                               self.free_optional())
+        return FeatureModelCNF(
+            self.names,
+            self.var,
+            self.parent,
+            self.modelled_mandatory,
+            self.rule_data,
+            self.rule_clauses,
+            self.top,
+            self.free_optional(),
+        )
 
     def free_optional(self) -> set[str]:
-        touched = {name for kind, _, names, _, _ in self.rule_data if kind == "constraint"
-                   for name in names}
+        touched = {
+            name
+            for kind, _, names, _, _ in self.rule_data
+            if kind == "constraint"
+            for name in names
+        }
         for name in reversed(self.names):  # children before their parents
             parent = self.parent[name]
             if name in touched and parent is not None:
                 touched.add(parent)
-        return {name for parent, group, _, members in self.groups
-                if group_kind(group) == "optional" for name in members if name not in touched}
+        return {
+            name
+            for parent, group, _, members in self.groups
+            if group_kind(group) == "optional"
+            for name in members
+            if name not in touched
+        }
 
-    def encode_group(self, parent: str, group: Any, children: list[Any],
-                     members: list[str]) -> None:
+    def encode_group(
+        self, parent: str, group: Any, children: list[Any], members: list[str]
+    ) -> None:
         p = self.var[parent]
         var = self.var
         lits = [var[name] for name in members]
         kind = group_kind(group)
         rule = self.rule
-        self.rule_data.extend(("parent", child, (name, parent), (0, -1), None)
-                              for child, name in zip(children, members, strict=True))
+        self.rule_data.extend(
+            ("parent", child, (name, parent), (0, -1), None)
+            for child, name in zip(children, members, strict=True)
+        )
         self.rule_clauses.extend([(-lit, p)] for lit in lits)
         if kind == "optional" or not lits:
             return
@@ -297,8 +331,9 @@ class _Builder:
             if lower == 1:
                 clauses.append((-p, *lits))
             elif lower > 1:
-                enc = CardEnc.atleast(lits=lits, bound=lower, top_id=self.top,
-                                      encoding=EncType.seqcounter)
+                enc = CardEnc.atleast(
+                    lits=lits, bound=lower, top_id=self.top, encoding=EncType.seqcounter
+                )
                 self.top = max(self.top, enc.nv)
                 clauses.extend((-p, *c) for c in enc.clauses)
             if upper < n:
@@ -310,9 +345,8 @@ class _Builder:
         if bound == 0:
             return [(-lit,) for lit in lits]
         if bound == 1 and len(lits) <= PAIRWISE_AMO_LIMIT:
-            return [(-a, -b) for i, a in enumerate(lits) for b in lits[i + 1:]]
-        enc = CardEnc.atmost(lits=lits, bound=bound, top_id=self.top,
-                             encoding=EncType.seqcounter)
+            return [(-a, -b) for i, a in enumerate(lits) for b in lits[i + 1 :]]
+        enc = CardEnc.atmost(lits=lits, bound=bound, top_id=self.top, encoding=EncType.seqcounter)
         self.top = max(self.top, enc.nv)
         return [tuple(c) for c in enc.clauses]
 
@@ -323,8 +357,14 @@ class _Builder:
             a, b = self.var[binary[0][1]], self.var[binary[1][1]]
             a, b = (a if binary[0][0] else -a), (b if binary[1][0] else -b)
             clauses = [(a, b)] if a != -b else []
-            self.rule("constraint", constraint, tuple(dict.fromkeys((binary[0][1], binary[1][1]))),
-                      [(a,)] if a == b else clauses, (0, -1), tree)
+            self.rule(
+                "constraint",
+                constraint,
+                tuple(dict.fromkeys((binary[0][1], binary[1][1]))),
+                [(a,)] if a == b else clauses,
+                (0, -1),
+                tree,
+            )
             return
         nnf = self.nnf(tree, True)
         try:
@@ -333,8 +373,9 @@ class _Builder:
             clauses = [(self.tseitin(nnf),)]
             clauses.extend(self.definitions)
             self.definitions = []
-        self.rule("constraint", constraint, formula_features(tree), _simplify(clauses),
-                  (0, -1), tree)
+        self.rule(
+            "constraint", constraint, formula_features(tree), _simplify(clauses), (0, -1), tree
+        )
 
     # --- formulas -------------------------------------------------------------------
     def nnf(self, tree: tuple, positive: bool) -> tuple:
@@ -356,10 +397,20 @@ class _Builder:
             parts, junctor = [self.nnf(a, not positive), self.nnf(b, not positive)], "or"
         elif op == "iff":
             if positive:
-                return ("or", [("and", [self.nnf(a, True), self.nnf(b, True)]),
-                               ("and", [self.nnf(a, False), self.nnf(b, False)])])
-            return ("or", [("and", [self.nnf(a, True), self.nnf(b, False)]),
-                           ("and", [self.nnf(a, False), self.nnf(b, True)])])
+                return (
+                    "or",
+                    [
+                        ("and", [self.nnf(a, True), self.nnf(b, True)]),
+                        ("and", [self.nnf(a, False), self.nnf(b, False)]),
+                    ],
+                )
+            return (
+                "or",
+                [
+                    ("and", [self.nnf(a, True), self.nnf(b, False)]),
+                    ("and", [self.nnf(a, False), self.nnf(b, True)]),
+                ],
+            )
         else:
             raise ValueError(f"unknown operator {op!r}")
         if not positive:
@@ -393,8 +444,11 @@ def _binary_clause(tree: tuple) -> tuple[tuple[bool, str], tuple[bool, str]] | N
         if inner[0] == "and" and inner[1][0] == "ref" and inner[2][0] == "ref":
             return (False, inner[1][1]), (False, inner[2][1])
         return None
-    if op not in ("implies", "requires", "excludes", "or") or tree[1][0] != "ref" \
-            or tree[2][0] != "ref":
+    if (
+        op not in ("implies", "requires", "excludes", "or")
+        or tree[1][0] != "ref"
+        or tree[2][0] != "ref"
+    ):
         return None
     left, right = tree[1][1], tree[2][1]
     if op == "or":

@@ -123,24 +123,43 @@ def check_selection(
     features = tuple(n for n in tree_order if n in chosen)
     given = set(selected)
     added = tuple(n for n in features if n not in given)
-    excluded = tuple(n for n in tree_order
-                     if forced.get(cnf.var[n]) is False and n not in set(deselected))
+    excluded = tuple(
+        n for n in tree_order if forced.get(cnf.var[n]) is False and n not in set(deselected)
+    )
     closed_world = [cnf.var[n] if n in chosen else -cnf.var[n] for n in tree_order]
     diagnostics: list[Diagnostic] = []
     if added:
         diagnostics.append(Diagnostic(source, "added by completion: " + ", ".join(added), "info"))
     if solver.solve(assumptions=closed_world):
-        return SelectionCheck("complete", selected, deselected, features, added, excluded,
-                              diagnostics=tuple(diagnostics))
+        return SelectionCheck(
+            "complete",
+            selected,
+            deselected,
+            features,
+            added,
+            excluded,
+            diagnostics=tuple(diagnostics),
+        )
     undecided = {n for n in tree_order if cnf.var[n] not in forced}
     choices = _open_choices(formula, chosen, undecided)
     for choice in choices:
-        diagnostics.append(Diagnostic(
-            choice.rule.location or source,
-            f"open choice: {choice.rule.text}; the selection decides none of "
-            f"{', '.join(choice.candidates)}"))
-    return SelectionCheck("incomplete", selected, deselected, features, added, excluded,
-                          tuple(choices), diagnostics=tuple(diagnostics))
+        diagnostics.append(
+            Diagnostic(
+                choice.rule.location or source,
+                f"open choice: {choice.rule.text}; the selection decides none of "
+                f"{', '.join(choice.candidates)}",
+            )
+        )
+    return SelectionCheck(
+        "incomplete",
+        selected,
+        deselected,
+        features,
+        added,
+        excluded,
+        tuple(choices),
+        diagnostics=tuple(diagnostics),
+    )
 
 
 def _entailed(formula: FeatureModelFormula, assumptions: list[int]) -> dict[int, bool]:
@@ -164,8 +183,9 @@ def _entailed(formula: FeatureModelFormula, assumptions: list[int]) -> dict[int,
     return forced
 
 
-def _open_choices(formula: FeatureModelFormula, chosen: set[str],
-                  undecided: set[str]) -> list[OpenChoice]:
+def _open_choices(
+    formula: FeatureModelFormula, chosen: set[str], undecided: set[str]
+) -> list[OpenChoice]:
     choices: list[OpenChoice] = []
     for rule in formula.cnf.rules:
         if rule.kind == "group":
@@ -176,14 +196,20 @@ def _open_choices(formula: FeatureModelFormula, chosen: set[str],
                 candidates = tuple(m for m in members if m in undecided)
                 choices.append(OpenChoice(rule, candidates))
         elif rule.kind == "constraint" and not evaluate(rule.formula, chosen):
-            candidates = tuple(n for n in formula.cnf.names
-                               if n in undecided and n in rule.features)
+            candidates = tuple(
+                n for n in formula.cnf.names if n in undecided and n in rule.features
+            )
             choices.append(OpenChoice(rule, candidates))
     return choices
 
 
-def _invalid(formula: FeatureModelFormula, selected: tuple[str, ...],
-             deselected: tuple[str, ...], assumptions: list[int], where: Any) -> SelectionCheck:
+def _invalid(
+    formula: FeatureModelFormula,
+    selected: tuple[str, ...],
+    deselected: tuple[str, ...],
+    assumptions: list[int],
+    where: Any,
+) -> SelectionCheck:
     cnf = formula.cnf
     base = cnf.num_vars
     selector = {rule.index: base + 1 + rule.index for rule in cnf.rules}
@@ -232,5 +258,11 @@ def _invalid(formula: FeatureModelFormula, selected: tuple[str, ...],
     reason = "; ".join(str(rule) for rule in conflict)
     first = conflicting[0] if conflicting else None
     diagnostics = [Diagnostic(where(first), f"invalid selection: {subject} contradicts: {reason}")]
-    return SelectionCheck("invalid", selected, deselected, conflict=conflict,
-                          conflicting=conflicting, diagnostics=tuple(diagnostics))
+    return SelectionCheck(
+        "invalid",
+        selected,
+        deselected,
+        conflict=conflict,
+        conflicting=conflicting,
+        diagnostics=tuple(diagnostics),
+    )

@@ -79,17 +79,34 @@ def mapping3d() -> tuple[Any, dict[str, Any]]:
     """SPEC section 3's Mapping3D, with ``Roomba excludes AdditionalPC`` added (line 17)."""
     root = feature(
         "Mapping",
-        group("mandatory", feature("MobileBase", group(
-            "alternative", feature("YouBot", line=4), feature("Roomba", line=4), line=4), line=4),
-            feature("PerceptionSensor", group(
-                "alternative", feature("Stereo", line=5), feature("Depth", line=5), line=5),
-                line=5),
-            feature("Environment", group(
-                "alternative", feature("Room", line=7), feature("Corridor", line=7), line=7),
-                line=7), line=4),
-        group("optional", feature("AdditionalPC", line=6), feature("CollaborativeMapping", line=8),
-              feature("Logging", line=11), line=6),
-        line=3)
+        group(
+            "mandatory",
+            feature(
+                "MobileBase",
+                group("alternative", feature("YouBot", line=4), feature("Roomba", line=4), line=4),
+                line=4,
+            ),
+            feature(
+                "PerceptionSensor",
+                group("alternative", feature("Stereo", line=5), feature("Depth", line=5), line=5),
+                line=5,
+            ),
+            feature(
+                "Environment",
+                group("alternative", feature("Room", line=7), feature("Corridor", line=7), line=7),
+                line=7,
+            ),
+            line=4,
+        ),
+        group(
+            "optional",
+            feature("AdditionalPC", line=6),
+            feature("CollaborativeMapping", line=8),
+            feature("Logging", line=11),
+            line=6,
+        ),
+        line=3,
+    )
     m = model(root, name="Mapping3D")
     fs = all_features(m)
     m.constraints.append(constraint(binary("excludes", ref("Roomba", fs), ref("Stereo", fs)), 16))
@@ -108,8 +125,14 @@ def _eval(formula: Any, product: set[str]) -> bool:
     if cls == "Not":
         return not _eval(formula.operand, product)
     a, b = _eval(formula.left, product), _eval(formula.right, product)
-    return {"and": a and b, "or": a or b, "implies": (not a) or b, "requires": (not a) or b,
-            "excludes": not (a and b), "iff": a == b}[formula.operator]
+    return {
+        "and": a and b,
+        "or": a or b,
+        "implies": (not a) or b,
+        "requires": (not a) or b,
+        "excludes": not (a and b),
+        "iff": a == b,
+    }[formula.operator]
 
 
 def is_product(m: Any, product: set[str]) -> bool:

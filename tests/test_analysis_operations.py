@@ -63,8 +63,11 @@ def test_void_model_has_no_product_and_every_feature_dead() -> None:
 
 
 def test_dead_feature_through_an_excludes() -> None:
-    root = feature("R", group("mandatory", feature("A")), group("optional", feature("B", group(
-        "optional", feature("C")))))
+    root = feature(
+        "R",
+        group("mandatory", feature("A")),
+        group("optional", feature("B", group("optional", feature("C")))),
+    )
     m = model(root)
     fs = fs_of(m)
     m.constraints.append(constraint(binary("excludes", ref("A", fs), ref("B", fs)), 9))
@@ -74,8 +77,11 @@ def test_dead_feature_through_an_excludes() -> None:
 
 
 def test_false_optional_through_a_requires() -> None:
-    root = feature("R", group("mandatory", feature("A")),
-                   group("optional", feature("B"), feature("C", group("optional", feature("D")))))
+    root = feature(
+        "R",
+        group("mandatory", feature("A")),
+        group("optional", feature("B"), feature("C", group("optional", feature("D")))),
+    )
     m = model(root)
     fs = fs_of(m)
     m.constraints.append(constraint(binary("requires", ref("A", fs), ref("B", fs)), 9))
@@ -98,12 +104,22 @@ def test_children_of_a_dead_parent_are_dead_not_false_optional() -> None:
     assert false_optional_features(m) == []
 
 
-@pytest.mark.parametrize(("lower", "upper"), [(0, 1), (1, 2), (2, 3), (2, -1), (3, 3), (0, 0),
-                                              (4, 4), (2, 5)])
+@pytest.mark.parametrize(
+    ("lower", "upper"), [(0, 1), (1, 2), (2, 3), (2, -1), (3, 3), (0, 0), (4, 4), (2, 5)]
+)
 def test_cardinality_groups_count_like_brute_force(lower: int, upper: int) -> None:
-    root = feature("R", group("cardinality", feature("A"), feature("B"), feature("C"),
-                              feature("D", group("or", feature("E"), feature("F"))),
-                              lower=lower, upper=upper))
+    root = feature(
+        "R",
+        group(
+            "cardinality",
+            feature("A"),
+            feature("B"),
+            feature("C"),
+            feature("D", group("or", feature("E"), feature("F"))),
+            lower=lower,
+            upper=upper,
+        ),
+    )
     m = model(root)
     expected = set(brute_force_products(m))
     with FeatureModelFormula(m) as f:
@@ -119,8 +135,9 @@ def test_large_alternative_uses_a_counter_encoding_and_still_counts_exactly() ->
     root = feature("R", group("alternative", *members), group("optional", feature("Y")))
     m = model(root)
     fs = fs_of(m)
-    m.constraints.append(constraint(binary("requires", ref("Y", fs), binary(
-        "or", ref("X1", fs), ref("X2", fs))), 9))
+    m.constraints.append(
+        constraint(binary("requires", ref("Y", fs), binary("or", ref("X1", fs), ref("X2", fs))), 9)
+    )
     cnf = encode(m)
     assert cnf.num_vars > cnf.num_features  # auxiliary variables: the count is projected
     assert count_products(m).value == 15 + 2
@@ -149,14 +166,21 @@ def test_arbitrary_formulas_go_through_tseitin_and_count_like_brute_force() -> N
 
 
 def test_count_reports_unknown_instead_of_guessing_when_the_bound_is_hit() -> None:
-    members = [feature(f"X{i}", group("or", feature(f"Y{i}"), feature(f"Z{i}")))
-               for i in range(40)]
+    members = [feature(f"X{i}", group("or", feature(f"Y{i}"), feature(f"Z{i}"))) for i in range(40)]
     root = feature("R", group("optional", *members))
     m = model(root)
     fs = fs_of(m)
     for i in range(39):  # a chain so the model does not fall apart into components
-        m.constraints.append(constraint(binary("or", binary("implies", ref(f"Y{i}", fs), ref(
-            f"Z{i + 1}", fs)), ref(f"Y{i + 1}", fs)), 10 + i))
+        m.constraints.append(
+            constraint(
+                binary(
+                    "or",
+                    binary("implies", ref(f"Y{i}", fs), ref(f"Z{i + 1}", fs)),
+                    ref(f"Y{i + 1}", fs),
+                ),
+                10 + i,
+            )
+        )
     with FeatureModelFormula(m) as f:
         unknown = f.count(seconds=0.0)
         assert unknown.value is None and "counting stopped" in unknown.note

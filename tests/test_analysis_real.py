@@ -23,7 +23,8 @@ from spl.resolver.selection import check_selection
 
 DATA = Path("/work/shared/data/feature-models")
 FIXTURES = json.loads(
-    (Path(__file__).parent / "models" / "analysis" / "flamapy_results.json").read_text())["models"]
+    (Path(__file__).parent / "models" / "analysis" / "flamapy_results.json").read_text()
+)["models"]
 
 pytestmark = pytest.mark.skipif(not DATA.is_dir(), reason="real models not available")
 
@@ -43,7 +44,8 @@ def test_same_answers_as_flamapy(name: str) -> None:
     assert formula.core_features() == expected["core"]
     assert formula.dead_features() == expected["dead"]
     assert formula.false_optional_features() == sorted(
-        set(expected["false_optional"]) - set(expected["dead"]))
+        set(expected["false_optional"]) - set(expected["dead"])
+    )
 
 
 @pytest.mark.parametrize("name", sorted(n for n in FIXTURES if "products" in FIXTURES[n]))

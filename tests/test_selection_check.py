@@ -14,8 +14,9 @@ from spl.resolver.selection import check_selection
 def mapping():
     m, fs = mapping3d()
     # line 18 of mapping.fm, as in the SPEC example
-    m.constraints.append(constraint(binary("excludes", ref("Roomba", fs), ref("AdditionalPC", fs)),
-                                    18))
+    m.constraints.append(
+        constraint(binary("excludes", ref("Roomba", fs), ref("AdditionalPC", fs)), 18)
+    )
     with FeatureModelFormula(m) as formula:
         yield formula
 
@@ -24,10 +25,23 @@ def test_complete_selection_is_completed_by_propagation(mapping) -> None:
     result = check_selection(mapping, ["YouBot", "Stereo", "Room"])
     assert result.status == "complete" and result.valid and result.complete
     # tree order; AdditionalPC is forced by "Stereo requires AdditionalPC or Depth"
-    assert result.features == ("Mapping", "MobileBase", "YouBot", "PerceptionSensor", "Stereo",
-                               "Environment", "Room", "AdditionalPC")
-    assert result.added == ("Mapping", "MobileBase", "PerceptionSensor", "Environment",
-                            "AdditionalPC")
+    assert result.features == (
+        "Mapping",
+        "MobileBase",
+        "YouBot",
+        "PerceptionSensor",
+        "Stereo",
+        "Environment",
+        "Room",
+        "AdditionalPC",
+    )
+    assert result.added == (
+        "Mapping",
+        "MobileBase",
+        "PerceptionSensor",
+        "Environment",
+        "AdditionalPC",
+    )
     assert "Depth" in result.excluded and "Roomba" in result.excluded
     assert [d.severity for d in result.diagnostics] == ["info"]
     assert "AdditionalPC" in result.diagnostics[0].message
@@ -46,9 +60,11 @@ def test_incomplete_selection_lists_the_open_choices(mapping) -> None:
     # Roomba excludes Stereo, so Depth is forced; the environment stays open
     assert "Depth" in result.added
     assert [(c.rule.text, c.candidates) for c in result.open_choices] == [
-        ("Environment: exactly one of Room, Corridor", ("Room", "Corridor"))]
+        ("Environment: exactly one of Room, Corridor", ("Room", "Corridor"))
+    ]
     assert str(result.open_choices[0]) == (
-        "Environment: exactly one of Room, Corridor (mapping.fm:7:5): choose among Room, Corridor")
+        "Environment: exactly one of Room, Corridor (mapping.fm:7:5): choose among Room, Corridor"
+    )
     errors = [d for d in result.diagnostics if d.severity == "error"]
     assert [str(d.location) for d in errors] == ["mapping.fm:7:5"]
     with pytest.raises(ModelError):
@@ -64,8 +80,10 @@ def test_open_choice_from_a_constraint(mapping) -> None:
 
 
 def test_invalid_selection_names_the_violated_rule_with_its_location(mapping) -> None:
-    where = {"Roomba": Location("product.yaml", 3, 5),
-             "AdditionalPC": Location("product.yaml", 4, 5)}
+    where = {
+        "Roomba": Location("product.yaml", 3, 5),
+        "AdditionalPC": Location("product.yaml", 4, 5),
+    }
     result = check_selection(mapping, ["Roomba", "AdditionalPC", "Depth", "Room"], locations=where)
     assert result.status == "invalid" and not result.valid
     assert result.explanation() == "Roomba excludes AdditionalPC (mapping.fm:18:5)"
@@ -73,7 +91,8 @@ def test_invalid_selection_names_the_violated_rule_with_its_location(mapping) ->
     (diagnostic,) = result.diagnostics
     assert str(diagnostic) == (
         "product.yaml:3:5: error: invalid selection: selecting Roomba, AdditionalPC contradicts: "
-        "Roomba excludes AdditionalPC (mapping.fm:18:5)")
+        "Roomba excludes AdditionalPC (mapping.fm:18:5)"
+    )
 
 
 def test_two_members_of_an_alternative(mapping) -> None:

@@ -63,9 +63,13 @@ def text_report(path: Path, report: dict[str, Any]) -> list[str]:
 @click.command("analyze")
 @click.argument("model_file", type=click.Path(exists=True, dir_okay=False, path_type=Path))
 @click.option("--json", "as_json", is_flag=True, help="print one JSON object")
-@click.option("--count-seconds", type=click.FloatRange(min=0.0), default=10.0,
-              show_default=True,
-              help="time bound for the exact product count (past it: null and a note)")
+@click.option(
+    "--count-seconds",
+    type=click.FloatRange(min=0.0),
+    default=10.0,
+    show_default=True,
+    help="time bound for the exact product count (past it: null and a note)",
+)
 def command(model_file: Path, as_json: bool, count_seconds: float) -> None:
     """Analyse a feature model (.fm, .uvl, FeatureIDE .xml): satisfiable, number of
     products, core, dead and false-optional features."""
