@@ -9,10 +9,12 @@ the trace.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Any
 
 from spl.diagnostics import DiagnosticSink, Location, location_of
 from spl.metamodels import tsm
+from spl.resolver.endpoints import EndpointWiring
 from spl.resolver.product import NodeMigration
 from spl.resolver.trace import Trace
 
@@ -53,6 +55,10 @@ class ResolutionContext:
     decisions: dict[tuple[str, int], Decision] = field(default_factory=dict)
     created_topics: dict[tuple[str, str], Any] = field(default_factory=dict)
     element: Any = None  # the active resolution element whose transformations run
+
+    @cached_property
+    def wiring(self) -> EndpointWiring:
+        return EndpointWiring(self.system)
 
     def copy_of(self, template_element: Any) -> Any:
         return self.copies[id(template_element)]

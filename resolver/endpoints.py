@@ -4,93 +4,99 @@ Exactly as in the Rapyuta metamodel, data crossing containers goes through each
 container's endpoint: an endpoint Subscriber takes a topic of its own container and
 sends it over an EndpointConnection to an endpoint Publisher, which publishes it in
 the other container; an endpoint ServiceServer stands in for a remote server and an
-endpoint ServiceClient calls the real one. Interfaces have canonical names so one
-topic or server is never bridged twice and the .tsm printer can write them back as
-``bridge`` statements.
+endpoint ServiceClient calls the real one. Interfaces carry the canonical names of the
+.tsm language (:mod:`spl.dsl.tsm`), so a topic or server is never bridged twice and the
+printer writes them back as ``bridge`` statements.
 """
 
 from __future__ import annotations
 
 from typing import Any
 
+from spl.dsl.tsm import (
+    endpoint_client_name,
+    endpoint_publisher_name,
+    endpoint_server_name,
+    endpoint_subscriber_name,
+)
 from spl.metamodels import tsm
 
 
-def subscriber_name(topic: Any) -> str:
-    return f"sub_{topic.name}"
+class EndpointWiring:
+    """Creates endpoint interfaces and connections of one system, each at most once.
+
+    Indexes what the system already holds, so wiring thousands of bridges costs
+    thousands of dictionary look-ups, not a scan of every endpoint per bridge.
+    """
+
+    def __init__(self, system: Any) -> None:
+        self.system = system
+        self.interfaces = {
+            (id(c), i.eClass.name, i.name): i
+            for c in system.containers
+            for i in c.endpoint.interfaces
+        }
+        self.connections = {(id(c.source), id(c.target)) for c in system.connections}
+
+    def _find_or_add(self, container: Any, kind: str, name: str, **features: Any) -> Any:
+        key = (id(container), kind, name)
+        interface = self.interfaces.get(key)
+        if interface is None:
+            interface = self.interfaces[key] = getattr(tsm(), kind)(name=name, **features)
+            container.endpoint.interfaces.append(interface)
+        return interface
+
+    def connect(self, source: Any, target: Any) -> None:
+        """The EndpointConnection source -> target, created once."""
+        if (id(source), id(target)) not in self.connections:
+            self.connections.add((id(source), id(target)))
+            self.system.connections.append(tsm().EndpointConnection(source=source, target=target))
+
+    def topic_bridge(self, source_topic: Any, target_topic: Any) -> None:
+        """Data published on ``source_topic`` reaches ``target_topic`` in another container."""
+        subscriber = self._find_or_add(
+            source_topic.eContainer(),
+            "Subscriber",
+            endpoint_subscriber_name(source_topic),
+            topic=source_topic,
+            type=source_topic.type,
+        )
+        publisher = self._find_or_add(
+            target_topic.eContainer(),
+            "Publisher",
+            endpoint_publisher_name(target_topic),
+            topic=target_topic,
+            type=target_topic.type,
+        )
+        self.connect(subscriber, publisher)
+
+    def service_bridge(self, client: Any, server: Any) -> None:
+        """Serve ``server`` to ``client``, a node interface in another container."""
+        stand_in = self._find_or_add(
+            client.eContainer().eContainer(),
+            "ServiceServer",
+            endpoint_server_name(server),
+            type=server.type,
+            rosName=server.rosName,
+        )
+        caller = self._find_or_add(
+            server.eContainer().eContainer(),
+            "ServiceClient",
+            endpoint_client_name(server),
+            server=server,
+            type=server.type,
+        )
+        client.server = stand_in
+        self.connect(stand_in, caller)
 
 
-def publisher_name(topic: Any) -> str:
-    return f"pub_{topic.name}"
+def topic_bridge(system: Any, source_topic: Any, target_topic: Any) -> None:
+    """One bridge on its own (a model built by hand); for many, keep an EndpointWiring."""
+    EndpointWiring(system).topic_bridge(source_topic, target_topic)
 
 
-def stand_in_name(server: Any) -> str:
-    return f"srv_{server.eContainer().name}_{server.name}"
-
-
-def caller_name(server: Any) -> str:
-    return f"cli_{server.eContainer().name}_{server.name}"
-
-
-def _find_or_add(container: Any, kind: str, name: str, **features: Any) -> Any:
-    endpoint = container.endpoint
-    for interface in endpoint.interfaces:
-        if interface.name == name and interface.eClass.name == kind:
-            return interface
-    interface = getattr(tsm(), kind)(name=name, **features)
-    endpoint.interfaces.append(interface)
-    return interface
-
-
-def endpoint_subscriber(container: Any, topic: Any) -> Any:
-    return _find_or_add(
-        container, "Subscriber", subscriber_name(topic), topic=topic, type=topic.type
-    )
-
-
-def endpoint_publisher(container: Any, topic: Any) -> Any:
-    return _find_or_add(container, "Publisher", publisher_name(topic), topic=topic, type=topic.type)
-
-
-def endpoint_stand_in(container: Any, server: Any) -> Any:
-    """An endpoint ServiceServer in ``container`` offering ``server``'s service there."""
-    return _find_or_add(
-        container, "ServiceServer", stand_in_name(server), type=server.type, rosName=server.rosName
-    )
-
-
-def endpoint_caller(container: Any, server: Any) -> Any:
-    """An endpoint ServiceClient in ``container`` calling the real ``server``."""
-    return _find_or_add(
-        container, "ServiceClient", caller_name(server), server=server, type=server.type
-    )
-
-
-def connect(system: Any, source: Any, target: Any) -> Any:
-    """The EndpointConnection source -> target, created once."""
-    for connection in system.connections:
-        if connection.source is source and connection.target is target:
-            return connection
-    connection = tsm().EndpointConnection(source=source, target=target)
-    system.connections.append(connection)
-    return connection
-
-
-def topic_bridge(system: Any, source_topic: Any, target_topic: Any) -> Any:
-    source_container, target_container = source_topic.eContainer(), target_topic.eContainer()
-    return connect(
-        system,
-        endpoint_subscriber(source_container, source_topic),
-        endpoint_publisher(target_container, target_topic),
-    )
-
-
-def service_bridge(system: Any, client: Any, server: Any) -> Any:
-    """Serve ``server`` to ``client`` (a node interface in another container)."""
-    client_container = client.eContainer().eContainer()
-    stand_in = endpoint_stand_in(client_container, server)
-    client.server = stand_in
-    return connect(system, stand_in, endpoint_caller(server.eContainer().eContainer(), server))
+def service_bridge(system: Any, client: Any, server: Any) -> None:
+    EndpointWiring(system).service_bridge(client, server)
 
 
 def is_endpoint_interface(interface: Any) -> bool:

@@ -8,6 +8,8 @@ endpoint rewiring, architecture checks.
 
 from __future__ import annotations
 
+import gc
+from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import Any
 
@@ -36,6 +38,25 @@ class Resolution:
 
 
 def resolve(line: ProductLine, selection: ProductSelection) -> Resolution:
+    with _collector_paused():
+        return _resolve(line, selection)
+
+
+@contextmanager
+def _collector_paused():
+    """Resolution builds one large object graph and keeps all of it: letting the cyclic
+    garbage collector rescan it while it grows made resolve time superlinear in model
+    size. Whatever cycles the resolution leaves are collected once it is done."""
+    was_enabled = gc.isenabled()
+    gc.disable()
+    try:
+        yield
+    finally:
+        if was_enabled:
+            gc.enable()
+
+
+def _resolve(line: ProductLine, selection: ProductSelection) -> Resolution:
     completion = check_selection(  # step 2: an invalid or open selection is refused
         line.formula,
         selection.features,

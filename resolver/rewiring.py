@@ -69,10 +69,13 @@ def rewire(system: Any, trace: Trace, migrated: set[str]) -> list[Diagnostic]:
     template_topic = {id(i): i.topic for i in publishers + subscribers}
     served_by = {id(c): real_server(c.server) for c in clients}
 
+    local_topics: dict[int, dict] = {}
     for interface in publishers + subscribers:
         container = interface.eContainer().eContainer()
         if interface.topic.eContainer() is not container:
-            interface.topic = _local_topic(container, interface, trace)
+            if id(container) not in local_topics:
+                local_topics[id(container)] = TopicIndex(container)
+            interface.topic = local_topics[id(container)].local_topic(interface, trace)
 
     subscribers_of: dict[int, list[Any]] = defaultdict(list)
     for subscriber in subscribers:
@@ -107,9 +110,10 @@ def rewire(system: Any, trace: Trace, migrated: set[str]) -> list[Diagnostic]:
     for container in system.containers:
         container.endpoint.interfaces.clear()
     system.connections.clear()
+    wiring = endpoints.EndpointWiring(system)
     for flows in bridges.values():
         publisher, subscriber = flows[0]
-        endpoints.topic_bridge(system, publisher.topic, subscriber.topic)
+        wiring.topic_bridge(publisher.topic, subscriber.topic)
         if {publisher.eContainer().name, subscriber.eContainer().name} & migrated:
             carried = ", ".join(f"{qualified(p)} -> {qualified(s)}" for p, s in flows)
             trace.record(
@@ -124,7 +128,7 @@ def rewire(system: Any, trace: Trace, migrated: set[str]) -> list[Diagnostic]:
         elif _container(server) is _container(client):
             client.server = server
         else:
-            endpoints.service_bridge(system, client, server)
+            wiring.service_bridge(client, server)
             if {client.eContainer().name, server.eContainer().name} & migrated:
                 trace.record(
                     qualified(client),
@@ -139,11 +143,20 @@ def _container(interface: Any) -> Any:
     return interface.eContainer().eContainer()
 
 
-def _local_topic(container: Any, interface: Any, trace: Trace) -> Any:
-    """The topic of ``container`` standing for ``interface``'s template topic."""
-    template = interface.topic
-    for topic in container.topics:
-        if topic.rosName == template.rosName and topic.type == template.type:
+class TopicIndex:
+    """The topics of one container by (ROS name, type) and by name, kept up to date."""
+
+    def __init__(self, container: Any) -> None:
+        self.container = container
+        self.by_ros_name = {(t.rosName, t.type): t for t in container.topics}
+        self.names = {t.name for t in container.topics}
+
+    def local_topic(self, interface: Any, trace: Trace) -> Any:
+        """The topic standing for ``interface``'s template topic: reused when one with
+        the same ROS name and type exists, created otherwise (and shared from then on)."""
+        template = interface.topic
+        topic = self.by_ros_name.get((template.rosName, template.type))
+        if topic is not None:
             trace.record(
                 qualified(interface),
                 "rewired",
@@ -151,22 +164,23 @@ def _local_topic(container: Any, interface: Any, trace: Trace) -> Any:
                 f"as {qualified(template)})",
             )
             return topic
-    taken = {t.name for t in container.topics}
-    name, suffix = template.name, 1
-    while name in taken:
-        suffix += 1
-        name = f"{template.name}_{suffix}"
-    topic = tsm().Topic(name=name, type=template.type, rosName=template.rosName)
-    topic.srcFile, topic.srcLine, topic.srcCol = (
-        template.srcFile,
-        template.srcLine,
-        template.srcCol,
-    )
-    container.topics.append(topic)
-    trace.record(
-        qualified(topic),
-        "created",
-        f"in {container.name} for the migrated {interface.eContainer().name}, "
-        f"mirroring {qualified(template)} (ROS name {template.rosName})",
-    )
-    return topic
+        name, suffix = template.name, 1
+        while name in self.names:
+            suffix += 1
+            name = f"{template.name}_{suffix}"
+        topic = tsm().Topic(name=name, type=template.type, rosName=template.rosName)
+        topic.srcFile, topic.srcLine, topic.srcCol = (
+            template.srcFile,
+            template.srcLine,
+            template.srcCol,
+        )
+        self.container.topics.append(topic)
+        self.by_ros_name[(topic.rosName, topic.type)] = topic
+        self.names.add(name)
+        trace.record(
+            qualified(topic),
+            "created",
+            f"in {self.container.name} for the migrated {interface.eContainer().name}, "
+            f"mirroring {qualified(template)} (ROS name {template.rosName})",
+        )
+        return topic

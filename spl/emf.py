@@ -11,11 +11,38 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from pyecore.ecore import EAttribute, EObject, EReference
+from pyecore.ecore import EAttribute, EObject
+
+_FEATURES: dict[int, tuple] = {}
+_PLANS: dict[int, tuple] = {}
 
 
-def _features(obj: EObject):
-    return obj.eClass.eAllStructuralFeatures()
+def _features(obj: EObject) -> tuple:
+    """All structural features of the object's class, computed once per class
+    (pyecore rebuilds the ordered set on every call, which dominated copying)."""
+    eclass = obj.eClass
+    features = _FEATURES.get(id(eclass))
+    if features is None:
+        features = _FEATURES[id(eclass)] = (eclass, tuple(eclass.eAllStructuralFeatures()))
+    return features[1]
+
+
+def _plan(obj: EObject) -> tuple[tuple, tuple]:
+    """Per class: (name, many, containment, default) of values to copy, then of references."""
+    eclass = obj.eClass
+    plan = _PLANS.get(id(eclass))
+    if plan is None:
+        values, references = [], []
+        for feature in _features(obj):
+            if isinstance(feature, EAttribute):
+                default = None if feature.many else feature.get_default_value()
+                values.append((feature.name, feature.many, False, default))
+            elif feature.containment:
+                values.append((feature.name, feature.many, True, None))
+            else:
+                references.append((feature.name, feature.many))
+        plan = _PLANS[id(eclass)] = (eclass, tuple(values), tuple(references))
+    return plan[1], plan[2]
 
 
 def copy_model(root: EObject) -> EObject:
@@ -27,39 +54,38 @@ def copy_with_map(root: EObject) -> tuple[EObject, dict[int, EObject]]:
     """Like :func:`copy_model`, also returning ``id(original) -> copy`` for every element.
 
     Models that refer into the original (a resolution model into its template) use the
-    map to find the element they mean in the copy.
+    map to find the element they mean in the copy. Values equal to the feature's
+    default are not set again: a copy costs what the model holds, not its metamodel.
     """
     mapping: dict[int, EObject] = {}
-    pending: list[tuple[EObject, EObject]] = []
+    pending: list[tuple[EObject, EObject, tuple]] = []
 
     def clone(src: EObject) -> EObject:
         dst = src.eClass.python_class()
         mapping[id(src)] = dst
-        pending.append((src, dst))
-        for feature in _features(src):
-            if isinstance(feature, EAttribute):
-                value = src.eGet(feature)
-                if feature.many:
-                    dst.eGet(feature).extend(value)
-                else:
-                    dst.eSet(feature, value)
-            elif feature.containment:
-                value = src.eGet(feature)
-                if feature.many:
-                    dst.eGet(feature).extend(clone(child) for child in value)
-                elif value is not None:
-                    dst.eSet(feature, clone(value))
+        values, references = _plan(src)
+        if references:
+            pending.append((src, dst, references))
+        for name, many, containment, default in values:
+            value = getattr(src, name)
+            if many:
+                if value:
+                    getattr(dst, name).extend(
+                        [clone(child) for child in value] if containment else value
+                    )
+            elif value is not None and value != default:
+                setattr(dst, name, clone(value) if containment else value)
         return dst
 
     copy = clone(root)
-    for src, dst in pending:
-        for feature in _features(src):
-            if isinstance(feature, EReference) and not feature.containment:
-                value = src.eGet(feature)
-                if feature.many:
-                    dst.eGet(feature).extend(mapping.get(id(v), v) for v in value)
-                elif value is not None:
-                    dst.eSet(feature, mapping.get(id(value), value))
+    for src, dst, references in pending:
+        for name, many in references:
+            value = getattr(src, name)
+            if many:
+                if value:
+                    getattr(dst, name).extend([mapping.get(id(v), v) for v in value])
+            elif value is not None:
+                setattr(dst, name, mapping.get(id(value), value))
     return copy, mapping
 
 

@@ -10,7 +10,6 @@ from __future__ import annotations
 from typing import Any
 
 from spl.diagnostics import location_of
-from spl.resolver import endpoints
 from spl.resolver.context import ResolutionContext, qualified
 
 
@@ -59,7 +58,7 @@ def bridge(transformation: Any, ctx: ResolutionContext) -> None:
     if transformation.sourceTopic is not None:
         source = ctx.copy_of(transformation.sourceTopic)
         target = ctx.copy_of(transformation.targetTopic)
-        endpoints.topic_bridge(ctx.system, source, target)
+        ctx.wiring.topic_bridge(source, target)
         for topic in (source, target):
             ctx.keep(topic, f"bridged by {ctx.by()}", where)
         ctx.trace.record(
@@ -71,7 +70,7 @@ def bridge(transformation: Any, ctx: ResolutionContext) -> None:
     ctx.keep(client.eContainer(), f"its client {client.name} is bridged by {ctx.by()}", where)
     ctx.keep(server.eContainer(), f"its server {server.name} is bridged by {ctx.by()}", where)
     if ctx.decide("server", client, qualified(server), where):
-        endpoints.service_bridge(ctx.system, client, server)
+        ctx.wiring.service_bridge(client, server)
         ctx.trace.record(
             qualified(client), "bridged", f"to server {qualified(server)} by {ctx.by()}", where
         )
