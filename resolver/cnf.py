@@ -232,13 +232,16 @@ class _Builder:
         self.parent: dict[str, str | None] = {}
         self.groups: list[tuple[str, Any, list[Any], list[str]]] = []
         stack: list[tuple[Any, str | None]] = [(root, None)]
+        # reading an unset many-valued reference makes pyecore create an empty collection;
+        # asking first spares that for every leaf of a freshly loaded model
+        groups_ref = root.eClass.findEStructuralFeature("groups")
         while stack:
             feature, parent = stack.pop()
             name = feature.name
             self.names.append(name)
             self.parent[name] = parent
             pushed = []
-            for group in feature.groups:
+            for group in feature.groups if feature.eIsSet(groups_ref) else ():
                 children = list(group.features)
                 members = [child.name for child in children]
                 self.groups.append((name, group, children, members))

@@ -124,3 +124,18 @@ def test_unknown_and_contradictory_names_are_located_errors(mapping) -> None:
         "p.yaml:2:3: error: unknown feature 'Rooomba' (did you mean Roomba?)",
         "p.yaml:3:3: error: feature YouBot is both selected and deselected",
     ]
+
+
+def test_any_selection_of_a_void_model_names_the_contradiction() -> None:
+    from analysis_models import all_features, feature, group, model
+
+    m = model(feature("R", group("mandatory", feature("A", line=2)), line=1))
+    fs = all_features(m)
+    m.constraints.append(constraint(binary("excludes", ref("A", fs), ref("R", fs)), 5))
+    result = check_selection(m, [])
+    assert result.status == "invalid" and result.conflicting == ()
+    assert result.explanation() == (
+        "R is the root feature and always selected (mapping.fm:1:5); "
+        "A is mandatory in R (mapping.fm:2:5); A excludes R (mapping.fm:5:5)"
+    )
+    assert "the feature model (it has no product)" in result.diagnostics[0].message
