@@ -1,0 +1,106 @@
+"""Differential test: random small feature models, every operation against brute force.
+
+The models are drawn with a fixed seed (deterministic), with every group kind, cardinality
+bounds, and cross-tree constraints of every operator; the expected answers come from the
+brute-force evaluator of tests/analysis_models.py, which knows nothing of CNF or SAT.
+"""
+
+from __future__ import annotations
+
+import random
+
+import pytest
+from analysis_models import (
+    all_features,
+    binary,
+    brute_force_products,
+    constraint,
+    feature,
+    group,
+    model,
+    negate,
+    ref,
+)
+
+from spl.resolver.analysis import FeatureModelFormula
+from spl.resolver.selection import check_selection
+
+OPERATORS = ["and", "or", "implies", "iff", "requires", "excludes"]
+
+
+def random_model(rng: random.Random):
+    count = [0]
+
+    def new_feature(depth: int):
+        count[0] += 1
+        name = f"F{count[0]}"
+        groups = []
+        if depth < 3 and count[0] < 8:
+            for _ in range(rng.randint(1 if depth == 0 else 0, 2)):
+                kind = rng.choice(["mandatory", "optional", "alternative", "or", "cardinality"])
+                size = min(rng.randint(1, 3), 9 - count[0])
+                if size < 1:
+                    break
+                members = [new_feature(depth + 1) for _ in range(size)]
+                lower, upper = 0, -1
+                if kind == "cardinality":
+                    lower = rng.randint(0, len(members))
+                    upper = rng.choice([-1, rng.randint(lower, len(members) + 1)])
+                groups.append(group(kind, *members, lower=lower, upper=upper))
+        return feature(name, *groups)
+
+    m = model(new_feature(0))
+    fs = all_features(m)
+    names = sorted(fs)
+
+    def formula(depth: int):
+        if depth == 0 or rng.random() < 0.4:
+            leaf = ref(rng.choice(names), fs)
+            return negate(leaf) if rng.random() < 0.2 else leaf
+        return binary(rng.choice(OPERATORS), formula(depth - 1), formula(depth - 1))
+
+    for line in range(rng.randint(0, 3)):
+        m.constraints.append(constraint(formula(2), 20 + line))
+    return m
+
+
+def expected_false_optional(m, products):
+    fs = all_features(m)
+    everything = set().union(*products) if products else set()
+    out = []
+    for name, f in fs.items():
+        parent_group = f.eContainer()
+        if parent_group is None or not hasattr(parent_group, "kind"):
+            continue  # the root
+        parent = parent_group.eContainer().name
+        kind = parent_group.kind.name
+        n = len(parent_group.features)
+        lower = {"mandatory": n, "optional": 0, "alternative": 1, "or": 1}.get(
+            kind, parent_group.lower
+        )
+        if kind == "mandatory" or (lower >= 1 and n == 1) or parent not in everything:
+            continue
+        if all(name in p for p in products if parent in p):
+            out.append(name)
+    return sorted(out)
+
+
+@pytest.mark.parametrize("seed", range(60))
+def test_random_model_against_brute_force(seed: int) -> None:
+    m = random_model(random.Random(seed))
+    products = brute_force_products(m)
+    names = set(all_features(m))
+    with FeatureModelFormula(m) as f:
+        assert f.satisfiable() == bool(products)
+        assert f.count().value == len(products)
+        assert set(f.products()) == set(products)
+        if products:
+            assert f.core_features() == sorted(set.intersection(*map(set, products)))
+            assert f.dead_features() == sorted(names - set().union(*products))
+        else:
+            assert f.core_features() == [] and f.dead_features() == sorted(names)
+        assert f.false_optional_features() == expected_false_optional(m, products)
+        # a full product is a complete selection; a non-product is not complete
+        for product in products[:3]:
+            result = check_selection(f, sorted(product), sorted(names - product))
+            assert result.status == "complete" and set(result.features) == product
