@@ -1,0 +1,155 @@
+"""``spl check DIR``: per-file summaries, the line checks on stderr, a summary line,
+``--json``, exit status 1 on errors only; ``spl check FILE`` as before."""
+
+from __future__ import annotations
+
+import json
+import shutil
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+from spl.cli import main
+
+ROOT = Path(__file__).resolve().parents[1]
+MODELS = Path(__file__).parent / "models" / "line_checks"
+BROKEN = MODELS / "broken"
+
+
+def run(*args: str):
+    return CliRunner().invoke(main, list(args))
+
+
+@pytest.mark.parametrize(
+    ("name", "summary"),
+    [
+        ("mapping3d", "mapping3d: 9 resolution elements, 12 products, 0 errors, 0 warnings"),
+        (
+            "data_acquisition",
+            "data_acquisition: 3 resolution elements, 12 products, 0 errors, 0 warnings",
+        ),
+    ],
+)
+def test_shipped_lines_pass(name, summary):
+    result = run("check", str(ROOT / "product_lines" / name))
+    assert result.exit_code == 0, result.output
+    lines = result.stdout.splitlines()
+    assert len(lines) == 4 and all(": ok: " in line for line in lines[:3])
+    assert lines[-1] == summary
+    assert result.stderr == ""
+
+
+def test_broken_line_prints_located_findings_and_fails():
+    result = run("check", str(BROKEN))
+    assert result.exit_code == 1
+    assert result.stdout.splitlines()[-1] == (
+        "broken: 14 resolution elements, 6144 products, 7 errors, 4 warnings, 1 info"
+    )
+    errors = result.stderr.splitlines()
+    assert len(errors) == 12
+    assert errors[1] == (
+        f"{BROKEN}/broken.rm:6:1: error: resolution element 'when Gripper selected' can never "
+        "be active: feature Gripper is dead (in no product), because Gripper requires Arm "
+        f"({BROKEN}/broken.fm:29:5); Arm excludes Gripper ({BROKEN}/broken.fm:30:5) [SPL010]"
+    )
+    assert errors[5].startswith(f"{BROKEN}/broken.rm:30:5: error: conflict: 'when Local selected'")
+    assert errors[5].endswith(
+        "both are active in the product Base, Legged, Local, Remote, Robot, Sensing [SPL012]"
+    )
+    assert errors[9] == (
+        f"{BROKEN}/broken.tsm:24:19: warning: optional node Robot.Spare is in no product: "
+        "no resolution element requires or transforms it [SPL011]"
+    )
+
+
+def test_json_lists_files_diagnostics_and_counts():
+    result = run("check", "--json", str(BROKEN))
+    assert result.exit_code == 1
+    report = json.loads(result.stdout)
+    assert [f["path"].rsplit("/", 1)[1] for f in report["files"]] == [
+        "broken.fm",
+        "broken.rm",
+        "broken.tsm",
+    ]
+    assert report["files"][0] == {
+        "path": f"{BROKEN}/broken.fm",
+        "ok": True,
+        "summary": "18 features, 3 constraints",
+    }
+    assert (report["errors"], report["warnings"], report["infos"]) == (7, 4, 1)
+    assert report["line"] == {
+        "name": "broken",
+        "resolution_elements": 14,
+        "products": 6144,
+        "products_note": "",
+        "listed_products": 3,
+    }
+    assert report["diagnostics"][0] == {
+        "file": f"{BROKEN}/broken.fm",
+        "line": 25,
+        "col": 14,
+        "severity": "info",
+        "code": "SPL014",
+        "message": "feature Beeper has no effect: no resolution element, attribute, "
+        "sharing mode or constraint mentions it",
+    }
+    assert report["summary"].startswith("broken: 14 resolution elements")
+    assert run("check", "--json", str(BROKEN)).stdout == result.stdout  # deterministic
+
+
+def test_warnings_and_infos_alone_exit_zero(tmp_path):
+    line = tmp_path / "line"
+    shutil.copytree(ROOT / "product_lines" / "mapping3d", line)
+    tsm = line / "mapping.tsm"
+    text = tsm.read_text(encoding="utf-8")
+    tsm.write_text(
+        text.replace(
+            "    optional node DepthCamera {",
+            "    optional node Unused {\n        implementation spare/unused\n    }\n"
+            "    optional node DepthCamera {",
+            1,
+        ),
+        encoding="utf-8",
+    )
+    result = run("check", str(line))
+    assert result.exit_code == 0, result.output
+    assert "warning: optional node Robot.Unused is in no product" in result.stderr
+    assert result.stdout.splitlines()[-1].endswith("0 errors, 1 warning")
+    assert json.loads(run("check", "--json", str(line)).stdout)["warnings"] == 1
+
+
+def test_migration_targets_missing_or_already_there_are_reported():
+    result = run("check", str(MODELS / "bad_migration"))
+    assert result.exit_code == 1
+    rm = MODELS / "bad_migration" / "bad.rm"
+    assert result.stderr.splitlines() == [
+        f"{rm}:6:5: error: unknown container Fog",
+        f"{rm}:9:5: error: node Planner is already in container Cloud",
+    ]
+    assert result.stdout.splitlines()[-1] == (
+        "bad_migration: 2 errors, 0 warnings (not checked as a product line: its models do "
+        "not parse)"
+    )
+
+
+def test_single_file_output_is_unchanged():
+    result = run("check", str(BROKEN / "broken.rm"))
+    assert result.exit_code == 0
+    assert result.stdout == f"{BROKEN}/broken.rm: ok: 14 resolution elements, 15 transformations\n"
+    assert result.stderr == ""
+
+
+def test_single_file_json(tmp_path):
+    bad = tmp_path / "bad.rm"
+    bad.write_text((MODELS / "bad_migration" / "bad.rm").read_text(encoding="utf-8"))
+    shutil.copy(MODELS / "bad_migration" / "bad.tsm", tmp_path)
+    shutil.copy(MODELS / "bad_migration" / "bad.fm", tmp_path)
+    result = run("check", "--json", str(bad))
+    assert result.exit_code == 1
+    report = json.loads(result.stdout)
+    assert report["line"] is None and report["summary"] is None
+    assert [(d["line"], d["message"]) for d in report["diagnostics"]] == [
+        (6, "unknown container Fog"),
+        (9, "node Planner is already in container Cloud"),
+    ]
