@@ -1,0 +1,84 @@
+"""``spl products``: on a product-line folder and on feature-model files, in text and
+JSON Lines, with the usage errors of its options."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from click.testing import CliRunner
+from sample_checks import interactions, is_product
+
+from spl.cli import main
+from spl.dsl.fm_formats import load_feature_model
+
+ROOT = Path(__file__).resolve().parents[1]
+MAPPING = ROOT / "product_lines" / "mapping3d"
+REAL = Path("/work/shared/data/feature-models")
+SEARCH = Path(__file__).parent / "models" / "validate" / "sampling" / "search.fm"
+
+
+def run(*args: object):
+    return CliRunner().invoke(main, ["products", *map(str, args)])
+
+
+def test_all_products_of_a_line_resolve_as_listed() -> None:
+    result = run(MAPPING)  # --all is the default
+    assert result.exit_code == 0, result.stderr
+    lines = result.stdout.splitlines()
+    assert len(lines) == len(set(lines)) == 12 and result.stderr == "12 products\n"
+    assert "YouBot,Stereo,AdditionalPC,Room" in lines
+    assert not any("Roomba" in line and "AdditionalPC" in line for line in lines)
+    assert run(MAPPING, "--all").stdout == result.stdout
+
+
+def test_pairwise_sample_as_json_lines_covers_every_pair() -> None:
+    model = load_feature_model(MAPPING / "mapping.fm")
+    everything = [json.loads(line) for line in run(MAPPING, "--all", "--json").stdout.splitlines()]
+    result = run(MAPPING, "--sample", "t=2", "--json")
+    assert result.exit_code == 0
+    sample = [json.loads(line) for line in result.stdout.splitlines()]
+    assert [p["index"] for p in sample] == list(range(1, len(sample) + 1))
+    assert all(is_product(model, set(p["features"])) for p in sample)
+    names = everything[0]["features"]  # starts with the root; collect every name used
+    names = sorted({name for p in everything for name in p["features"]} | {"AdditionalPC"})
+    products = [frozenset(p["features"]) for p in everything]
+    chosen = [frozenset(p["features"]) for p in sample]
+    assert not interactions(products, names, 2) - interactions(chosen, names, 2)
+    assert len(sample) < 12
+    assert "valid 2-wise combinations" in result.stderr
+
+
+def test_feature_model_files_in_every_format() -> None:
+    uvl = run(REAL / "berkeleydb.uvl", "--sample", "t=2")
+    xml = run(REAL / "berkeleydb.xml", "--sample", "2")
+    assert uvl.exit_code == xml.exit_code == 0
+    assert len(uvl.stdout.splitlines()) > 1
+    assert run(SEARCH, "--random", "5", "--seed", "3").stdout.count("\n") == 5
+
+
+def test_random_is_reproducible() -> None:
+    first = run(SEARCH, "--random", "8", "--seed", "11", "--json")
+    assert first.exit_code == 0
+    assert run(SEARCH, "--random", "8", "--seed", "11", "--json").stdout == first.stdout
+    model = load_feature_model(SEARCH)
+    assert all(is_product(model, set(json.loads(line)["features"]))
+               for line in first.stdout.splitlines())
+
+
+def test_usage_errors_exit_2(tmp_path: Path) -> None:
+    assert run(MAPPING, "--sample", "t=7").exit_code == 2
+    assert "t=1, t=2 or t=3" in run(MAPPING, "--sample", "pairs").stderr
+    assert run(MAPPING, "--all", "--random", "3").exit_code == 2
+    text = tmp_path / "model.txt"
+    text.write_text("x")
+    bad = run(text)
+    assert bad.exit_code == 2 and "feature model" in bad.stderr
+
+
+def test_model_errors_are_located(tmp_path: Path) -> None:
+    broken = tmp_path / "broken.fm"
+    broken.write_text("feature model B\nroot R {\n    optional A\n    optional A\n}\n")
+    result = run(broken)
+    assert result.exit_code == 1
+    assert result.stderr.startswith(f"{broken}:")
