@@ -1,0 +1,251 @@
+"""CI validation of product lines (SPEC section 8): derive products, check every artifact.
+
+Each product is one test case: its selection is checked and resolved, every artifact of
+its bundle is generated in memory and validated (launch XSDs, Rapyuta JSON Schema and
+rules, Python compiled, YAML/XML parsed, resolved model re-parsed, manifest hashes).
+A product fails with the located messages of whatever went wrong; it never stops the
+run. The products are the line's own ``products/*.yaml`` (always, named by their
+``product`` name) plus, on request, every product of the feature model or a t-wise
+covering array of it (named by their non-core features).
+
+The models of a line are parsed once. With ``jobs > 1`` the products run in a pool of
+forked processes that inherit the parsed lines (and their SAT formulas) from the parent,
+so nothing is parsed or pickled per product; results come back in submission order, so
+the report does not depend on scheduling.
+"""
+
+from __future__ import annotations
+
+import multiprocessing
+import time
+from collections.abc import Callable, Iterable, Iterator
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Literal
+
+from lxml import etree
+
+from spl.diagnostics import ModelError
+from spl.resolver.product_line import ProductLine, load_product_line
+
+Outcome = Literal["passed", "failed", "error"]
+LINE_CASE = "(product line)"  # the test case of a line whose models do not load
+
+
+@dataclass(frozen=True)
+class ProductCase:
+    """One product to validate: a selection file, or a generated feature selection."""
+
+    line: int  # index of the line in the run
+    name: str
+    selection_file: Path | None = None
+    features: tuple[str, ...] = ()  # generated products: their non-core features
+
+
+@dataclass(frozen=True)
+class CaseResult:
+    classname: str  # the product line's name
+    name: str
+    outcome: Outcome
+    messages: tuple[str, ...] = ()  # located problems (failed) or the crash (error)
+    warnings: tuple[str, ...] = ()
+    seconds: float = 0.0
+
+    @property
+    def passed(self) -> bool:
+        return self.outcome == "passed"
+
+
+@dataclass
+class LoadedLine:
+    """A product line given on the command line: parsed, or the reason it is not."""
+
+    directory: Path
+    name: str
+    line: ProductLine | None
+    problems: tuple[str, ...] = ()
+
+
+def load_lines(directories: Iterable[Path]) -> list[LoadedLine]:
+    """Parse each line once and build its SAT formula before any worker is forked."""
+    loaded = []
+    for directory in directories:
+        name = Path(directory).resolve().name
+        try:
+            line = load_product_line(directory)
+            line.formula.backbone()  # computed here, inherited by every worker
+        except ModelError as exc:
+            loaded.append(LoadedLine(Path(directory), name, None,
+                                     tuple(str(d) for d in exc.diagnostics)))
+            continue
+        loaded.append(LoadedLine(Path(directory), name, line))
+    return loaded
+
+
+def plan_cases(lines: list[LoadedLine], mode: str = "listed", t: int = 2) -> list[ProductCase]:
+    """The products to validate: every line's ``products/*.yaml``, then the generated
+    ones (``mode`` ``all`` or ``sample``; ``listed`` adds none)."""
+    from spl.resolver.sampling import covering_array, product_key
+
+    cases: list[ProductCase] = []
+    for index, loaded in enumerate(lines):
+        line = loaded.line
+        if line is None:
+            continue
+        for path in line.product_files():
+            cases.append(ProductCase(index, _listed_name(path), selection_file=path))
+        if mode == "listed":
+            continue
+        formula = line.formula
+        products: Iterable[frozenset[str]]
+        if mode == "all":
+            products = formula.products()
+        elif mode == "sample":
+            products = covering_array(formula, t).products
+        else:
+            raise ValueError(f"unknown mode {mode!r}")
+        root = formula.cnf.names[0]
+        for product in products:
+            key = tuple(product_key(formula, product)) or (root,)
+            cases.append(ProductCase(index, ",".join(key), features=key))
+    return cases
+
+
+def _listed_name(path: Path) -> str:
+    """The ``product`` name a selection file declares, or its file name; the file is
+    parsed properly (and its errors reported) when the case runs."""
+    import yaml
+
+    try:
+        data = yaml.safe_load(path.read_text(encoding="utf-8"))
+    except (yaml.YAMLError, OSError, UnicodeDecodeError):
+        return path.stem
+    name = data.get("product") if isinstance(data, dict) else None
+    return name if isinstance(name, str) and name.isidentifier() else path.stem
+
+
+def run_case(line: ProductLine, classname: str, case: ProductCase) -> CaseResult:
+    """Resolve one product, generate its bundle in memory and validate every file."""
+    from spl.generators.bundle import bundle_files
+    from spl.generators.validation import validate_bundle
+    from spl.resolver.engine import resolve
+    from spl.resolver.product_selection import load_selection_file, selection_from_list
+
+    start = time.perf_counter()
+    try:
+        if case.selection_file is not None:
+            selection = load_selection_file(case.selection_file)
+        else:
+            selection = selection_from_list(",".join(case.features),
+                                            name="_".join(case.features))
+        product = resolve(line, selection).product
+        problems = validate_bundle(bundle_files(product))
+        warnings = tuple(str(w) for w in product.warnings)
+    except ModelError as exc:
+        return CaseResult(classname, case.name, "failed",
+                          tuple(str(d) for d in exc.diagnostics if d.severity == "error"),
+                          seconds=time.perf_counter() - start)
+    except Exception as exc:  # an spl bug: reported as this product's error, run goes on
+        return CaseResult(classname, case.name, "error",
+                          (f"internal error: {type(exc).__name__}: {exc}",),
+                          seconds=time.perf_counter() - start)
+    outcome: Outcome = "failed" if problems else "passed"
+    return CaseResult(classname, case.name, outcome, tuple(problems), warnings,
+                      time.perf_counter() - start)
+
+
+# The lines of the current run, set before the pool forks: workers read them from here.
+_LINES: list[LoadedLine] = []
+
+
+def _run_in_worker(case: ProductCase) -> CaseResult:
+    loaded = _LINES[case.line]
+    assert loaded.line is not None
+    return run_case(loaded.line, loaded.name, case)
+
+
+def run_cases(lines: list[LoadedLine], cases: list[ProductCase], jobs: int = 1,
+              on_result: Callable[[CaseResult], None] | None = None) -> list[CaseResult]:
+    """Every case's result, in the order of ``cases`` (plus one failing case per line
+    that did not load, first). ``jobs > 1`` uses forked worker processes."""
+    results = [CaseResult(loaded.name, LINE_CASE, "failed", loaded.problems)
+               for loaded in lines if loaded.line is None]
+    for result in results:
+        if on_result:
+            on_result(result)
+    global _LINES
+    _LINES = lines
+    try:
+        for result in _results(cases, jobs):
+            results.append(result)
+            if on_result:
+                on_result(result)
+    finally:
+        _LINES = []
+    return results
+
+
+def _results(cases: list[ProductCase], jobs: int) -> Iterator[CaseResult]:
+    if jobs <= 1 or len(cases) <= 1:
+        yield from map(_run_in_worker, cases)
+        return
+    context = multiprocessing.get_context("fork")
+    with context.Pool(min(jobs, len(cases))) as pool:
+        chunk = max(1, min(16, len(cases) // (jobs * 8)))
+        yield from pool.imap(_run_in_worker, cases, chunksize=chunk)
+
+
+# --- JUnit XML ------------------------------------------------------------------------
+
+
+def junit_xml(results: list[CaseResult]) -> bytes:
+    """The results as JUnit XML (the Ant/Jenkins format every CI system reads): one
+    ``testsuite`` per product line, one ``testcase`` per product (classname = line,
+    name = product), a ``failure`` carrying every located message, ``error`` for an
+    internal error. No times or host names: the same results give the same bytes."""
+    suites: dict[str, list[CaseResult]] = {}
+    for result in results:
+        suites.setdefault(result.classname, []).append(result)
+    root = etree.Element("testsuites", name="spl validate", tests=str(len(results)),
+                         failures=str(_count(results, "failed")),
+                         errors=str(_count(results, "error")))
+    for suite_name, cases in suites.items():
+        suite = etree.SubElement(root, "testsuite", name=suite_name, tests=str(len(cases)),
+                                 failures=str(_count(cases, "failed")),
+                                 errors=str(_count(cases, "error")), skipped="0")
+        for result in cases:
+            case = etree.SubElement(suite, "testcase", classname=result.classname,
+                                    name=result.name)
+            if result.outcome != "passed":
+                first = result.messages[0] if result.messages else "failed"
+                problem = etree.SubElement(
+                    case, "failure" if result.outcome == "failed" else "error",
+                    message=_xml_text(first),
+                    type="ModelError" if result.outcome == "failed" else "InternalError")
+                problem.text = _xml_text("\n".join(result.messages))
+            if result.warnings:
+                etree.SubElement(case, "system-out").text = _xml_text(
+                    "\n".join(result.warnings))
+    return etree.tostring(root, xml_declaration=True, encoding="UTF-8", pretty_print=True)
+
+
+def _count(results: list[CaseResult], outcome: str) -> int:
+    return sum(1 for r in results if r.outcome == outcome)
+
+
+def _xml_text(text: str) -> str:
+    """Messages quote user input; characters XML 1.0 cannot carry are shown escaped."""
+    return "".join(c if c in "\t\n\r" or (" " <= c <= "\ud7ff") or ("\ue000" <= c <= "\ufffd")
+                   or c > "\uffff" else f"\\x{ord(c):02x}" for c in text)
+
+
+def summary(results: list[CaseResult]) -> str:
+    passed = sum(1 for r in results if r.passed)
+    return f"{passed} passed, {len(results) - passed} failed"
+
+
+def describe(result: CaseResult) -> list[str]:
+    """Plain-text lines for one result (CI logs): a status line, then its messages."""
+    head = {"passed": "ok  ", "failed": "FAIL", "error": "ERROR"}[result.outcome]
+    return [f"{head} {result.classname} :: {result.name}",
+            *(f"    {m}" for m in result.messages)]

@@ -1,0 +1,71 @@
+"""``spl validate DIR... [--all | --sample t=2] [--junit FILE] [--jobs N]``: CI validation.
+
+Every product of each line (its ``products/*.yaml``, plus all products or a t-wise
+sample) is resolved and its whole bundle generated in memory and validated; one JUnit
+test case per product. Exit 1 when any product fails.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+from pathlib import Path
+
+import click
+
+
+@click.command("validate")
+@click.argument("directories", metavar="DIR...", nargs=-1, required=True,
+                type=click.Path(exists=True, file_okay=False, path_type=Path))
+@click.option("--all", "all_products", is_flag=True,
+              help="also every valid product of the feature model")
+@click.option("--sample", metavar="t=N",
+              help="also a t-wise covering array of the feature model (t = 1, 2 or 3)")
+@click.option("--junit", type=click.Path(dir_okay=False, path_type=Path),
+              help="write a JUnit XML report (one test case per product)")
+@click.option("--jobs", "-j", type=click.IntRange(min=0), default=1, show_default=True,
+              help="worker processes (0: one per CPU)")
+def command(directories: tuple[Path, ...], all_products: bool, sample: str | None,
+            junit: Path | None, jobs: int) -> None:
+    """Resolve every product of the product lines, generate and validate all of its
+    artifacts, and report one test case per product (products/*.yaml always included)."""
+    from spl.commands.products import parse_sample
+    from spl.resolver.line_validation import (
+        describe,
+        junit_xml,
+        load_lines,
+        plan_cases,
+        run_cases,
+        summary,
+    )
+
+    t = parse_sample(sample)
+    if all_products and t is not None:
+        raise click.UsageError("give one of --all and --sample")
+    mode = "all" if all_products else "sample" if t is not None else "listed"
+    jobs = jobs or os.cpu_count() or 1
+    lines = load_lines(directories)
+    cases = plan_cases(lines, mode, t or 2)
+    total = len(cases) + sum(1 for loaded in lines if loaded.line is None)
+    if sys.stderr.isatty():
+        with click.progressbar(length=total, label="validating", file=sys.stderr) as bar:
+            results = run_cases(lines, cases, jobs, on_result=lambda _: bar.update(1))
+        for result in results:
+            if not result.passed:
+                for text in describe(result):
+                    click.echo(text)
+    else:
+        def show(result) -> None:
+            for text in describe(result):
+                click.echo(text)
+
+        results = run_cases(lines, cases, jobs, on_result=show)
+    if junit is not None:
+        data = junit_xml(results)
+        junit.parent.mkdir(parents=True, exist_ok=True)
+        partial = junit.with_name(junit.name + ".partial")
+        partial.write_bytes(data)
+        os.replace(partial, junit)
+    click.echo(summary(results))
+    if not all(result.passed for result in results):
+        sys.exit(1)
