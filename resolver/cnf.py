@@ -23,7 +23,7 @@ from typing import Any, NamedTuple
 
 from pysat.card import CardEnc, EncType
 
-from spl.diagnostics import Location, location_of
+from spl.diagnostics import Diagnostic, Location, ModelError, location_of
 
 Clause = tuple[int, ...]
 
@@ -249,6 +249,23 @@ class _Builder:
             stack.extend(reversed(pushed))
         self.var = {name: i + 1 for i, name in enumerate(self.names)}
         self.top = len(self.names)
+        if len(self.var) != len(self.names):  # the builders refuse this; a model made in
+            self._refuse_duplicates(root)  # code may not have gone through them
+
+    def _refuse_duplicates(self, root: Any) -> None:
+        seen: set[str] = set()
+        problems = []
+        stack = [root]
+        while stack:
+            feature = stack.pop()
+            if feature.name in seen:
+                problems.append(
+                    Diagnostic(location_of(feature), f"feature {feature.name} is defined twice")
+                )
+            seen.add(feature.name)
+            children = [child for group in feature.groups for child in group.features]
+            stack.extend(reversed(children))  # pre-order: the later definition is reported
+        raise ModelError(problems)
 
     def rule(
         self,
@@ -355,6 +372,18 @@ class _Builder:
 
     def encode_constraint(self, constraint: Any) -> None:
         tree = formula_tree(constraint.formula)
+        unknown = [name for name in formula_features(tree) if name not in self.var]
+        if unknown:
+            raise ModelError(
+                [
+                    Diagnostic(
+                        location_of(constraint),
+                        f"constraint {formula_text(tree)} names {name}, which is not a "
+                        "feature of the tree",
+                    )
+                    for name in unknown
+                ]
+            )
         binary = _binary_clause(tree)
         if binary is not None:  # most real constraints: requires, excludes, A => B, ...
             a, b = self.var[binary[0][1]], self.var[binary[1][1]]

@@ -205,3 +205,26 @@ def test_two_literal_constraints_on_one_feature() -> None:
     assert dead_features(m) == ["B"]
     assert core_features(m) == ["C", "R"]
     assert count_products(m).value == len(brute_force_products(m)) == 2
+
+
+def test_duplicate_names_and_dangling_references_are_located_errors() -> None:
+    from spl.diagnostics import ModelError
+
+    twice = model(feature("R", group("optional", feature("A", line=2), feature("A", line=3))))
+    with pytest.raises(ModelError) as caught:
+        encode(twice)
+    assert [str(d) for d in caught.value.diagnostics] == [
+        "mapping.fm:3:5: error: feature A is defined twice"
+    ]
+    m = model(feature("R", group("optional", feature("A"))))
+    stranger = feature("Stranger")  # in no tree
+    c = constraint(
+        binary("requires", ref("A", fs_of(m)), ref("Stranger", {"Stranger": stranger})), 7
+    )
+    m.constraints.append(c)
+    with pytest.raises(ModelError) as caught:
+        encode(m)
+    assert str(caught.value.diagnostics[0]) == (
+        "mapping.fm:7:5: error: constraint A requires Stranger names Stranger, "
+        "which is not a feature of the tree"
+    )
