@@ -34,6 +34,7 @@ every valid combination is covered because it stays listed until a product conta
 
 from __future__ import annotations
 
+import math
 import random
 import time
 from collections.abc import Iterator
@@ -45,6 +46,14 @@ from pysat.solvers import Solver
 from spl.resolver.analysis import FeatureModelFormula
 
 MAX_T = 3
+# The combinations are listed in memory (a tuple each): beyond this many, refuse with
+# the number rather than exhaust memory (t = 3 over BusyBox's 622 free features would be
+# 320 million).
+MAX_COMBINATIONS = 5_000_000
+
+
+class SampleTooLarge(ValueError):
+    """More t-combinations than :data:`MAX_COMBINATIONS`."""
 ORDER_SEED = 20160809  # fixed: the same model always gives the same sample
 
 
@@ -72,6 +81,11 @@ def covering_array(formula: FeatureModelFormula, t: int = 2) -> Sample:
     fixed = [(cnf.var[name],) for name in core] + [(-cnf.var[name],) for name in dead]
     free = [v for v in range(1, n + 1) if cnf.names[v - 1] not in core | dead]
     literals = [lit for v in free for lit in (v, -v)]
+    total = math.comb(len(free), t) * 2 ** t
+    if total > MAX_COMBINATIONS:
+        raise SampleTooLarge(
+            f"{t}-wise sampling of {len(free)} free features means {total:,} combinations, "
+            f"more than the {MAX_COMBINATIONS:,} spl samples; use a smaller t")
     with Solver(name=formula.solver_name,
                 bootstrap_with=list(cnf.clauses) + fixed) as solver:
         implied = {}

@@ -82,3 +82,9 @@ def test_model_errors_are_located(tmp_path: Path) -> None:
     result = run(broken)
     assert result.exit_code == 1
     assert result.stderr.startswith(f"{broken}:")
+
+
+def test_three_wise_on_busybox_is_refused_with_the_number() -> None:
+    result = run(REAL / "busybox_2010-05-02_14-17-07.uvl", "--sample", "t=3")
+    assert result.exit_code == 1
+    assert "622 free features means 319,309,920 combinations" in result.stderr

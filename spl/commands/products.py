@@ -77,7 +77,10 @@ def command(source: Path, all_products: bool, sample: str | None, random_count: 
     root = formula.cnf.names[0]
     note = ""
     if t is not None:
-        found = covering_array(formula, t)
+        try:
+            found = covering_array(formula, t)
+        except ValueError as exc:  # too many combinations for t
+            raise click.ClickException(str(exc)) from None
         products = iter(found.products)
         note = (f"; they cover all {found.covered} valid {t}-wise combinations "
                 f"({found.invalid} invalid ones excluded) in {found.seconds:.2f} s")

@@ -45,7 +45,10 @@ def command(directories: tuple[Path, ...], all_products: bool, sample: str | Non
     mode = "all" if all_products else "sample" if t is not None else "listed"
     jobs = jobs or os.cpu_count() or 1
     lines = load_lines(directories)
-    cases = plan_cases(lines, mode, t or 2)
+    try:
+        cases = plan_cases(lines, mode, t or 2)
+    except ValueError as exc:  # too many combinations for t
+        raise click.ClickException(str(exc)) from None
     total = len(cases) + sum(1 for loaded in lines if loaded.line is None)
     if sys.stderr.isatty():
         with click.progressbar(length=total, label="validating", file=sys.stderr) as bar:
