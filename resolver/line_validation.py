@@ -215,12 +215,13 @@ def junit_xml(results: list[CaseResult]) -> bytes:
                          failures=str(_count(results, "failed")),
                          errors=str(_count(results, "error")))
     for suite_name, cases in suites.items():
-        suite = etree.SubElement(root, "testsuite", name=suite_name, tests=str(len(cases)),
+        suite = etree.SubElement(root, "testsuite", name=_xml_text(suite_name),
+                                 tests=str(len(cases)),
                                  failures=str(_count(cases, "failed")),
                                  errors=str(_count(cases, "error")), skipped="0")
         for result in cases:
-            case = etree.SubElement(suite, "testcase", classname=result.classname,
-                                    name=result.name)
+            case = etree.SubElement(suite, "testcase", classname=_xml_text(result.classname),
+                                    name=_xml_text(result.name))
             if result.outcome != "passed":
                 first = result.messages[0] if result.messages else "failed"
                 problem = etree.SubElement(
@@ -239,7 +240,8 @@ def _count(results: list[CaseResult], outcome: str) -> int:
 
 
 def _xml_text(text: str) -> str:
-    """Messages quote user input; characters XML 1.0 cannot carry are shown escaped."""
+    """Messages and folder names are user input; characters XML 1.0 cannot carry are
+    shown escaped instead of making lxml refuse the whole report."""
     return "".join(c if c in "\t\n\r" or (" " <= c <= "\ud7ff") or ("\ue000" <= c <= "\ufffd")
                    or c > "\uffff" else f"\\x{ord(c):02x}" for c in text)
 

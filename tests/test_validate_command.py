@@ -158,3 +158,12 @@ def test_junit_carries_hostile_text_and_internal_errors() -> None:
     assert found[("line", "fine")].findtext("system-out") == "x.tsm:3:4: warning: unfed"
     suite = root.find("testsuite")
     assert (suite.get("tests"), suite.get("failures"), suite.get("errors")) == ("3", "1", "1")
+
+
+def test_folder_name_xml_cannot_carry(tmp_path: Path) -> None:
+    line = tmp_path / "lab\x01line"
+    shutil.copytree(LINES / "mapping3d", line)
+    out = tmp_path / "odd.xml"
+    result = run(line, "--junit", out)
+    assert result.exit_code == 0, result.output
+    assert {c for (c, _) in cases(report(out))} == {"lab\\x01line"}
