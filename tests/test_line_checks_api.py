@@ -115,23 +115,26 @@ def test_witnesses_are_deterministic_and_small(broken):
     with ActivationSolver(broken) as solver:
         first = [d.message for d in reachable_conflicts(broken, solver)]
     assert first == [d.message for d in reachable_conflicts(broken, ActivationSolver(broken))]
-    assert "both are active in the product Base, Fast, Robot, Sensing, Slow, Wheeled" in first[0]
+    assert "both are active in the product Base, Fast, Legged, Robot, Sensing, Slow" in first[0]
 
 
 def test_each_element_pair_is_asked_once(broken):
     solver = ActivationSolver(broken)
-    calls = []
-    solve = solver.solver.solve
+    asked = []
+    decide = solver._possible
 
-    def counting(*args, **kwargs):
-        calls.append(kwargs.get("assumptions"))
-        return solve(*args, **kwargs)
+    def counting(literals):
+        asked.append(tuple(literals))
+        return decide(literals)
 
-    solver.solver.solve = counting
+    solver._possible = counting
     reachable_conflicts(broken, solver)
-    # Driver implementation (Fast, Slow, Sensing-not) and rate (Fast, Slow) share pairs
-    assert len(calls) == len({tuple(c) for c in calls})
-    assert all(len(c) == 2 for c in calls)
+    # Driver's implementation and rate are decided by the same pairs of elements
+    assert len(asked) == len(set(asked))
+    assert all(len(literals) == 2 for literals in asked)
+    # Driver: Fast/Slow, not-Sensing/Fast, not-Sensing/Slow; then Remote/Local,
+    # Wheeled/Legged, Heavy/Light, Joystick/Keyboard, Public/Private
+    assert len(asked) == 8
 
 
 def test_period_conflict_and_feature_without_effect(tmp_path):
@@ -156,7 +159,7 @@ def test_period_conflict_and_feature_without_effect(tmp_path):
         found[1].message,
     )
     assert found[1].message.endswith(
-        "both are active in the product DataAcquisition, FastRefresh, Positions, Postgres, Storage"
+        "both are active in the product DataAcquisition, Embedded, FastRefresh, Positions, Storage"
     )
 
 

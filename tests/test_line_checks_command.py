@@ -55,7 +55,7 @@ def test_broken_line_prints_located_findings_and_fails():
     )
     assert errors[5].startswith(f"{BROKEN}/broken.rm:30:5: error: conflict: 'when Local selected'")
     assert errors[5].endswith(
-        "both are active in the product Base, Legged, Local, Remote, Robot, Sensing [SPL012]"
+        "both are active in the product Base, Local, Remote, Robot, Sensing, Wheeled [SPL012]"
     )
     assert errors[9] == (
         f"{BROKEN}/broken.tsm:24:19: warning: optional node Robot.Spare is in no product: "
