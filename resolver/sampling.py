@@ -52,9 +52,11 @@ MAX_T = 3
 MAX_COMBINATIONS = 5_000_000
 
 
+ORDER_SEED = 20160809  # fixed: the same model always gives the same sample
+
+
 class SampleTooLarge(ValueError):
     """More t-combinations than :data:`MAX_COMBINATIONS`."""
-ORDER_SEED = 20160809  # fixed: the same model always gives the same sample
 
 
 @dataclass(frozen=True)
@@ -159,11 +161,6 @@ def _next_product(solver: Solver, pending: list[tuple[int, ...]],
     return solver.get_model()[:n], refuted
 
 
-def all_products(formula: FeatureModelFormula) -> Iterator[frozenset[str]]:
-    """Every product once, streamed as the solver finds it (blocking clauses)."""
-    return formula.products()
-
-
 def random_products(formula: FeatureModelFormula, count: int,
                     seed: int) -> Iterator[frozenset[str]]:
     """Up to ``count`` distinct products, reproducible from ``seed``.
@@ -197,6 +194,3 @@ def product_key(formula: FeatureModelFormula, product: frozenset[str]) -> list[s
     core = formula.backbone()[0]
     return [name for name in formula.cnf.names if name in product and name not in core]
 
-
-def in_model_order(formula: FeatureModelFormula, product: frozenset[str]) -> list[str]:
-    return [name for name in formula.cnf.names if name in product]
