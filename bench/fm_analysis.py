@@ -32,7 +32,7 @@ import sys
 import time
 from pathlib import Path
 
-DATA = Path("/work/shared/data/feature-models")
+DATA = Path(__file__).resolve().parents[1] / "tests" / "data" / "feature-models"
 DEFAULT_MODELS = [
     "berkeleydb.uvl",
     "axTLS.uvl",
@@ -238,7 +238,7 @@ def write_fixtures(fixtures: dict, path: Path) -> None:
             "flamapy-sat FmToPysat + PySATSatisfiable, PySATCoreFeatures, "
             "PySATDeadFeatures, PySATFalseOptionalFeatures; products: flamapy-bdd "
             "BDDConfigurationsNumber, small models only) on the UVL files of "
-            "/work/shared/data/feature-models",
+            "tests/data/feature-models",
             "models": fixtures,
         },
         indent=1,

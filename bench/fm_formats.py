@@ -20,7 +20,7 @@ import tempfile
 import time
 from pathlib import Path
 
-DATA = Path(__file__).resolve().parents[2] / "shared" / "data" / "feature-models"
+DATA = Path(__file__).resolve().parents[1] / "tests" / "data" / "feature-models"
 FLAMAPY_READ = """
 import json, sys
 from flamapy.metamodels.fm_metamodel.transformations import UVLReader, FeatureIDEReader

@@ -6,11 +6,12 @@ import json
 from pathlib import Path
 
 from click.testing import CliRunner
+from real_models import REAL_MODELS
 
 from spl.cli import main
 
 HERE = Path(__file__).parent / "models" / "analysis"
-BERKELEY = Path("/work/shared/data/feature-models/berkeleydb.uvl")
+BERKELEY = REAL_MODELS / "berkeleydb.uvl"
 
 
 def run(*args: str):

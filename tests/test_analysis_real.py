@@ -1,4 +1,4 @@
-"""The real feature models of /work/shared/data/feature-models, checked against flamapy.
+"""The real feature models (tests/data/feature-models), checked against flamapy.
 
 flamapy is not a test dependency: its answers were computed once by
 ``bench/fm_analysis.py --json-out tests/models/analysis/flamapy_results.json`` (flamapy 2.6,
@@ -16,12 +16,13 @@ from pathlib import Path
 
 import pytest
 from pysat.solvers import Solver
+from real_models import REAL_MODELS
 
 from spl.dsl.fm_formats import load_feature_model
 from spl.resolver.analysis import FeatureModelFormula
 from spl.resolver.selection import check_selection
 
-DATA = Path("/work/shared/data/feature-models")
+DATA = REAL_MODELS
 FIXTURES = json.loads(
     (Path(__file__).parent / "models" / "analysis" / "flamapy_results.json").read_text()
 )["models"]

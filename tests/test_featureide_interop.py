@@ -7,6 +7,7 @@ from pathlib import Path
 
 import pytest
 from fm_semantics import products
+from real_models import REAL_MODELS
 
 from spl.diagnostics import ModelError
 from spl.dsl import fm
@@ -16,7 +17,7 @@ from spl.dsl.uvl import read_uvl, write_uvl
 from spl.emf import differences
 
 ROOT = Path(__file__).resolve().parents[1]
-DATA = ROOT.parent / "shared" / "data" / "feature-models"
+DATA = REAL_MODELS
 TWINS = ["axTLS", "berkeleydb"]
 
 

@@ -7,6 +7,7 @@ from pathlib import Path
 
 import pytest
 from click.testing import CliRunner
+from real_models import REAL_MODELS
 from test_featureide_interop import equivalent, relations
 
 from spl.cli import main
@@ -14,7 +15,7 @@ from spl.dsl.fm_formats import load_feature_model
 from spl.emf import differences
 
 ROOT = Path(__file__).resolve().parents[1]
-DATA = ROOT.parent / "shared" / "data" / "feature-models"
+DATA = REAL_MODELS
 SHARED = sorted(
     [*DATA.glob("*.uvl"), *DATA.glob("*.xml"), *ROOT.glob("product_lines/*/*.fm")],
     key=lambda p: p.name,

@@ -6,6 +6,7 @@ from pathlib import Path
 
 import pytest
 from fm_semantics import products
+from real_models import REAL_MODELS
 
 from spl.diagnostics import ModelError
 from spl.dsl import fm
@@ -237,7 +238,7 @@ def test_byte_order_mark_is_accepted(tmp_path: Path) -> None:
     assert fm.summary(fm.parse_file(path)) == "2 features, 0 constraints"
 
 
-REAL = sorted((ROOT.parent / "shared" / "data" / "feature-models").glob("*.uvl"))
+REAL = sorted(REAL_MODELS.glob("*.uvl"))
 
 
 @pytest.mark.parametrize("path", REAL, ids=lambda p: p.stem)

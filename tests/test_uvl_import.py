@@ -5,6 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from real_models import REAL_MODELS
 
 from spl.diagnostics import ModelError
 from spl.dsl import fm
@@ -13,7 +14,7 @@ from spl.dsl.uvl import parse_uvl, read_uvl, write_uvl
 from spl.emf import differences
 
 # the shared data folder sits next to the working tree
-DATA = Path(__file__).resolve().parents[2] / "shared" / "data" / "feature-models"
+DATA = REAL_MODELS
 REAL = sorted(DATA.glob("*.uvl"))
 SIZES = {
     "automotive01": 2513,
