@@ -49,6 +49,7 @@ def test_every_finding_of_the_broken_line_is_located(found):
         ("broken.rm", 30, 5, "error", "SPL012"),  # migrate Planner
         ("broken.rm", 54, 5, "error", "SPL012"),  # connect Teleop.cmd
         ("broken.rm", 61, 1, "error", "SPL012"),  # sharing of Mapper
+        ("broken.rm", 70, 5, "error", "SPL012"),  # server of Lookup.find
         ("broken.tsm", 21, 19, "warning", "SPL011"),  # GripperControl
         ("broken.tsm", 24, 19, "warning", "SPL011"),  # Spare
         ("invalid.yaml", 2, 12, "warning", "SPL015"),
@@ -91,6 +92,8 @@ def test_conflict_messages_name_both_elements_the_thing_and_a_witness(found):
     assert "gives migration target Edge to Planner" in conflicts[30]
     assert "gives topic Robot.Manual to Teleop.cmd" in conflicts[54]
     assert "gives sharing mode private (default of feature Private) to Mapper" in conflicts[61]
+    assert "gives server Services.ServerB.find to Lookup.find" in conflicts[70]
+    assert "gives Services.ServerA.find (at " in conflicts[70]
     for message in conflicts.values():
         witness = message.split("both are active in the product ")[1].split(", ")
         assert witness == sorted(witness) and "Robot" in witness
@@ -133,11 +136,12 @@ def test_each_element_pair_is_asked_once(broken):
     assert len(asked) == len(set(asked))
     assert all(len(literals) == 2 for literals in asked)
     # Driver: Fast/Slow, not-Sensing/Fast, not-Sensing/Slow; then Remote/Local,
-    # Wheeled/Legged, Heavy/Light, Joystick/Keyboard, Public/Private
+    # Wheeled/Legged, Heavy/Light, Joystick/Keyboard, Public/Private (Remote/Local also
+    # decide Lookup's server: asked once)
     assert len(asked) == 8
 
 
-def test_period_conflict_and_feature_without_effect(tmp_path):
+def test_period_conflict_unused_store_and_feature_without_effect(tmp_path):
     line_dir = tmp_path / "data_acquisition"
     shutil.copytree(DATA, line_dir)
     rm_file = line_dir / "data.rm"
@@ -150,8 +154,25 @@ def test_period_conflict_and_feature_without_effect(tmp_path):
         ),
         encoding="utf-8",
     )
+    tsm_file = line_dir / "data.tsm"
+    tsm_file.write_text(
+        tsm_file.read_text(encoding="utf-8").replace(
+            "    optional store FollowStore {",
+            "    optional store Archive {\n        raw Velocity\n    }\n"
+            "    optional store FollowStore {",
+        ),
+        encoding="utf-8",
+    )
     found = check_product_line(load_product_line(line_dir))
-    assert [(d.code, d.location.line) for d in found] == [("SPL014", 14), ("SPL012", 26)]
+    assert [(d.code, d.location.line) for d in found] == [
+        ("SPL014", 14),
+        ("SPL012", 26),
+        ("SPL011", 42),
+    ]
+    assert found[2].message == (
+        "optional store DataCloud.Archive is in no product: no resolution element requires "
+        "or transforms it"
+    )
     assert found[0].message.startswith("feature Audit has no effect")
     assert re.search(
         r"gives period '2\.0' to PositionStore\.PositionInDEG\.period, but "

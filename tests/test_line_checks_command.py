@@ -44,10 +44,10 @@ def test_broken_line_prints_located_findings_and_fails():
     result = run("check", str(BROKEN))
     assert result.exit_code == 1
     assert result.stdout.splitlines()[-1] == (
-        "broken: 14 resolution elements, 6144 products, 7 errors, 4 warnings, 1 info"
+        "broken: 16 resolution elements, 6144 products, 8 errors, 4 warnings, 1 info"
     )
     errors = result.stderr.splitlines()
-    assert len(errors) == 12
+    assert len(errors) == 13
     assert errors[1] == (
         f"{BROKEN}/broken.rm:6:1: error: resolution element 'when Gripper selected' can never "
         "be active: feature Gripper is dead (in no product), because Gripper requires Arm "
@@ -57,7 +57,7 @@ def test_broken_line_prints_located_findings_and_fails():
     assert errors[5].endswith(
         "both are active in the product Base, Local, Remote, Robot, Sensing, Wheeled [SPL012]"
     )
-    assert errors[9] == (
+    assert errors[10] == (
         f"{BROKEN}/broken.tsm:24:19: warning: optional node Robot.Spare is in no product: "
         "no resolution element requires or transforms it [SPL011]"
     )
@@ -77,10 +77,10 @@ def test_json_lists_files_diagnostics_and_counts():
         "ok": True,
         "summary": "18 features, 3 constraints",
     }
-    assert (report["errors"], report["warnings"], report["infos"]) == (7, 4, 1)
+    assert (report["errors"], report["warnings"], report["infos"]) == (8, 4, 1)
     assert report["line"] == {
         "name": "broken",
-        "resolution_elements": 14,
+        "resolution_elements": 16,
         "products": 6144,
         "products_note": "",
         "listed_products": 3,
@@ -94,7 +94,7 @@ def test_json_lists_files_diagnostics_and_counts():
         "message": "feature Beeper has no effect: no resolution element, attribute, "
         "sharing mode or constraint mentions it",
     }
-    assert report["summary"].startswith("broken: 14 resolution elements")
+    assert report["summary"].startswith("broken: 16 resolution elements")
     assert run("check", "--json", str(BROKEN)).stdout == result.stdout  # deterministic
 
 
@@ -136,7 +136,7 @@ def test_migration_targets_missing_or_already_there_are_reported():
 def test_single_file_output_is_unchanged():
     result = run("check", str(BROKEN / "broken.rm"))
     assert result.exit_code == 0
-    assert result.stdout == f"{BROKEN}/broken.rm: ok: 14 resolution elements, 15 transformations\n"
+    assert result.stdout == f"{BROKEN}/broken.rm: ok: 16 resolution elements, 17 transformations\n"
     assert result.stderr == ""
 
 
@@ -153,3 +153,14 @@ def test_single_file_json(tmp_path):
         (6, "unknown container Fog"),
         (9, "node Planner is already in container Cloud"),
     ]
+
+
+def test_folder_without_resolution_model_is_checked_file_by_file(tmp_path):
+    shutil.copy(MODELS / "bad_migration" / "bad.tsm", tmp_path)
+    shutil.copy(MODELS / "bad_migration" / "bad.fm", tmp_path)
+    result = run("check", str(tmp_path))
+    assert result.exit_code == 0
+    assert result.stdout.splitlines()[-1] == (
+        f"{tmp_path.name}: 0 errors, 0 warnings (not checked as a product line: no .rm files; "
+        "a product line holds one)"
+    )

@@ -66,7 +66,16 @@ def check_target(target: Path) -> tuple[dict[str, Any], list[Diagnostic]]:
             report["files"].append({"path": str(path), "ok": False, "summary": None})
             found.extend(exc.diagnostics)
     line_report = None
-    if target.is_dir() and not found and sum(p.suffix == ".rm" for p in files) == 1:
+    resolution_models = sum(p.suffix == ".rm" for p in files)
+    if not target.is_dir():
+        report["not_a_line"] = None
+    elif resolution_models != 1:
+        count = resolution_models or "no"
+        report["not_a_line"] = f"{count} .rm files; a product line holds one"
+    elif found:
+        report["not_a_line"] = "its models do not parse"
+    else:
+        report["not_a_line"] = None
         line_report = _check_line(target)
         found.extend(line_report.pop("diagnostics"))
     unique = list(dict.fromkeys(found))
@@ -104,7 +113,7 @@ def summary_line(report: dict[str, Any]) -> str:
     if line is None:
         return (
             f"{Path(report['target']).resolve().name}: {counts} "
-            "(not checked as a product line: its models do not parse)"
+            f"(not checked as a product line: {report['not_a_line']})"
         )
     products = line["products"]
     shown = f"{products} products" if products is not None else "unknown number of products"
