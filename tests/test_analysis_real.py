@@ -27,7 +27,6 @@ FIXTURES = json.loads(
     (Path(__file__).parent / "models" / "analysis" / "flamapy_results.json").read_text()
 )["models"]
 
-pytestmark = pytest.mark.skipif(not DATA.is_dir(), reason="real models not available")
 
 
 @functools.cache
