@@ -7,6 +7,7 @@ import json
 from pathlib import Path
 
 from click.testing import CliRunner
+from real_models import REAL_MODELS
 from sample_checks import interactions, is_product
 
 from spl.cli import main
@@ -14,7 +15,6 @@ from spl.dsl.fm_formats import load_feature_model
 
 ROOT = Path(__file__).resolve().parents[1]
 MAPPING = ROOT / "product_lines" / "mapping3d"
-REAL = Path("/work/shared/data/feature-models")
 SEARCH = Path(__file__).parent / "models" / "validate" / "sampling" / "search.fm"
 
 
@@ -50,8 +50,8 @@ def test_pairwise_sample_as_json_lines_covers_every_pair() -> None:
 
 
 def test_feature_model_files_in_every_format() -> None:
-    uvl = run(REAL / "berkeleydb.uvl", "--sample", "t=2")
-    xml = run(REAL / "berkeleydb.xml", "--sample", "2")
+    uvl = run(REAL_MODELS / "berkeleydb.uvl", "--sample", "t=2")
+    xml = run(REAL_MODELS / "berkeleydb.xml", "--sample", "2")
     assert uvl.exit_code == xml.exit_code == 0
     assert len(uvl.stdout.splitlines()) > 1
     assert run(SEARCH, "--random", "5", "--seed", "3").stdout.count("\n") == 5
@@ -85,6 +85,6 @@ def test_model_errors_are_located(tmp_path: Path) -> None:
 
 
 def test_three_wise_on_busybox_is_refused_with_the_number() -> None:
-    result = run(REAL / "busybox_2010-05-02_14-17-07.uvl", "--sample", "t=3")
+    result = run(REAL_MODELS / "busybox_2010-05-02_14-17-07.uvl", "--sample", "t=3")
     assert result.exit_code == 1
     assert "622 free features means 319,309,920 combinations" in result.stderr

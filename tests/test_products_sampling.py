@@ -15,6 +15,7 @@ from pathlib import Path
 import pytest
 from fm_semantics import products as brute_force_products
 from pysat.solvers import Solver
+from real_models import REAL_MODELS
 from sample_checks import interactions, is_product
 
 from spl.dsl.fm import parse_file
@@ -24,7 +25,6 @@ from spl.resolver.sampling import covering_array, product_key, random_products
 
 ROOT = Path(__file__).resolve().parents[1]
 MODELS = Path(__file__).parent / "models"
-REAL = Path("/work/shared/data/feature-models")
 SMALL = [
     ROOT / "product_lines/mapping3d/mapping.fm",
     ROOT / "product_lines/data_acquisition/data.fm",
@@ -104,7 +104,7 @@ def test_t_out_of_range_is_refused() -> None:
 
 @pytest.mark.parametrize("name", ["berkeleydb.uvl", "axTLS.uvl"])
 def test_pairwise_sample_of_real_models(name: str) -> None:
-    model = load_feature_model(REAL / name)
+    model = load_feature_model(REAL_MODELS / name)
     formula = FeatureModelFormula(model)
     sample = covering_array(formula, 2)
     assert all(is_product(model, product) for product in sample.products)
