@@ -1,0 +1,52 @@
+"""The README's two opening commands and the CI script stay what a new user runs.
+
+The main command's ``spl`` invocation is run as written (bundle into a temporary
+folder); ``.ci/run`` must extract exactly the README's test command and then check and
+validate every shipped product line.
+"""
+
+from __future__ import annotations
+
+import re
+import shlex
+import subprocess
+from pathlib import Path
+
+from click.testing import CliRunner
+
+from spl.cli import main
+
+ROOT = Path(__file__).resolve().parents[1]
+README = (ROOT / "README.md").read_text(encoding="utf-8")
+
+
+def fenced_command(marker: str) -> str:
+    match = re.search(rf"<!-- {marker} -->\n```sh\n(.+)\n```", README)
+    assert match, f"README.md has no {marker} block"
+    return match.group(1)
+
+
+def test_main_command_resolves_the_paper_product(tmp_path: Path, monkeypatch) -> None:
+    command = fenced_command("main-command")
+    spl_part = command.split("&& .venv/bin/spl ", 1)[1]
+    args = shlex.split(spl_part)
+    assert args[0] == "resolve" and "-o" in args
+    args[args.index("-o") + 1] = str(tmp_path / "bundle")
+    monkeypatch.chdir(ROOT)
+    result = CliRunner().invoke(main, args)
+    assert result.exit_code == 0, result.output
+    assert (tmp_path / "bundle" / "manifest.json").is_file()
+    assert (tmp_path / "bundle" / "rapyuta" / "Robot.json").is_file()
+
+
+def test_ci_script_runs_the_readme_test_command_then_validates_every_line() -> None:
+    script = (ROOT / ".ci" / "run").read_text(encoding="utf-8")
+    extraction = re.search(r"test_command=\$\((awk .+ README\.md)\)", script)
+    assert extraction, "the CI script no longer extracts the test command from README.md"
+    extracted = subprocess.run(["bash", "-c", extraction.group(1)], cwd=ROOT,
+                               capture_output=True, text=True, check=True).stdout.strip()
+    assert extracted == fenced_command("test-command")
+    assert "pytest" in extracted
+    assert 'bash -c "$test_command"' in script and "set -euo pipefail" in script
+    assert re.search(r"spl check \"\$line\"", script)
+    assert re.search(r"spl validate product_lines/\*/ --all .*--junit", script)
