@@ -122,6 +122,22 @@ def test_pairwise_sample_reaches_the_conflict(tmp_path: Path) -> None:
                for c in failing)
 
 
+def test_product_whose_rapyuta_configuration_breaks_a_rule(tmp_path: Path) -> None:
+    line = MODELS / "rapyuta_clash"
+    out = tmp_path / "clash.xml"
+    result = run(line, "--all", "--junit", out)
+    assert result.exit_code == 1
+    assert result.stdout.splitlines()[-1] == "3 passed, 1 failed"
+    found = cases(report(out))
+    failing = {name for (_, name), c in found.items() if c.findall("failure")}
+    # only the product with a private and a protected node in one cloud container
+    assert failing == {"OwnMap,TeamArchive"}
+    message = failure_text(found[("rapyuta_clash", "OwnMap,TeamArchive")])
+    assert message.startswith(f"{line / 'clash.tsm'}:17:17: error: Rapyuta tag 'Cloud_r1' "
+                              "would name both the private partition of Cloud and the "
+                              "protected partition of Cloud")
+
+
 def test_open_selection_fails_that_product_only(tmp_path: Path) -> None:
     line = tmp_path / "mapping3d"
     shutil.copytree(LINES / "mapping3d", line)
