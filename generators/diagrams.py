@@ -26,6 +26,7 @@ from typing import Any
 
 import graphviz
 
+from spl.dsl.fm_printer import format_formula
 from spl.generators.ros1 import server_ros_name, topic_ros_name
 from spl.metamodels import tsm
 from spl.resolver.product import ResolvedProduct
@@ -33,7 +34,6 @@ from spl.resolver.product import ResolvedProduct
 __all__ = [
     "architecture_graph",
     "feature_model_graph",
-    "formula_text",
     "generate",
     "render",
     "render_bytes",
@@ -318,28 +318,6 @@ def architecture_graph(system: Any, product: ResolvedProduct | None = None) -> g
 
 # --------------------------------------------------------------------------- feature model
 
-_OPERATOR_TEXT = {
-    "and": "and",
-    "or": "or",
-    "implies": "=>",
-    "iff": "<=>",
-    "requires": "requires",
-    "excludes": "excludes",
-}
-
-
-def formula_text(formula: Any, parent_binary: bool = False) -> str:
-    """A constraint as the .fm text shows it; nested binaries are parenthesised."""
-    kind = formula.eClass.name
-    if kind == "FeatureRef":
-        return formula.feature.name
-    if kind == "Not":
-        return f"not {formula_text(formula.operand, True)}"
-    operator = _OPERATOR_TEXT.get(formula.operator, formula.operator)
-    text = f"{formula_text(formula.left, True)} {operator} {formula_text(formula.right, True)}"
-    return f"({text})" if parent_binary else text
-
-
 def _feature_label(feature: Any) -> str:
     name = _e(feature.name)
     rows = [
@@ -412,7 +390,8 @@ def feature_model_graph(fm: Any, selected: set[str] | None = None) -> graphviz.D
     add(fm.root)
     if fm.constraints:
         rows = "".join(
-            f'<TR><TD ALIGN="LEFT">{_e(formula_text(c.formula))}</TD></TR>' for c in fm.constraints
+            f'<TR><TD ALIGN="LEFT">{_e(format_formula(c.formula))}</TD></TR>'
+            for c in fm.constraints
         )
         graph.node(
             "constraints",

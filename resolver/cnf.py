@@ -24,6 +24,7 @@ from typing import Any, NamedTuple
 from pysat.card import CardEnc, EncType
 
 from spl.diagnostics import Diagnostic, Location, ModelError, location_of
+from spl.dsl.fm_printer import format_formula
 
 Clause = tuple[int, ...]
 
@@ -33,16 +34,6 @@ PAIRWISE_AMO_LIMIT = 12
 # A constraint whose CNF by distribution stays under this many clauses is encoded
 # directly (no auxiliary variables); bigger ones get Tseitin definitions.
 DIRECT_CNF_LIMIT = 16
-
-_PRECEDENCE = {"iff": 1, "implies": 2, "requires": 2, "excludes": 2, "or": 3, "and": 4}
-_SYMBOL = {
-    "iff": "<=>",
-    "implies": "=>",
-    "requires": "requires",
-    "excludes": "excludes",
-    "or": "or",
-    "and": "and",
-}
 
 
 class Rule(NamedTuple):
@@ -80,7 +71,7 @@ class Rule(NamedTuple):
         if kind == "mandatory":
             return f"{names[0]} is mandatory in {names[1]}"
         if kind == "constraint":
-            return formula_text(self.formula)
+            return format_formula(self.element.formula)
         group = self.element
         parent, listed = names[0], ", ".join(names[1:])
         lower, upper = self.bounds
@@ -164,28 +155,6 @@ def formula_tree(formula: Any) -> tuple:
     if cls == "Not":
         return ("not", formula_tree(formula.operand))
     return (formula.operator, formula_tree(formula.left), formula_tree(formula.right))
-
-
-def formula_text(tree: Any, context: int = 0) -> str:
-    """A constraint printed the way the ``.fm`` language writes it, minimal parentheses.
-
-    Accepts a pyecore Formula or its :func:`formula_tree`.
-    """
-    if not isinstance(tree, tuple):
-        tree = formula_tree(tree)
-    if tree[0] == "ref":
-        return tree[1]
-    if tree[0] == "not":
-        return "not " + formula_text(tree[1], 5)
-    operator = tree[0]
-    precedence = _PRECEDENCE.get(operator, 0)
-    # implications and iff are not associative: parenthesise nested ones on both sides
-    inner = precedence + (operator not in ("and", "or"))
-    text = (
-        f"{formula_text(tree[1], inner)} {_SYMBOL.get(operator, operator)} "
-        f"{formula_text(tree[2], inner)}"
-    )
-    return f"({text})" if precedence < context else text
 
 
 def formula_features(tree: tuple) -> tuple[str, ...]:
@@ -378,8 +347,8 @@ class _Builder:
                 [
                     Diagnostic(
                         location_of(constraint),
-                        f"constraint {formula_text(tree)} names {name}, which is not a "
-                        "feature of the tree",
+                        f"constraint {format_formula(constraint.formula)} names {name}, "
+                        "which is not a feature of the tree",
                     )
                     for name in unknown
                 ]

@@ -19,6 +19,7 @@ from analysis_models import (
     ref,
 )
 
+from spl.dsl.fm_printer import format_formula
 from spl.resolver.analysis import (
     FeatureModelFormula,
     core_features,
@@ -28,7 +29,7 @@ from spl.resolver.analysis import (
     false_optional_features,
     is_satisfiable,
 )
-from spl.resolver.cnf import encode, formula_text
+from spl.resolver.cnf import encode
 
 
 def fs_of(m):
@@ -162,7 +163,7 @@ def test_arbitrary_formulas_go_through_tseitin_and_count_like_brute_force() -> N
     assert count_products(m).value == len(expected)
     assert set(enumerate_products(m)) == expected
     assert encode(m).num_vars > encode(m).num_features  # Tseitin definitions were used
-    assert formula_text(big) == "((A <=> B) <=> (C <=> D and not E)) or G"
+    assert format_formula(big) == "((A <=> B) <=> (C <=> D and not E)) or G"
 
 
 def test_count_reports_unknown_instead_of_guessing_when_the_bound_is_hit() -> None:
