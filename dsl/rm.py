@@ -317,9 +317,10 @@ class _Builder:
         topic = self.T.Topic(name=declared.name, type=declared.type, rosName=declared.rosName)
         return self.R.ConnectToNewTopic(interface=interface, topic=self.locate(topic, stmt))
 
-    def _ConnectServerStmt(self, stmt):
-        client = self._interface(stmt, stmt.client)
-        server = self._interface(stmt, stmt.server)
+    def _service_pair(self, stmt, client_name: str, server_name: str):
+        """The client and server interfaces a statement names, or None (error reported)."""
+        client = self._interface(stmt, client_name)
+        server = self._interface(stmt, server_name)
         if client is None or server is None:
             return None
         if not (
@@ -327,6 +328,13 @@ class _Builder:
             and self._typed(stmt, server, ("ServiceServer",), "service server")
         ):
             return None
+        return client, server
+
+    def _ConnectServerStmt(self, stmt):
+        pair = self._service_pair(stmt, stmt.client, stmt.server)
+        if pair is None:
+            return None
+        client, server = pair
         client_container = client.eContainer().eContainer()
         server_container = server.eContainer().eContainer()
         if client_container is not server_container:
@@ -361,15 +369,10 @@ class _Builder:
                 return None
             return self.R.ConnectBridge(sourceTopic=topics[0], targetTopic=topics[1])
         if len(source) == len(target) == 3:
-            client = self._interface(stmt, stmt.source)
-            server = self._interface(stmt, stmt.target)
-            if client is None or server is None:
+            pair = self._service_pair(stmt, stmt.source, stmt.target)
+            if pair is None:
                 return None
-            if not (
-                self._typed(stmt, client, ("ServiceClient",), "service client")
-                and self._typed(stmt, server, ("ServiceServer",), "service server")
-            ):
-                return None
+            client, server = pair
             if client.eContainer().eContainer() is server.eContainer().eContainer():
                 self.error(stmt, "a bridge connects two different containers")
                 return None
