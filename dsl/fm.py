@@ -20,7 +20,7 @@ from typing import Any
 
 from textx import TextXSyntaxError, metamodel_from_file
 
-from spl.diagnostics import Diagnostic, DiagnosticSink, Location, ModelError
+from spl.diagnostics import Diagnostic, DiagnosticSink, Location, ModelError, counted
 from spl.metamodels import fm as fm_metamodel
 
 # Words of the .fm language that can never name a feature (the grammar rejects them
@@ -128,11 +128,7 @@ def summary(model: Any) -> str:
     """One line for ``spl check``: how many features and constraints."""
     features = sum(1 for _ in all_features(model))
     constraints = len(model.constraints)
-    return f"{_plural(features, 'feature')}, {_plural(constraints, 'constraint')}"
-
-
-def _plural(count: int, word: str) -> str:
-    return f"{count} {word}{'' if count == 1 else 's'}"
+    return f"{counted(features, 'feature')}, {counted(constraints, 'constraint')}"
 
 
 def all_features(model_or_feature: Any) -> Iterator[Any]:

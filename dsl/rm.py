@@ -18,7 +18,7 @@ from typing import Any
 import yaml
 from textx import TextXSyntaxError, get_location, metamodel_from_file
 
-from spl.diagnostics import Diagnostic, DiagnosticSink, Location, ModelError
+from spl.diagnostics import Diagnostic, DiagnosticSink, Location, ModelError, counted
 from spl.dsl import rosnames
 from spl.metamodels import rm as rm_metamodel
 from spl.metamodels import tsm as tsm_metamodel
@@ -44,8 +44,9 @@ def parse_file(path: str | Path) -> Any:
 
 
 def summary(model: Any) -> str:
-    count = sum(len(e.transformations) for e in model.elements)
-    return f"{len(model.elements)} resolution elements, {count} transformations"
+    transformations = sum(len(e.transformations) for e in model.elements)
+    elements = counted(len(model.elements), "resolution element")
+    return f"{elements}, {counted(transformations, 'transformation')}"
 
 
 def load(path: str | Path) -> ResolutionModelFiles:

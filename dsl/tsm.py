@@ -26,7 +26,7 @@ from typing import Any
 import yaml
 from textx import TextXSyntaxError, metamodel_from_file
 
-from spl.diagnostics import Diagnostic, DiagnosticSink, Location, ModelError
+from spl.diagnostics import Diagnostic, DiagnosticSink, Location, ModelError, counted
 from spl.dsl import rosnames, transform_types
 from spl.metamodels import tsm as tsm_metamodel
 
@@ -135,18 +135,18 @@ def summary(system: Any) -> str:
     """One line of counts for ``spl check``."""
     nodes = [n for c in system.containers for n in c.nodes]
     parts = [
-        f"{len(system.containers)} containers",
-        f"{len(nodes)} nodes",
-        f"{sum(len(c.topics) for c in system.containers)} topics",
-        f"{sum(len(n.interfaces) for n in nodes)} interfaces",
-        f"{len(system.connections)} bridges",
+        counted(len(system.containers), "container"),
+        counted(len(nodes), "node"),
+        counted(sum(len(c.topics) for c in system.containers), "topic"),
+        counted(sum(len(n.interfaces) for n in nodes), "interface"),
+        counted(len(system.connections), "bridge"),
     ]
     stores = sum(len(c.stores) for c in system.containers)
     if system.dataTypes or system.transforms or stores:
         parts += [
-            f"{len(system.dataTypes)} data types",
-            f"{len(system.transforms)} transforms",
-            f"{stores} stores",
+            counted(len(system.dataTypes), "data type"),
+            counted(len(system.transforms), "transform"),
+            counted(stores, "store"),
         ]
     return ", ".join(parts)
 

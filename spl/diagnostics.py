@@ -90,3 +90,8 @@ def location_of(element: Any) -> Location | None:
     if not file:
         return None
     return Location(file, element.srcLine or 0, element.srcCol or 0)
+
+
+def counted(count: int, noun: str) -> str:
+    """``1 bridge``, ``4 bridges``: the counts in every summary line read as English."""
+    return f"{count} {noun}{'' if count == 1 else 's'}"

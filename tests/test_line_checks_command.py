@@ -164,3 +164,12 @@ def test_folder_without_resolution_model_is_checked_file_by_file(tmp_path):
         f"{tmp_path.name}: 0 errors, 0 warnings (not checked as a product line: no .rm files; "
         "a product line holds one)"
     )
+
+
+def test_counts_of_one_are_singular():
+    line = Path(__file__).parent / "models" / "validate" / "rapyuta_clash"
+    result = run("check", str(line))
+    assert result.exit_code == 0, result.output
+    assert ": ok: 2 containers, 3 nodes, 2 topics, 3 interfaces, 1 bridge\n" in result.stdout
+    analysed = run("analyze", str(ROOT / "product_lines" / "mapping3d" / "mapping.fm"))
+    assert analysed.stdout.splitlines()[0].endswith(": 12 features, 1 constraint")

@@ -14,6 +14,8 @@ from typing import Any
 
 import click
 
+from spl.diagnostics import counted
+
 
 def analysis_report(model: Any, count_seconds: float) -> dict[str, Any]:
     """The analysis as the JSON object ``spl analyze --json`` prints."""
@@ -49,8 +51,8 @@ def text_report(path: Path, report: dict[str, Any]) -> list[str]:
     products = report["products"]
     shown = str(products) if products is not None else f"unknown ({report['products_note']})"
     return [
-        f"{report['name']} ({path}): {report['features']} features, "
-        f"{report['constraints']} constraints",
+        f"{report['name']} ({path}): {counted(report['features'], 'feature')}, "
+        f"{counted(report['constraints'], 'constraint')}",
         f"  satisfiable:    {'yes' if report['satisfiable'] else 'no (void feature model)'}",
         f"  products:       {shown}",
         f"  core ({len(report['core'])}): {_names(report['core'])}",

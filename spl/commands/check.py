@@ -16,7 +16,7 @@ from typing import Any
 
 import click
 
-from spl.diagnostics import Diagnostic, Location, ModelError
+from spl.diagnostics import Diagnostic, Location, ModelError, counted
 
 # The language module for each model file kind. Each offers ``parse_file(path)`` (raising
 # ModelError with every problem found) and ``summary(model) -> str``.
@@ -107,21 +107,18 @@ def _check_line(directory: Path) -> dict[str, Any]:
 def summary_line(report: dict[str, Any]) -> str:
     """``mapping3d: 9 resolution elements, 12 products, 0 errors, 0 warnings``."""
     line = report["line"]
-    counts = f"{_plural(report['errors'], 'error')}, {_plural(report['warnings'], 'warning')}"
+    counts = f"{counted(report['errors'], 'error')}, {counted(report['warnings'], 'warning')}"
     if report["infos"]:
-        counts += f", {_plural(report['infos'], 'info')}"
+        counts += f", {counted(report['infos'], 'info')}"
     if line is None:
         return (
             f"{Path(report['target']).resolve().name}: {counts} "
             f"(not checked as a product line: {report['not_a_line']})"
         )
     products = line["products"]
-    shown = f"{products} products" if products is not None else "unknown number of products"
-    return f"{line['name']}: {line['resolution_elements']} resolution elements, {shown}, {counts}"
-
-
-def _plural(n: int, word: str) -> str:
-    return f"{n} {word}" if n == 1 else f"{n} {word}s"
+    shown = counted(products, "product") if products is not None else "unknown number of products"
+    elements = counted(line["resolution_elements"], "resolution element")
+    return f"{line['name']}: {elements}, {shown}, {counts}"
 
 
 @click.command("check")
