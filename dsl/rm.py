@@ -23,6 +23,10 @@ from spl.dsl import rosnames
 from spl.metamodels import rm as rm_metamodel
 from spl.metamodels import tsm as tsm_metamodel
 
+# The one product-line check (spl check DIR, resolver/line_checks.py) this parser makes:
+# a migration must name another, existing container.
+MIGRATION_TARGET = "SPL013"
+
 
 @dataclass
 class ResolutionModelFiles:
@@ -149,8 +153,8 @@ class _Builder:
         element.srcFile, element.srcLine, element.srcCol = where.file, where.line, where.col
         return element
 
-    def error(self, node: Any, message: str) -> None:
-        self.sink.error(self.loc(node), message)
+    def error(self, node: Any, message: str, code: str | None = None) -> None:
+        self.sink.error(self.loc(node), message, code)
 
     # -- building -------------------------------------------------------------------
     def build(self, tree: Any) -> Any:
@@ -442,11 +446,13 @@ class _Builder:
         node = self._node(stmt, stmt.node)
         target = self.containers.get(stmt.container)
         if target is None:
-            self.error(stmt, f"unknown container {stmt.container}")
+            self.error(stmt, f"unknown container {stmt.container}", MIGRATION_TARGET)
         if node is None or target is None:
             return None
         if node.eContainer() is target:
-            self.error(stmt, f"node {node.name} is already in container {target.name}")
+            self.error(
+                stmt, f"node {node.name} is already in container {target.name}", MIGRATION_TARGET
+            )
             return None
         return self.R.NodeMigration(node=node, target=target)
 

@@ -19,7 +19,8 @@ SPL012    error     two transformations of elements that can be active in one pr
                     refinement period, migration target, topic, server, sharing mode);
                     the message names a witness product
 SPL013    error     a migration to a missing container or to the node's own container
-                    (found by the .rm parser, so ``spl check DIR`` reports it on parsing)
+                    (found by the .rm parser, ``spl.dsl.rm.MIGRATION_TARGET``, so
+                    ``spl check DIR`` reports it on parsing)
 SPL014    info      a concrete leaf feature with no effect: no resolution element,
                     attribute, sharing mode or constraint mentions it
 SPL015    warning   a listed product (``products/*.yaml``) that is not a valid, complete
@@ -51,7 +52,6 @@ from spl.resolver.selection import check_selection
 DEAD_ELEMENT = "SPL010"
 UNREACHABLE_OPTIONAL = "SPL011"
 CONFLICT = "SPL012"
-MIGRATION_TARGET = "SPL013"
 NO_EFFECT = "SPL014"
 UNRESOLVABLE_PRODUCT = "SPL015"
 

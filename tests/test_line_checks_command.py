@@ -124,8 +124,8 @@ def test_migration_targets_missing_or_already_there_are_reported():
     assert result.exit_code == 1
     rm = MODELS / "bad_migration" / "bad.rm"
     assert result.stderr.splitlines() == [
-        f"{rm}:6:5: error: unknown container Fog",
-        f"{rm}:9:5: error: node Planner is already in container Cloud",
+        f"{rm}:6:5: error: unknown container Fog [SPL013]",
+        f"{rm}:9:5: error: node Planner is already in container Cloud [SPL013]",
     ]
     assert result.stdout.splitlines()[-1] == (
         "bad_migration: 2 errors, 0 warnings (not checked as a product line: its models do "
