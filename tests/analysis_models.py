@@ -9,6 +9,8 @@ from __future__ import annotations
 import itertools
 from typing import Any
 
+from fm_semantics import is_product
+
 from spl.metamodels import fm
 
 F = fm()
@@ -116,47 +118,6 @@ def mapping3d() -> tuple[Any, dict[str, Any]]:
 
 
 # --- an independent brute-force evaluator of the semantics (no SAT, no CNF) -----------
-
-
-def _eval(formula: Any, product: set[str]) -> bool:
-    cls = formula.eClass.name
-    if cls == "FeatureRef":
-        return formula.feature.name in product
-    if cls == "Not":
-        return not _eval(formula.operand, product)
-    a, b = _eval(formula.left, product), _eval(formula.right, product)
-    return {
-        "and": a and b,
-        "or": a or b,
-        "implies": (not a) or b,
-        "requires": (not a) or b,
-        "excludes": not (a and b),
-        "iff": a == b,
-    }[formula.operator]
-
-
-def is_product(m: Any, product: set[str]) -> bool:
-    if m.root.name not in product:
-        return False
-    for f in all_features(m).values():
-        for g in f.groups:
-            members = [c.name in product for c in g.features]
-            if any(members) and f.name not in product:
-                return False
-            if f.name not in product:
-                continue
-            k, n, count = g.kind.name, len(members), sum(members)
-            if k == "mandatory" and count != n:
-                return False
-            if k == "alternative" and count != 1:
-                return False
-            if k == "or" and count < 1:
-                return False
-            if k == "cardinality":
-                upper = n if g.upper == -1 else g.upper
-                if not (g.lower <= count <= upper):
-                    return False
-    return all(_eval(c.formula, product) for c in m.constraints)
 
 
 def brute_force_products(m: Any) -> list[frozenset[str]]:

@@ -17,7 +17,7 @@ def products(model: Any) -> set[frozenset[str]]:
     return {
         frozenset(names)
         for names in configurations
-        if all(_holds(c.formula, names) for c in model.constraints)
+        if all(holds(c.formula, names) for c in model.constraints)
     }
 
 
@@ -35,20 +35,9 @@ def _selected(feature: Any) -> list[set[str]]:
 
 def _group_options(group: Any) -> list[set[str]]:
     children = list(group.features)
-    kind = group.kind.name
-    if kind == "mandatory":
-        lower, upper = len(children), len(children)
-    elif kind == "optional":
-        lower, upper = 0, len(children)
-    elif kind == "alternative":
-        lower, upper = 1, 1
-    elif kind == "or":
-        lower, upper = 1, len(children)
-    else:
-        lower = group.lower
-        upper = len(children) if group.upper == -1 else group.upper
+    lower, upper = _bounds(group, len(children))
     options: list[set[str]] = []
-    for size in range(lower, min(upper, len(children)) + 1):
+    for size in range(lower, upper + 1):
         for chosen in combinations(children, size):
             for parts in product(*(_selected(child) for child in chosen)):
                 merged: set[str] = set()
@@ -58,13 +47,51 @@ def _group_options(group: Any) -> list[set[str]]:
     return options
 
 
-def _holds(formula: Any, names: set[str]) -> bool:
+def _bounds(group: Any, n: int) -> tuple[int, int]:
+    """How many of a group's ``n`` members a selected parent takes (lower, upper)."""
+    kind = group.kind.name
+    if kind == "mandatory":
+        return n, n
+    if kind == "optional":
+        return 0, n
+    if kind == "alternative":
+        return 1, 1
+    if kind == "or":
+        return 1, n
+    upper = n if group.upper is None or group.upper == -1 else min(group.upper, n)
+    return group.lower or 0, upper
+
+
+def is_product(model: Any, selected: frozenset[str] | set[str]) -> bool:
+    """Whether ``selected`` is a valid configuration of ``model`` (tree walk + formulas),
+    for models too big to enumerate."""
+    root = model.root
+    if root.name not in selected:
+        return False
+    stack = [root]
+    while stack:
+        feature = stack.pop()
+        on = feature.name in selected
+        for group in feature.groups:
+            children = list(group.features)
+            chosen = sum(1 for child in children if child.name in selected)
+            if not on and chosen:
+                return False  # a child without its parent
+            lower, upper = _bounds(group, len(children))
+            if on and not lower <= chosen <= upper:
+                return False
+            stack.extend(children)
+    return all(holds(c.formula, selected) for c in model.constraints)
+
+
+def holds(formula: Any, names: frozenset[str] | set[str]) -> bool:
+    """The truth of a constraint formula when exactly ``names`` are selected."""
     kind = formula.eClass.name
     if kind == "FeatureRef":
         return formula.feature.name in names
     if kind == "Not":
-        return not _holds(formula.operand, names)
-    left, right = _holds(formula.left, names), _holds(formula.right, names)
+        return not holds(formula.operand, names)
+    left, right = holds(formula.left, names), holds(formula.right, names)
     return {
         "and": left and right,
         "or": left or right,

@@ -6,7 +6,7 @@ from itertools import product as assignments
 from pathlib import Path
 
 import pytest
-from fm_semantics import products
+from fm_semantics import holds, products
 from real_models import REAL_MODELS
 
 from spl.diagnostics import ModelError
@@ -47,23 +47,6 @@ def _names(formula) -> set[str]:
     return _names(formula.left) | _names(formula.right)
 
 
-def _value(formula, true: set[str]) -> bool:
-    kind = formula.eClass.name
-    if kind == "FeatureRef":
-        return formula.feature.name in true
-    if kind == "Not":
-        return not _value(formula.operand, true)
-    left, right = _value(formula.left, true), _value(formula.right, true)
-    return {
-        "and": left and right,
-        "or": left or right,
-        "implies": not left or right,
-        "requires": not left or right,
-        "iff": left == right,
-        "excludes": not (left and right),
-    }[formula.operator]
-
-
 def _shape(formula) -> tuple:
     """The formula as a tuple, with requires/excludes spelled as exporters spell them."""
     kind = formula.eClass.name
@@ -86,7 +69,7 @@ def equivalent(a, b) -> bool:
     names = sorted(_names(a) | _names(b))
     for values in assignments((False, True), repeat=len(names)):
         true = {n for n, v in zip(names, values, strict=True) if v}
-        if _value(a, true) != _value(b, true):
+        if holds(a, true) != holds(b, true):
             return False
     return True
 

@@ -7,8 +7,9 @@ import json
 from pathlib import Path
 
 from click.testing import CliRunner
+from fm_semantics import is_product
 from real_models import REAL_MODELS
-from sample_checks import interactions, is_product
+from sample_checks import interactions
 
 from spl.cli import main
 from spl.dsl.fm_formats import load_feature_model

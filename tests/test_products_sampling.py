@@ -13,10 +13,11 @@ from itertools import combinations
 from pathlib import Path
 
 import pytest
+from fm_semantics import is_product
 from fm_semantics import products as brute_force_products
 from pysat.solvers import Solver
 from real_models import REAL_MODELS
-from sample_checks import interactions, is_product
+from sample_checks import interactions
 
 from spl.dsl.fm import parse_file
 from spl.dsl.fm_formats import load_feature_model
