@@ -65,7 +65,7 @@ from spl.diagnostics import Diagnostic, ModelError, location_of
 from spl.generators.rapyuta_rules import check_all
 from spl.generators.ros1 import server_ros_name, topic_ros_name
 from spl.metamodels import tsm
-from spl.resolver.product import ResolvedProduct
+from spl.resolver.product import NodeInterfaces, ResolvedProduct
 
 TAG = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_-]*")
 ENV_VAR = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
@@ -282,7 +282,7 @@ class _Wiring:
 
     def _view(self, robot: Any) -> set[Bridge]:
         """The bridges of the system instantiated for ``robot`` that its file declares."""
-        placement, T = self.placement, self.placement.T
+        placement = self.placement
         robot_id = placement.robot_ids[id(robot)]
         clouds = placement.scope(robot)
         allowed = {id(robot)} | {id(c) for c in clouds}
@@ -294,16 +294,8 @@ class _Wiring:
             }
         members = [c for c in self.system.containers if id(c) in allowed]
 
-        publishers, subscribers, clients = [], [], []
-        for container in members:
-            for node in container.nodes:
-                for interface in node.interfaces:
-                    if isinstance(interface, T.Publisher) and interface.topic is not None:
-                        publishers.append(interface)
-                    elif isinstance(interface, T.Subscriber) and interface.topic is not None:
-                        subscribers.append(interface)
-                    elif isinstance(interface, T.ServiceClient) and interface.server is not None:
-                        clients.append(interface)
+        publishers, subscribers, all_clients = NodeInterfaces.of(members)
+        clients = [client for client in all_clients if client.server is not None]
         subscribers_of: dict[int, list[Any]] = defaultdict(list)
         for subscriber in subscribers:
             subscribers_of[id(subscriber.topic)].append(subscriber)

@@ -10,9 +10,10 @@ selection, attribute values, which nodes were migrated).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, NamedTuple
 
 from spl.diagnostics import Diagnostic, Location
+from spl.metamodels import tsm
 
 
 @dataclass(frozen=True)
@@ -36,3 +37,28 @@ class ResolvedProduct:
 
     def migrated(self, node_name: str) -> NodeMigration | None:
         return next((m for m in self.migrations if m.node == node_name), None)
+
+
+class NodeInterfaces(NamedTuple):
+    """The wired interfaces of the nodes of some containers, by kind: the starting point
+    of every data-flow walk (rewiring, Rapyuta bridges). Endpoint interfaces are not
+    node interfaces and are not included."""
+
+    publishers: tuple[Any, ...]  # bound to a topic
+    subscribers: tuple[Any, ...]  # bound to a topic
+    clients: tuple[Any, ...]  # every service client, bound to a server or not
+
+    @classmethod
+    def of(cls, containers: Any) -> NodeInterfaces:
+        T = tsm()
+        publishers, subscribers, clients = [], [], []
+        for container in containers:
+            for node in container.nodes:
+                for interface in node.interfaces:
+                    if isinstance(interface, T.Publisher) and interface.topic is not None:
+                        publishers.append(interface)
+                    elif isinstance(interface, T.Subscriber) and interface.topic is not None:
+                        subscribers.append(interface)
+                    elif isinstance(interface, T.ServiceClient):
+                        clients.append(interface)
+        return cls(tuple(publishers), tuple(subscribers), tuple(clients))

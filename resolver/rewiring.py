@@ -31,6 +31,7 @@ from spl.diagnostics import Diagnostic, location_of
 from spl.metamodels import tsm
 from spl.resolver import endpoints
 from spl.resolver.context import qualified
+from spl.resolver.product import NodeInterfaces
 from spl.resolver.trace import Trace
 
 
@@ -56,16 +57,7 @@ def rewire(system: Any, trace: Trace, migrated: set[str]) -> list[Diagnostic]:
             server = caller.server if caller is not None else None
         return server
 
-    publishers, subscribers, clients = [], [], []
-    for container in system.containers:
-        for node in container.nodes:
-            for interface in node.interfaces:
-                if isinstance(interface, T.Publisher) and interface.topic is not None:
-                    publishers.append(interface)
-                elif isinstance(interface, T.Subscriber) and interface.topic is not None:
-                    subscribers.append(interface)
-                elif isinstance(interface, T.ServiceClient):
-                    clients.append(interface)
+    publishers, subscribers, clients = NodeInterfaces.of(system.containers)
     template_topic = {id(i): i.topic for i in publishers + subscribers}
     served_by = {id(c): real_server(c.server) for c in clients}
 
