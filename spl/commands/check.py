@@ -49,24 +49,28 @@ def check_target(target: Path) -> tuple[dict[str, Any], list[Diagnostic]]:
     """Everything ``spl check`` finds for a file or folder: the ``--json`` object and
     the diagnostics it lists.
 
-    Files are parsed one by one (a .rm parses its .tsm and .fm again, so a problem in
-    them is reported once, not twice); a folder with exactly one .rm whose models all
-    parse is then checked as a product line.
+    A folder with exactly one .rm is loaded as a product line first, which parses the
+    .rm and the .tsm and .fm it names once; their summaries come from that. Files it
+    does not cover, and every file when it does not load, are parsed one by one (so a
+    problem in a .tsm is reported once, not again through the .rm). A line whose models
+    all parse is then checked as a whole.
     """
     files = model_files(target) if target.is_dir() else [target]
     if not files:
         raise click.UsageError(f"{target} holds no .tsm, .fm or .rm file")
+    resolution_models = sum(p.suffix == ".rm" for p in files)
+    line = _load_line(target) if target.is_dir() and resolution_models == 1 else None
+    summaries = _line_summaries(line) if line is not None else {}
     report: dict[str, Any] = {"target": str(target), "files": [], "diagnostics": []}
     found: list[Diagnostic] = []
     for path in files:
         try:
-            summary = model_summary(path)
+            summary = summaries.get(path.resolve()) or model_summary(path)
             report["files"].append({"path": str(path), "ok": True, "summary": summary})
         except ModelError as exc:
             report["files"].append({"path": str(path), "ok": False, "summary": None})
             found.extend(exc.diagnostics)
     line_report = None
-    resolution_models = sum(p.suffix == ".rm" for p in files)
     if not target.is_dir():
         report["not_a_line"] = None
     elif resolution_models != 1:
@@ -76,7 +80,7 @@ def check_target(target: Path) -> tuple[dict[str, Any], list[Diagnostic]]:
         report["not_a_line"] = "its models do not parse"
     else:
         report["not_a_line"] = None
-        line_report = _check_line(target)
+        line_report = _check_line(line)
         found.extend(line_report.pop("diagnostics"))
     unique = list(dict.fromkeys(found))
     report["diagnostics"] = [d.as_dict() for d in unique]
@@ -87,11 +91,32 @@ def check_target(target: Path) -> tuple[dict[str, Any], list[Diagnostic]]:
     return report, unique
 
 
-def _check_line(directory: Path) -> dict[str, Any]:
-    from spl.resolver.line_checks import check_product_line
+def _load_line(directory: Path) -> Any:
+    """The product line in ``directory``, or None when its models do not load."""
     from spl.resolver.product_line import load_product_line
 
-    line = load_product_line(directory)
+    try:
+        return load_product_line(directory)
+    except ModelError:
+        return None  # the files are then parsed one by one to report each problem once
+
+
+def _line_summaries(line: Any) -> dict[Path, str]:
+    """The summaries of the files a loaded line parsed, by resolved path."""
+    from spl.dsl import fm, rm, tsm
+
+    models = line.models
+    base = models.path.parent
+    return {
+        models.path.resolve(): rm.summary(line.rm),
+        (base / line.rm.tsmPath).resolve(): tsm.summary(line.tsm),
+        (base / line.rm.fmPath).resolve(): fm.summary(line.fm),
+    }
+
+
+def _check_line(line: Any) -> dict[str, Any]:
+    from spl.resolver.line_checks import check_product_line
+
     diagnostics = check_product_line(line)
     count = line.formula.count(COUNT_SECONDS)
     return {
