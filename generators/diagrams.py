@@ -144,11 +144,7 @@ def _node_label(node: Any, product: ResolvedProduct | None) -> str:
             f"migrated from {_e(migration.source)}</FONT></TD></TR>"
         )
     rows.extend(_interface_rows(node.interfaces))
-    return (
-        f'<<TABLE {border} CELLBORDER="0" CELLSPACING="2" BGCOLOR="{NODE_GREY}">'
-        + "".join(rows)
-        + "</TABLE>>"
-    )
+    return _table(f'{border} CELLBORDER="0" CELLSPACING="2" BGCOLOR="{NODE_GREY}"', rows)
 
 
 def _endpoint_label(container: Any) -> str:
@@ -160,11 +156,12 @@ def _endpoint_label(container: Any) -> str:
             "</FONT></TD></TR>"
         )
     rows.extend(_interface_rows(endpoint.interfaces))
-    return (
-        f'<<TABLE BORDER="1" CELLBORDER="0" CELLSPACING="2" BGCOLOR="{ENDPOINT_ORANGE}">'
-        + "".join(rows)
-        + "</TABLE>>"
-    )
+    return _table(f'BORDER="1" CELLBORDER="0" CELLSPACING="2" BGCOLOR="{ENDPOINT_ORANGE}"', rows)
+
+
+def _table(attributes: str, rows: list[str]) -> str:
+    """A Graphviz HTML-like label: one table of the given (already escaped) rows."""
+    return f"<<TABLE {attributes}>" + "".join(rows) + "</TABLE>>"
 
 
 def _container_label(container: Any) -> str:
@@ -276,9 +273,7 @@ def _legend(graph: graphviz.Digraph) -> None:
     )
     graph.node(
         "legend",
-        label='<<TABLE BORDER="1" CELLBORDER="0" CELLSPACING="2" BGCOLOR="white">'
-        + "".join(rows)
-        + "</TABLE>>",
+        label=_table('BORDER="1" CELLBORDER="0" CELLSPACING="2" BGCOLOR="white"', rows),
         shape="plain",
     )
 
@@ -333,7 +328,7 @@ def _feature_label(feature: Any) -> str:
         rows.append(
             f'<TR><TD><FONT POINT-SIZE="9">sharing {_e(feature.sharing.mode.name)}</FONT></TD></TR>'
         )
-    return '<<TABLE BORDER="0" CELLBORDER="0" CELLSPACING="0">' + "".join(rows) + "</TABLE>>"
+    return _table('BORDER="0" CELLBORDER="0" CELLSPACING="0"', rows)
 
 
 def _group_text(group: Any) -> str:

@@ -146,7 +146,7 @@ def group_bounds(group: Any, kind: str | None = None, n: int | None = None) -> t
 def formula_tree(formula: Any) -> tuple:
     """A constraint formula as plain tuples: ("ref", name) | ("not", t) | (op, l, r).
 
-    One pass over the pyecore objects; everything else (CNF, text, evaluation) works on
+    One pass over the pyecore objects; the CNF encoding and selection checking work on
     the tuples, which is several times faster than attribute access through pyecore.
     """
     cls = type(formula).__name__
