@@ -3,6 +3,11 @@
 All files are produced in memory first, so a failing generator leaves nothing on disk;
 then they are written to a temporary sibling folder that is renamed into place. The
 manifest records the sha256 of every file, so bundles can be compared and cached.
+
+A generator may hand back :class:`Skipped` instead of a file's bytes when an optional
+system program it needs is missing (Graphviz's ``dot`` for ``architecture.svg``): the
+bundle is complete without that file, the manifest's ``skipped`` lists it with the
+reason, and the command line warns. Nothing else in the job depends on such a program.
 """
 
 from __future__ import annotations
@@ -13,6 +18,7 @@ import io
 import json
 import os
 import shutil
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -33,6 +39,25 @@ GENERATORS = (
     "spl.generators.clients",
     "spl.generators.deploy",
 )
+
+
+@dataclass(frozen=True)
+class Skipped:
+    """A file a generator could not produce on this machine, and why (one line)."""
+
+    reason: str
+
+
+@dataclass(frozen=True)
+class Bundle:
+    """The files of one bundle (path -> bytes, manifest included) and the files skipped."""
+
+    files: dict[str, bytes]
+    skipped: dict[str, str]  # bundle path -> reason
+
+    def skip_warnings(self) -> list[str]:
+        """``architecture.svg not written: <reason>``, one line per skipped file."""
+        return [f"{path} not written: {reason}" for path, reason in self.skipped.items()]
 
 
 class _InMemoryURI(URI):
@@ -57,22 +82,36 @@ def resolved_xmi(system: Any) -> bytes:
     return output.buffer.getvalue()
 
 
-def bundle_files(product: ResolvedProduct) -> dict[str, bytes]:
+def build_bundle(product: ResolvedProduct) -> Bundle:
+    """Every file of the product's bundle, in memory, and the files that were skipped."""
     files = {
         "resolved.tsm": print_model(product.system).encode("utf-8"),
         "resolved.xmi": resolved_xmi(product.system),
     }
+    skipped: dict[str, str] = {}
     for module_name in GENERATORS:
         generated = importlib.import_module(module_name).generate(product)
-        clash = files.keys() & generated.keys()
+        clash = (files.keys() | skipped.keys()) & generated.keys()
         if clash:
             raise ValueError(f"{module_name} writes {sorted(clash)} already written")
-        files.update(generated)
-    files["manifest.json"] = manifest(product, files)
-    return dict(sorted(files.items()))
+        for path, data in generated.items():
+            if isinstance(data, Skipped):
+                skipped[path] = data.reason
+            else:
+                files[path] = data
+    skipped = dict(sorted(skipped.items()))
+    files["manifest.json"] = manifest(product, files, skipped)
+    return Bundle(dict(sorted(files.items())), skipped)
 
 
-def manifest(product: ResolvedProduct, files: dict[str, bytes]) -> bytes:
+def bundle_files(product: ResolvedProduct) -> dict[str, bytes]:
+    """The bundle's files (path -> bytes), for callers that do not report skipped files."""
+    return build_bundle(product).files
+
+
+def manifest(
+    product: ResolvedProduct, files: dict[str, bytes], skipped: dict[str, str] | None = None
+) -> bytes:
     system = product.system
     document = {
         "product": product.name,
@@ -90,6 +129,7 @@ def manifest(product: ResolvedProduct, files: dict[str, bytes]) -> bytes:
             {"node": m.node, "from": m.source, "to": m.target} for m in product.migrations
         ],
         "warnings": [str(w) for w in product.warnings],
+        "skipped": dict(skipped or {}),
         "toolchain": {"name": "spl-robotics", "version": __version__},
         "files": {path: hashlib.sha256(data).hexdigest() for path, data in sorted(files.items())},
     }

@@ -50,6 +50,7 @@ class CaseResult:
     messages: tuple[str, ...] = ()  # located problems (failed) or the crash (error)
     warnings: tuple[str, ...] = ()
     seconds: float = 0.0
+    skipped: tuple[str, ...] = ()  # "architecture.svg not written: <reason>" lines
 
     @property
     def passed(self) -> bool:
@@ -126,7 +127,7 @@ def _listed_name(path: Path) -> str:
 
 def run_case(line: ProductLine, classname: str, case: ProductCase) -> CaseResult:
     """Resolve one product, generate its bundle in memory and validate every file."""
-    from spl.generators.bundle import bundle_files
+    from spl.generators.bundle import build_bundle
     from spl.generators.validation import validate_bundle
     from spl.resolver.engine import resolve
     from spl.resolver.product_selection import load_selection_file, selection_from_list
@@ -139,7 +140,8 @@ def run_case(line: ProductLine, classname: str, case: ProductCase) -> CaseResult
             selection = selection_from_list(",".join(case.features),
                                             name="_".join(case.features))
         product = resolve(line, selection).product
-        problems = validate_bundle(bundle_files(product))
+        bundle = build_bundle(product)
+        problems = validate_bundle(bundle.files)
         warnings = tuple(str(w) for w in product.warnings)
     except ModelError as exc:
         return CaseResult(classname, case.name, "failed",
@@ -151,7 +153,7 @@ def run_case(line: ProductLine, classname: str, case: ProductCase) -> CaseResult
                           seconds=time.perf_counter() - start)
     outcome: Outcome = "failed" if problems else "passed"
     return CaseResult(classname, case.name, outcome, tuple(problems), warnings,
-                      time.perf_counter() - start)
+                      time.perf_counter() - start, tuple(bundle.skip_warnings()))
 
 
 # The lines of the current run, set before the pool forks: workers read them from here.
@@ -229,9 +231,9 @@ def junit_xml(results: list[CaseResult]) -> bytes:
                     message=_xml_text(first),
                     type="ModelError" if result.outcome == "failed" else "InternalError")
                 problem.text = _xml_text("\n".join(result.messages))
-            if result.warnings:
+            if result.warnings or result.skipped:
                 etree.SubElement(case, "system-out").text = _xml_text(
-                    "\n".join(result.warnings))
+                    "\n".join(result.warnings + result.skipped))
     return etree.tostring(root, xml_declaration=True, encoding="UTF-8", pretty_print=True)
 
 

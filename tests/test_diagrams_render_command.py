@@ -18,7 +18,7 @@ def run(*args: str):
 
 def test_refuses_other_suffixes(tmp_path):
     result = run(str(FLEET), "--what", "tsm", "-o", str(tmp_path / "out.pdf"))
-    assert result.exit_code == 2 and ".svg or .png" in result.output
+    assert result.exit_code == 2 and ".svg, .png or .dot" in result.output
     assert not (tmp_path / "out.pdf").exists()
 
 

@@ -2,11 +2,15 @@
 
 Three views of one product line: its feature model (with a selection highlighted when
 ``--features`` is given), its template architecture (the TSM as written), or the
-resolved architecture of one product. The output format follows the file suffix.
+resolved architecture of one product. The output format follows the file suffix:
+``.svg`` and ``.png`` need Graphviz's ``dot`` program, ``.dot`` is the Graphviz source
+and needs nothing (render it later with ``dot -Tsvg``). Without ``dot`` an SVG or PNG
+is refused with one line and exit status 2, as for any program a command needs.
 """
 
 from __future__ import annotations
 
+import sys
 from pathlib import Path
 
 import click
@@ -48,7 +52,7 @@ VIEWS = ("fm", "tsm", "product")
     "--out",
     required=True,
     type=click.Path(dir_okay=False, path_type=Path),
-    help="output file, .svg or .png",
+    help="output file, .svg or .png (needs Graphviz), or .dot (the Graphviz source)",
 )
 def command(
     directory: Path,
@@ -61,8 +65,8 @@ def command(
     """Draw the feature model, the template architecture or a resolved product of the
     product line in DIRECTORY, in the notation of the mapping paper (seeds/003 Fig. 4
     and Fig. 5)."""
-    if out.suffix.lower() not in (".svg", ".png"):
-        raise click.BadParameter(f"{out}: the file must end in .svg or .png", param_hint="-o")
+    if out.suffix.lower() not in (".svg", ".png", ".dot"):
+        raise click.BadParameter(f"{out}: the file must end in .svg, .png or .dot", param_hint="-o")
     what = what or ("product" if features else "tsm")
     if what == "product" and not features:
         raise click.UsageError("--what product needs --features")
@@ -87,9 +91,11 @@ def command(
         graph = diagrams.architecture_graph(resolution.product.system, resolution.product)
     try:
         diagrams.render(graph, out)
-    except graphviz.ExecutableNotFound as error:
-        raise click.ClickException(
-            "Graphviz's 'dot' program is needed to draw diagrams "
-            "(Debian/Ubuntu: apt-get install graphviz)"
-        ) from error
+    except graphviz.ExecutableNotFound:
+        click.echo(
+            f"error: {out.name} not written: {diagrams.DOT_MISSING} "
+            f"(or write the source with -o {out.with_suffix('.dot').name})",
+            err=True,
+        )
+        sys.exit(2)
     click.echo(f"wrote {out}")

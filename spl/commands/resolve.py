@@ -17,18 +17,22 @@ from spl.commands.selection_options import selection_from_options, selection_opt
 )
 def command(directory: Path, features: str, sharing, settings, out: Path | None) -> None:
     """Derive the product selected by --features (a list or a YAML file) and write its
-    deployment bundle. The bundle is written atomically: on any error nothing is left."""
-    from spl.generators.bundle import bundle_files, write_bundle
+    deployment bundle. The bundle is written atomically: on any error nothing is left.
+    A file that needs a missing optional program (architecture.svg without Graphviz) is
+    left out with a one-line warning; the rest of the bundle is written, exit 0."""
+    from spl.generators.bundle import build_bundle, write_bundle
     from spl.resolver.engine import resolve, summary_lines
     from spl.resolver.product_line import load_product_line
 
     line = load_product_line(directory)
     resolution = resolve(line, selection_from_options(features, sharing, settings))
-    files = bundle_files(resolution.product)
+    bundle = build_bundle(resolution.product)
     out = out or Path("build") / resolution.product.name
-    write_bundle(files, out)
+    write_bundle(bundle.files, out)
     for line_text in summary_lines(resolution):
         click.echo(line_text)
     for warning in resolution.product.warnings:
         click.echo(str(warning), err=True)
-    click.echo(f"  wrote {len(files)} files to {out}")
+    for warning in bundle.skip_warnings():
+        click.echo(warning, err=True)
+    click.echo(f"  wrote {len(bundle.files)} files to {out}")

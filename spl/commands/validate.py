@@ -69,6 +69,8 @@ def command(directories: tuple[Path, ...], all_products: bool, sample: str | Non
         partial = junit.with_name(junit.name + ".partial")
         partial.write_bytes(data)
         os.replace(partial, junit)
+    for note in dict.fromkeys(n for result in results for n in result.skipped):
+        click.echo(note, err=True)  # once, not once per product
     click.echo(summary(results))
     if not all(result.passed for result in results):
         sys.exit(1)
