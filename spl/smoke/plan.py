@@ -1,0 +1,342 @@
+"""What a smoke rehearsal expects: the live graph the resolved model describes.
+
+The plan is read from the bundle alone: ``resolved.tsm`` (parsed with spl's own .tsm
+language) says which nodes, interfaces, types, topics, services and endpoint
+connections the product has; ``ros2/<container>.launch.xml`` says how the ROS 2 data
+clients (writers and readers, not in the ROS 1 launch files) are named and remapped.
+From the model every interface gets the ROS name it must have in its container, and
+
+- a subscriber the ids of the publishers whose data must reach it: those whose topic
+  (a ROS name in a container) reaches the subscriber's through endpoint connections;
+- a service client the id of the node server that must answer it, behind any chain of
+  endpoint stand-ins;
+- an endpoint interface the peer interface it relays to.
+
+The stand-ins get a JSON rendering of the plan; the comparison with the live graph
+(:mod:`spl.smoke.live`) checks every expectation here.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import json
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import yaml
+from lxml import etree
+
+from spl.diagnostics import Diagnostic, Location, ModelError
+from spl.generators.ros1 import remappings, server_ros_name, topic_ros_name
+from spl.metamodels import tsm
+
+ENDPOINT = "endpoint"  # how the rehearsal names every container's endpoint node
+KINDS = {
+    "Publisher": "publisher",
+    "Subscriber": "subscriber",
+    "ServiceServer": "server",
+    "ServiceClient": "client",
+}
+
+
+@dataclass
+class Interface:
+    container: str
+    node: str  # model node name, or ENDPOINT
+    name: str
+    kind: str  # publisher | subscriber | server | client
+    type: str
+    ros_name: str  # the absolute ROS name the model binds it to in its container
+    sources: tuple[str, ...] = ()  # subscribers: ids of the publishers that must feed it
+    server: str | None = None  # clients: id of the node server that must answer
+    forward: tuple[str, str] | None = None  # endpoint: (peer container, peer interface)
+    required: bool = True  # must see traffic (endpoint interfaces only when on a path)
+
+    @property
+    def id(self) -> str:
+        return f"{self.container}.{self.node}.{self.name}"
+
+
+@dataclass
+class Parameter:
+    name: str
+    ros_name: str
+    value: Any  # the typed value the parameter server must hold
+
+
+@dataclass
+class NodePlan:
+    container: str
+    name: str  # model name, or ENDPOINT
+    ros_name: str  # the node's full ROS name
+    role: str  # launched | data client | endpoint
+    interfaces: list[Interface] = field(default_factory=list)
+    parameters: list[Parameter] = field(default_factory=list)
+    remaps: list[tuple[str, str]] = field(default_factory=list)  # data clients only
+
+
+@dataclass
+class ContainerPlan:
+    name: str
+    namespace: str  # "" or an absolute namespace without trailing slash
+    nodes: list[NodePlan] = field(default_factory=list)
+
+    @property
+    def endpoint(self) -> NodePlan | None:
+        return next((n for n in self.nodes if n.role == "endpoint"), None)
+
+
+@dataclass
+class SmokePlan:
+    product: str
+    containers: list[ContainerPlan]
+
+    def interfaces(self) -> list[Interface]:
+        return [i for c in self.containers for n in c.nodes for i in n.interfaces]
+
+    def stand_in_description(self, status_dir: Path) -> dict[str, Any]:
+        """The JSON the stand-ins read: their interfaces by node ROS name."""
+        containers = {}
+        for container in self.containers:
+            nodes = {}
+            endpoint = None
+            for node in container.nodes:
+                entry = {
+                    "id": f"{container.name}.{node.name}",
+                    "ros_name": node.ros_name,
+                    "interfaces": [
+                        {
+                            "name": i.name,
+                            "kind": i.kind,
+                            "type": i.type,
+                            "ros_name": i.ros_name,
+                            "forward": list(i.forward) if i.forward else None,
+                        }
+                        for i in node.interfaces
+                    ],
+                }
+                if node.role == "endpoint":
+                    endpoint = entry
+                else:
+                    nodes[node.ros_name] = entry
+            containers[container.name] = {"nodes": nodes, "endpoint": endpoint}
+        return {"status_dir": str(status_dir), "containers": containers}
+
+
+def join(namespace: str, name: str) -> str:
+    """``name`` resolved in ``namespace`` the way roslaunch and rospy resolve it."""
+    return name if name.startswith("/") else f"{namespace}/{name}"
+
+
+def _namespace(container: Any) -> str:
+    return "/" + container.namespace.strip("/") if container.namespace else ""
+
+
+def load_plan(bundle: Path) -> SmokePlan:
+    """The plan of the bundle in folder ``bundle``; a ModelError when it is not one."""
+    from spl.dsl.tsm import parse_text
+
+    model = bundle / "resolved.tsm"
+    if not model.is_file():
+        raise ModelError([Diagnostic(Location(str(model)), "not found: not an spl bundle")])
+    system = parse_text(model.read_text(encoding="utf-8"), str(model))
+    product = system.name
+    manifest = bundle / "manifest.json"
+    if manifest.is_file():
+        with contextlib.suppress(ValueError, AttributeError):
+            product = json.loads(manifest.read_text(encoding="utf-8")).get("product", product)
+    return SmokePlan(product, _containers(system, bundle))
+
+
+def _containers(system: Any, bundle: Path) -> list[ContainerPlan]:
+    T = tsm()
+    plans = []
+    for container in system.containers:
+        namespace = _namespace(container)
+        plan = ContainerPlan(container.name, namespace)
+        clients = _ros2_data_clients(bundle / "ros2" / f"{container.name}.launch.xml")
+        for node in container.nodes:
+            data_client = isinstance(node, T.Writer | T.Reader)
+            ros_namespace = namespace
+            remaps = []
+            if data_client:
+                ros_namespace, remaps = clients.get(node.name, (namespace, []))
+            bound = dict(remappings(node, system))
+            node_plan = NodePlan(
+                container.name,
+                node.name,
+                join(ros_namespace, node.name) if ros_namespace else f"/{node.name}",
+                "data client" if data_client else "launched",
+                remaps=remaps,
+            )
+            for interface in node.interfaces:
+                ros_name = join(ros_namespace, bound.get(interface.name, interface.name))
+                node_plan.interfaces.append(
+                    Interface(
+                        container.name,
+                        node.name,
+                        interface.name,
+                        KINDS[interface.eClass.name],
+                        _type(interface),
+                        ros_name,
+                    )
+                )
+            for parameter in node.parameters:
+                if parameter.value is not None:
+                    node_plan.parameters.append(
+                        Parameter(
+                            parameter.name,
+                            f"{node_plan.ros_name}/{parameter.name}",
+                            _typed(parameter.type.name, parameter.value),
+                        )
+                    )
+            plan.nodes.append(node_plan)
+        if container.endpoint is not None and container.endpoint.interfaces:
+            plan.nodes.append(_endpoint(container, namespace, system))
+        plans.append(plan)
+    _expect_flows(system, plans)
+    return plans
+
+
+def _type(interface: Any) -> str:
+    topic = getattr(interface, "topic", None)
+    server = getattr(interface, "server", None)
+    return interface.type or (topic.type if topic else None) or (server.type if server else "")
+
+
+def _typed(kind: str, text: str) -> Any:
+    if kind == "int":
+        return int(text, 10)
+    if kind == "double":
+        return float(text)
+    if kind == "bool":
+        return text == "true"
+    if kind == "yaml":
+        return yaml.safe_load(text)
+    return text
+
+
+def _endpoint(container: Any, namespace: str, system: Any) -> NodePlan:
+    T = tsm()
+    node = NodePlan(container.name, ENDPOINT, join(namespace or "", ENDPOINT), "endpoint")
+    if not namespace:
+        node.ros_name = f"/{ENDPOINT}"
+    forward = {}
+    for connection in system.connections:
+        target = connection.target
+        forward[id(connection.source)] = (target.eContainer().eContainer().name, target.name)
+    for interface in container.endpoint.interfaces:
+        if isinstance(interface, T.Publisher | T.Subscriber):
+            ros_name = topic_ros_name(interface.topic) if interface.topic else interface.name
+        elif isinstance(interface, T.ServiceServer):
+            ros_name = server_ros_name(interface, system)
+        else:
+            server = interface.server
+            ros_name = server_ros_name(server, system) if server else interface.name
+        node.interfaces.append(
+            Interface(
+                container.name,
+                ENDPOINT,
+                interface.name,
+                KINDS[interface.eClass.name],
+                _type(interface),
+                join(namespace, ros_name),
+                forward=forward.get(id(interface)),
+            )
+        )
+    return node
+
+
+def _ros2_data_clients(path: Path) -> dict[str, tuple[str, list[tuple[str, str]]]]:
+    """Node name -> (namespace, remaps) of every node of a ROS 2 launch file: how the
+    bundle deploys its data clients."""
+    if not path.is_file():
+        return {}
+    try:
+        root = etree.parse(str(path), etree.XMLParser(resolve_entities=False)).getroot()
+    except etree.XMLSyntaxError as exc:
+        raise ModelError([Diagnostic(Location(str(path), exc.lineno or 0), str(exc))]) from None
+    clients = {}
+    for element in root.iter("node"):
+        namespace = element.get("namespace") or ""
+        namespace = "/" + namespace.strip("/") if namespace.strip("/") else ""
+        remaps = [(r.get("from"), r.get("to")) for r in element.iter("remap")]
+        clients[element.get("name")] = (namespace, remaps)
+    return clients
+
+
+def _expect_flows(system: Any, plans: list[ContainerPlan]) -> None:
+    """Fill in the sources of every subscriber and the server of every client, and mark
+    the endpoint interfaces that lie on some path as required."""
+    by_id = {i.id: i for c in plans for n in c.nodes for i in n.interfaces}
+    reaches: dict[tuple[str, str], set[tuple[str, str]]] = {}  # topic -> topics it feeds
+    for interface in by_id.values():
+        if interface.kind == "subscriber" and interface.forward:
+            peer = by_id.get(".".join((interface.forward[0], ENDPOINT, interface.forward[1])))
+            if peer is not None:
+                reaches.setdefault(_topic(interface), set()).add(_topic(peer))
+    fed: dict[tuple[str, str], list[str]] = {}
+    for publisher in by_id.values():
+        if publisher.kind != "publisher" or publisher.node == ENDPOINT:
+            continue
+        for topic in _closure(_topic(publisher), reaches):
+            fed.setdefault(topic, []).append(publisher.id)
+    for interface in by_id.values():
+        if interface.kind == "subscriber":
+            interface.sources = tuple(sorted(fed.get(_topic(interface), ())))
+            if interface.node == ENDPOINT:
+                interface.required = bool(interface.sources)
+        elif interface.kind == "client" and interface.node == ENDPOINT:
+            interface.required = False  # until a node client's calls pass through it
+    for interface in by_id.values():
+        if interface.kind == "client" and interface.node != ENDPOINT:
+            interface.server = _server_on_path(interface, by_id)
+
+
+def _topic(interface: Interface) -> tuple[str, str]:
+    return interface.container, interface.ros_name
+
+
+def _closure(start: tuple[str, str], edges: dict) -> set[tuple[str, str]]:
+    seen, todo = {start}, [start]
+    while todo:
+        for nxt in edges.get(todo.pop(), ()):
+            if nxt not in seen:
+                seen.add(nxt)
+                todo.append(nxt)
+    return seen
+
+
+def _server_on_path(client: Interface, by_id: dict[str, Interface]) -> str | None:
+    """The node server a client's calls end at: the server of its ROS name in its
+    container or, when that is an endpoint stand-in, the server behind the peer
+    endpoint's client, and so on. Endpoint clients on the path become required and
+    expect the same server."""
+    container, name = client.container, client.ros_name
+    visited: set[tuple[str, str]] = set()
+    passed: list[Interface] = []
+    while (container, name) not in visited:
+        visited.add((container, name))
+        server = next(
+            (
+                i
+                for i in by_id.values()
+                if i.kind == "server" and i.container == container and i.ros_name == name
+            ),
+            None,
+        )
+        if server is None:
+            return None
+        if server.node != ENDPOINT:
+            for peer in passed:
+                peer.required, peer.server = True, server.id
+            return server.id
+        if server.forward is None:
+            return None
+        peer = by_id.get(".".join((server.forward[0], ENDPOINT, server.forward[1])))
+        if peer is None:
+            return None
+        passed.append(peer)
+        container, name = peer.container, peer.ros_name
+    return None

@@ -1,0 +1,266 @@
+"""``spl smoke``: start a bundle's ROS graph with the real ROS 1 and compare it live.
+
+For every container of the bundle: a private ``roscore`` on a free port; the bundle's
+own ``ros1/<container>.launch`` started by the real ``roslaunch`` with stand-ins in
+place of the executables (:func:`spl.smoke.processes.write_sandbox`); the data clients
+(ROS 2 packages, not in the ROS 1 files) as stand-ins named and remapped as the
+bundle's ROS 2 launch file says; and the container's endpoint relaying along the
+resolved architecture's endpoint connections. Then the graph is read from each
+master and from the stand-ins until every expectation of the plan holds, until
+every stand-in is up and no check has changed for ``settle`` seconds, or until
+``timeout``. All
+processes are ended whatever happens (success, failure, an exception, Ctrl-C).
+"""
+
+from __future__ import annotations
+
+import json
+import shutil
+import tempfile
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from lxml import etree
+
+from spl.smoke.live import NOT_MODELLED, Master, Row, compare, read_statuses
+from spl.smoke.plan import ContainerPlan, SmokePlan, load_plan
+from spl.smoke.processes import STANDIN, Processes, RosInstall, find_ros, free_port, write_sandbox
+
+DEFAULT_TIMEOUT = 30.0
+DEFAULT_SETTLE = 5.0
+POLL = 0.25
+
+
+@dataclass
+class Progress:
+    seconds: float
+    masters_up: int
+    containers: int
+    ready: int
+    stand_ins: int
+    rows_ok: int
+    rows: int
+
+    def line(self) -> str:
+        return (
+            f"smoke: {self.masters_up}/{self.containers} masters, {self.ready}/{self.stand_ins} "
+            f"nodes up, {self.rows_ok}/{self.rows} checks ok, {self.seconds:.1f} s"
+        )
+
+
+@dataclass
+class SmokeResult:
+    product: str
+    bundle: str
+    seconds: float
+    rows: dict[str, list[Row]]  # container -> rows, in model order
+    problems: list[str] = field(default_factory=list)  # what failed outside the rows
+
+    @property
+    def passed(self) -> bool:
+        return not self.problems and all(r.ok for rows in self.rows.values() for r in rows)
+
+    def failures(self) -> list[str]:
+        """One line per failed check, naming container, node and interface."""
+        failed = [
+            f"{r.container}.{r.node}.{r.interface} ({r.topic}): {r.seen}, not in the model"
+            if r.expected == NOT_MODELLED
+            else f"{r.container}.{r.node}.{r.interface} ({r.topic}): expected {r.expected}; "
+            f"seen {r.seen}"
+            for rows in self.rows.values()
+            for r in rows
+            if not r.ok
+        ]
+        return [*self.problems, *failed]
+
+    def as_dict(self) -> dict[str, Any]:
+        return {
+            "product": self.product,
+            "bundle": self.bundle,
+            "passed": self.passed,
+            "seconds": round(self.seconds, 2),
+            "containers": [
+                {"name": name, "rows": [r.as_dict() for r in rows]}
+                for name, rows in self.rows.items()
+            ],
+            "failures": self.failures(),
+        }
+
+
+def run_smoke(
+    bundle: Path,
+    timeout: float = DEFAULT_TIMEOUT,
+    settle: float = DEFAULT_SETTLE,
+    progress: Callable[[Progress], None] | None = None,
+    ros: RosInstall | None = None,
+) -> SmokeResult:
+    """Rehearse the bundle in folder ``bundle``. Raises RosMissing without ROS 1 and
+    ModelError when the bundle's model does not parse."""
+    start = time.monotonic()
+    ros = ros or find_ros()
+    plan = load_plan(bundle)
+    run_dir = Path(tempfile.mkdtemp(prefix="spl-smoke-"))
+    try:
+        with Processes(run_dir) as processes:
+            rehearsal = _Rehearsal(bundle, plan, ros, processes, run_dir)
+            rehearsal.start()
+            rows, problems = rehearsal.watch(start + timeout, settle, start, progress)
+    finally:
+        shutil.rmtree(run_dir, ignore_errors=True)
+    return SmokeResult(plan.product, str(bundle), time.monotonic() - start, rows, problems)
+
+
+class _Rehearsal:
+    def __init__(
+        self, bundle: Path, plan: SmokePlan, ros: RosInstall, processes: Processes, run_dir: Path
+    ) -> None:
+        self.bundle, self.plan, self.ros = bundle, plan, ros
+        self.processes, self.run_dir = processes, run_dir
+        self.status_dir = run_dir / "status"
+        self.plan_file = run_dir / "plan.json"
+        self.masters: dict[str, Master] = {}
+        self.environments: dict[str, dict[str, str]] = {}
+        self.launched: set[str] = set()
+        self.labels: dict[str, tuple[str, str | None]] = {}  # label -> (container, node)
+
+    def start(self) -> None:
+        """Start every container's roscore, then (as the masters come up) its endpoint,
+        data clients and roslaunch."""
+        description = self.plan.stand_in_description(self.status_dir)
+        self.plan_file.write_text(json.dumps(description, indent=1), encoding="utf-8")
+        executables = []
+        for container in self.plan.containers:
+            executables += _launch_executables(self.bundle / "ros1" / f"{container.name}.launch")
+        write_sandbox(self.run_dir / "sandbox", executables, self.ros.python)
+        (self.run_dir / "tmp").mkdir()
+        for container in self.plan.containers:
+            port = free_port()
+            uri = f"http://127.0.0.1:{port}/"
+            home = self.run_dir / "home" / container.name
+            env = self.processes.environment(
+                ROS_MASTER_URI=uri, ROS_IP="127.0.0.1", ROS_HOME=str(home),
+                ROS_LOG_DIR=str(home / "log"), TMPDIR=str(self.run_dir / "tmp"),
+                SPL_SMOKE_PLAN=str(self.plan_file), SPL_SMOKE_CONTAINER=container.name,
+            )  # fmt: skip
+            self.environments[container.name] = env
+            self.masters[container.name] = Master(uri)
+            argv = [self.ros.roscore, "-p", str(port), "--sigint-timeout=1", "--sigterm-timeout=1"]
+            self.processes.start(f"roscore-{container.name}", argv, env)
+
+    def _launch(self, container: ContainerPlan) -> None:
+        env = self.environments[container.name]
+        python = [self.ros.python, "-I", str(STANDIN)]
+        for node in container.nodes:
+            namespace = {"ROS_NAMESPACE": node.ros_name.rsplit("/", 1)[0] or "/"}
+            if node.role == "endpoint":
+                label = f"endpoint-{container.name}"
+                self.processes.start(label, [*python, "endpoint"], {**env, **namespace})
+            elif node.role == "data client":
+                label = f"client-{container.name}-{node.name}"
+                remaps = [f"{source}:={target}" for source, target in node.remaps]
+                argv = [*python, "node", f"__name:={node.name}", *remaps]
+                self.processes.start(label, argv, {**env, **namespace})
+            else:
+                continue
+            self.labels[label] = (container.name, node.ros_name)
+        sandbox = str(self.run_dir / "sandbox")
+        launch = self.bundle / "ros1" / f"{container.name}.launch"
+        argv = [self.ros.roslaunch, "--wait", "--skip-log-check", "--disable-title",
+                "--sigint-timeout=1", "--sigterm-timeout=1", str(launch.resolve())]  # fmt: skip
+        label = f"roslaunch-{container.name}"
+        self.labels[label] = (container.name, None)
+        launch_env = {**env, "ROS_PACKAGE_PATH": f"{sandbox}/share", "CMAKE_PREFIX_PATH": sandbox}
+        self.processes.start(label, argv, launch_env)
+        self.launched.add(container.name)
+
+    def watch(
+        self,
+        deadline: float,
+        settle: float,
+        start: float,
+        progress: Callable[[Progress], None] | None,
+    ) -> tuple[dict[str, list[Row]], list[str]]:
+        """Poll until every check passes, the graph has settled, or the deadline."""
+        last_change, before = start, None
+        while True:
+            now = time.monotonic()
+            for container in self.plan.containers:
+                name = container.name
+                if name not in self.launched and self.masters[name].up():
+                    self._launch(container)
+            rows, ready, stand_ins, given_up = self._snapshot()
+            problems = self._process_problems()
+            state = (ready, [r.ok for rs in rows.values() for r in rs])
+            if state != before:  # settling waits for a quiet spell, not a fixed time
+                before, last_change = state, now
+            if progress:
+                progress(Progress(now - start, len(self.launched), len(self.plan.containers),
+                                  ready, stand_ins, sum(r.ok for rs in rows.values() for r in rs),
+                                  sum(len(rs) for rs in rows.values())))  # fmt: skip
+            everything_ok = all(r.ok for rs in rows.values() for r in rs) and not problems
+            all_up = len(self.launched) == len(self.plan.containers)
+            settled = all_up and ready + given_up >= stand_ins and now - last_change >= settle
+            if (all_up and everything_ok and ready >= stand_ins) or settled or now >= deadline:
+                break
+            time.sleep(POLL)
+        if not all_up:
+            down = [c.name for c in self.plan.containers if c.name not in self.launched]
+            problems.append(f"roscore did not come up for {', '.join(down)} in time")
+        elif not everything_ok and now >= deadline:
+            problems.append(f"timed out after {now - start:.1f} s")
+        return rows, problems
+
+    def _snapshot(self) -> tuple[dict[str, list[Row]], int, int, int]:
+        rows, ready, stand_ins, given_up = {}, 0, 0, 0
+        dead = {self.labels[label] for label, _, _ in self.processes.exited()}
+        for container in self.plan.containers:
+            statuses = read_statuses(self.status_dir / container.name)
+            master = self.masters[container.name]
+            graph, params = None, {}
+            if container.name in self.launched:
+                try:
+                    graph = master.graph()
+                    params = {p.ros_name: master.param(p.ros_name)
+                              for n in container.nodes for p in n.parameters}  # fmt: skip
+                except (OSError, LookupError):
+                    graph = None
+            rows[container.name] = compare(container, graph, statuses, params)
+            for node in container.nodes:
+                stand_ins += 1
+                if statuses.get(node.ros_name, {}).get("ready"):
+                    ready += 1
+                elif (container.name, node.ros_name) in dead or (
+                    node.role == "launched" and (container.name, None) in dead
+                ):
+                    given_up += 1  # its process (or its roslaunch) ended: it never will be
+        return rows, ready, stand_ins, given_up
+
+    def _process_problems(self) -> list[str]:
+        """Processes that ended on their own: a rehearsal's processes run until the end,
+        except a roslaunch with no node to run (it exits 0 at once)."""
+        idle = {
+            (c.name, None) for c in self.plan.containers if not any(
+                n.role == "launched" for n in c.nodes)
+        }  # fmt: skip
+        return [
+            f"{label} exited with status {status}: {output}".strip()
+            for label, status, output in self.processes.exited()
+            if not (status == 0 and self.labels.get(label) in idle)
+        ]
+
+
+def _launch_executables(launch: Path) -> list[tuple[str, str]]:
+    """``(pkg, type)`` of every ``<node>`` of a roslaunch file (roslaunch itself reports
+    a file it cannot read)."""
+    try:
+        root = etree.parse(str(launch), etree.XMLParser(resolve_entities=False)).getroot()
+    except (OSError, etree.XMLSyntaxError):
+        return []
+    return [
+        (node.get("pkg", ""), node.get("type", ""))
+        for node in root.iter("node")
+        if node.get("pkg") and node.get("type")
+    ]

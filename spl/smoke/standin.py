@@ -1,0 +1,366 @@
+"""Stand-in ROS 1 processes of a smoke rehearsal, run by the Python that has rospy.
+
+This file is executed as a script by the interpreter of Debian's ROS 1 (``python3 -I
+standin.py ROLE``), never imported by spl itself: rospy is importable only there, and
+``-I`` keeps the virtual environment's packages and this folder off its ``sys.path``.
+It imports nothing from spl; everything it needs comes from the plan (JSON) the
+rehearsal wrote, named by ``SPL_SMOKE_PLAN``, and ``SPL_SMOKE_CONTAINER``.
+
+Roles:
+
+``node``
+    Stands in for one node of the product. roslaunch starts it in place of the real
+    executable, with the node name, namespace, remappings and parameters of the bundle's
+    launch file (data clients are started the same way by the rehearsal). It finds its
+    interfaces in the plan by the node name rospy resolved, creates each one under its
+    *interface name* so that only the remappings decide the ROS name, publishes,
+    subscribes, serves and calls, and records what it saw in a status file.
+``endpoint``
+    The container's Rapyuta endpoint: its interfaces use the model's ROS names and relay
+    data and service calls to the peer endpoints, exactly along the endpoint connections
+    of the resolved architecture (over XML-RPC on the loopback interface).
+
+Message and service classes are generated at run time with genpy from a synthetic
+definition registered under the model's type name, so the master shows the model's
+types and no message package needs to be installed. Every message carries the id of
+the publisher that produced it and the containers it crossed; every answer the id of
+the server that gave it.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import io
+import json
+import os
+import sys
+import threading
+import time
+import traceback
+import xmlrpc.client
+from socketserver import ThreadingMixIn
+from xmlrpc.server import SimpleXMLRPCServer
+
+import genpy.dynamic
+import rospy
+
+# Synthetic definitions; the constant makes the md5sum differ per type, so a subscriber
+# or client of another type is refused at connection time, as with real messages.
+MESSAGE = "string TYPE={}\nstring source\nstring route\nuint32 seq\n"
+REQUEST = "string TYPE={}\nstring client\nuint32 seq\n"
+RESPONSE = "string TYPE={}\nstring server\n"
+PUBLISH_PERIOD = 0.2  # seconds between two messages of a publisher
+CALL_PERIOD = 0.3  # seconds between two calls of a client
+
+_messages: dict[str, object] = {}
+_services: dict[str, object] = {}
+
+
+def _generated(type_name: str, definition: str):
+    return genpy.dynamic.generate_dynamic(type_name, definition)[type_name]
+
+
+def message_class(type_name: str):
+    """The class of messages of ``type_name``, generated once per process."""
+    if type_name not in _messages:
+        _messages[type_name] = _generated(type_name, MESSAGE.format(type_name))
+    return _messages[type_name]
+
+
+def service_class(type_name: str):
+    """A service class for ``type_name`` as rospy expects one (request and response
+    classes, type and md5sum), built from two generated messages."""
+    if type_name not in _services:
+        request_class = _generated(type_name + "Request", REQUEST.format(type_name))
+        response_class = _generated(type_name + "Response", RESPONSE.format(type_name))
+        digest = hashlib.md5((request_class._md5sum + response_class._md5sum).encode())
+        _services[type_name] = type(
+            "Service",
+            (),
+            {
+                "_type": type_name,
+                "_md5sum": digest.hexdigest(),
+                "_request_class": request_class,
+                "_response_class": response_class,
+            },
+        )
+    return _services[type_name]
+
+
+def serialize(message) -> bytes:
+    buffer = io.BytesIO()
+    message.serialize(buffer)
+    return buffer.getvalue()
+
+
+class Status:
+    """What this process saw, written atomically as JSON whenever it changes."""
+
+    def __init__(self, path: str, node: str) -> None:
+        self.path = path
+        self.lock = threading.Lock()
+        self.data: dict = {
+            "node": node,
+            "pid": os.getpid(),
+            "ready": False,
+            "error": None,
+            "interfaces": {},
+        }
+        self.written = ""
+
+    def interface(self, name: str, resolved: str) -> dict:
+        with self.lock:
+            entry = {
+                "resolved": resolved,
+                "received": {},
+                "answered_by": {},
+                "sent": 0,
+                "served": 0,
+                "last_error": None,
+            }
+            self.data["interfaces"][name] = entry
+            return entry
+
+    def count(self, entry: dict, key: str, who: str | None = None) -> None:
+        with self.lock:
+            if who is None:
+                entry[key] += 1
+            else:
+                entry[key][who] = entry[key].get(who, 0) + 1
+
+    def set(self, entry: dict, key: str, value) -> None:
+        with self.lock:
+            entry[key] = value
+
+    def write(self) -> None:
+        with self.lock:
+            text = json.dumps(self.data, sort_keys=True)
+        if text == self.written:
+            return
+        partial = self.path + ".partial"
+        with open(partial, "w", encoding="utf-8") as stream:
+            stream.write(text)
+        os.replace(partial, self.path)
+        self.written = text
+
+    def keep_writing(self) -> None:
+        def loop() -> None:
+            while not rospy.is_shutdown():
+                self.write()
+                time.sleep(0.1)
+
+        threading.Thread(target=loop, daemon=True).start()
+
+
+def load_plan() -> tuple[dict, str, dict]:
+    with open(os.environ["SPL_SMOKE_PLAN"], encoding="utf-8") as stream:
+        plan = json.load(stream)
+    container = os.environ["SPL_SMOKE_CONTAINER"]
+    return plan, container, plan["containers"][container]
+
+
+def status_path(plan: dict, container: str, node: str) -> str:
+    folder = os.path.join(plan["status_dir"], container)
+    os.makedirs(folder, exist_ok=True)
+    return os.path.join(folder, node.strip("/").replace("/", "__") + ".json")
+
+
+# --------------------------------------------------------------------------- node role
+
+
+def run_node() -> None:
+    rospy.init_node("spl_smoke_standin", argv=sys.argv)
+    plan, container, description = load_plan()
+    name = rospy.get_name()
+    status = Status(status_path(plan, container, name), name)
+    status.keep_writing()
+    node = description["nodes"].get(name)
+    if node is None:
+        status.data["error"] = f"{name} is not a node of container {container} in the model"
+        status.data["ready"] = True
+        rospy.spin()
+        return
+    keep = []  # rospy objects must stay referenced for the life of the process
+    for interface in node["interfaces"]:
+        keep.append(_node_interface(interface, node["id"], container, status))
+    status.data["ready"] = True
+    rospy.spin()
+
+
+def _node_interface(interface: dict, node_id: str, container: str, status: Status):
+    name, kind, type_name = interface["name"], interface["kind"], interface["type"]
+    own_id = f"{node_id}.{name}"
+    if kind == "publisher":
+        publisher = rospy.Publisher(name, message_class(type_name), queue_size=10)
+        entry = status.interface(name, publisher.resolved_name)
+        _publish_forever(publisher, own_id, container, status, entry)
+        return publisher
+    if kind == "subscriber":
+        entry = status.interface(name, rospy.resolve_name(name))
+
+        def received(message) -> None:
+            status.count(entry, "received", message.source)
+
+        return rospy.Subscriber(name, message_class(type_name), received)
+    if kind == "server":
+        cls = service_class(type_name)
+        entry = status.interface(name, rospy.resolve_name(name))
+
+        def answer(request):
+            status.count(entry, "served")
+            return cls._response_class(server=own_id)
+
+        return rospy.Service(name, cls, answer)
+    entry = status.interface(name, rospy.resolve_name(name))
+    _call_forever(rospy.ServiceProxy(name, service_class(type_name)), own_id, status, entry)
+    return None
+
+
+def _publish_forever(publisher, own_id: str, container: str, status: Status, entry) -> None:
+    def loop() -> None:
+        seq = 0
+        while not rospy.is_shutdown():
+            seq += 1
+            try:
+                publisher.publish(publisher.data_class(source=own_id, route=container, seq=seq))
+                status.count(entry, "sent")
+            except rospy.ROSException:
+                return  # shutting down
+            time.sleep(PUBLISH_PERIOD)
+
+    threading.Thread(target=loop, daemon=True).start()
+
+
+def _call_forever(proxy, own_id: str, status: Status, entry) -> None:
+    def loop() -> None:
+        seq = 0
+        while not rospy.is_shutdown():
+            seq += 1
+            try:
+                response = proxy(proxy.request_class(client=own_id, seq=seq))
+                status.count(entry, "answered_by", response.server)
+            except (rospy.ServiceException, rospy.ROSException, OSError) as error:
+                status.set(entry, "last_error", str(error).splitlines()[0][:200])
+            time.sleep(CALL_PERIOD)
+
+    threading.Thread(target=loop, daemon=True).start()
+
+
+# ----------------------------------------------------------------------- endpoint role
+
+
+class _Server(ThreadingMixIn, SimpleXMLRPCServer):
+    daemon_threads = True
+
+
+def run_endpoint() -> None:
+    plan, container, description = load_plan()
+    node = description["endpoint"]
+    rospy.init_node("endpoint", argv=sys.argv[:1])  # namespace: ROS_NAMESPACE, as roslaunch
+    name = rospy.get_name()
+    status = Status(status_path(plan, container, name), name)
+    relay = _Relay(plan, container, status)
+    for interface in node["interfaces"]:
+        relay.add(interface)
+    server = _Server(("127.0.0.1", 0), logRequests=False, allow_none=True)
+    server.register_function(relay.deliver, "deliver")
+    server.register_function(relay.call, "call")
+    threading.Thread(target=server.serve_forever, daemon=True).start()
+    status.data["port"] = server.server_address[1]
+    status.data["ready"] = True
+    status.keep_writing()
+    rospy.spin()
+    server.shutdown()
+
+
+class _Relay:
+    """Forwards along the endpoint connections: topic data from a ``sub_`` interface to
+    the peer's ``pub_``, service calls from a ``srv_`` interface to the peer's ``cli_``."""
+
+    def __init__(self, plan: dict, container: str, status: Status) -> None:
+        self.plan, self.container, self.status = plan, container, status
+        self.publishers: dict[str, object] = {}
+        self.proxies: dict[str, object] = {}
+        self.entries: dict[str, dict] = {}
+        self.keep: list = []
+
+    def add(self, interface: dict) -> None:
+        name, kind, type_name = interface["name"], interface["kind"], interface["type"]
+        ros_name, forward = interface["ros_name"], interface.get("forward")
+        entry = self.entries[name] = self.status.interface(name, rospy.resolve_name(ros_name))
+        if kind == "publisher":
+            self.publishers[name] = rospy.Publisher(
+                ros_name, message_class(type_name), queue_size=10
+            )
+        elif kind == "subscriber":
+
+            def received(message, entry=entry, forward=forward) -> None:
+                self.status.count(entry, "received", message.source)
+                visited = message.route.split(",")
+                if forward is None or forward[0] in visited:
+                    return  # no connection, or it would bring data back: drop
+                message.route = ",".join([*visited, forward[0]])
+                try:
+                    self._peer(forward[0]).deliver(forward[1], serialize(message))
+                    self.status.count(entry, "sent")
+                except (OSError, xmlrpc.client.Error, KeyError) as error:
+                    self.status.set(entry, "last_error", f"relay: {error}"[:200])
+
+            self.keep.append(rospy.Subscriber(ros_name, message_class(type_name), received))
+        elif kind == "server":
+            cls = service_class(type_name)
+
+            def answer(request, entry=entry, forward=forward, cls=cls):
+                self.status.count(entry, "served")
+                if forward is None:
+                    raise rospy.ServiceException("no endpoint connection")
+                data = self._peer(forward[0]).call(forward[1], serialize(request))
+                return cls._response_class().deserialize(data.data)
+
+            self.keep.append(rospy.Service(ros_name, cls, answer))
+        else:
+            self.proxies[name] = rospy.ServiceProxy(ros_name, service_class(type_name))
+
+    def _peer(self, container: str) -> xmlrpc.client.ServerProxy:
+        path = status_path(
+            self.plan, container, self.plan["containers"][container]["endpoint"]["ros_name"]
+        )
+        with open(path, encoding="utf-8") as stream:
+            port = json.load(stream)["port"]  # KeyError until the peer is up
+        return xmlrpc.client.ServerProxy(f"http://127.0.0.1:{port}/", allow_none=True)
+
+    def deliver(self, name: str, data: xmlrpc.client.Binary) -> bool:
+        publisher = self.publishers[name]
+        message = publisher.data_class().deserialize(data.data)
+        publisher.publish(message)
+        self.status.count(self.entries[name], "sent")
+        return True
+
+    def call(self, name: str, data: xmlrpc.client.Binary) -> xmlrpc.client.Binary:
+        proxy = self.proxies[name]
+        entry = self.entries[name]
+        try:
+            response = proxy(proxy.request_class().deserialize(data.data))
+        except (rospy.ServiceException, rospy.ROSException) as error:
+            self.status.set(entry, "last_error", str(error).splitlines()[0][:200])
+            raise
+        self.status.count(entry, "answered_by", response.server)
+        return xmlrpc.client.Binary(serialize(response))
+
+
+def main() -> None:
+    role = sys.argv[1] if len(sys.argv) > 1 else ""
+    try:
+        if role == "node":
+            run_node()
+        elif role == "endpoint":
+            run_endpoint()
+        else:
+            sys.exit(f"standin.py: unknown role {role!r} (node or endpoint)")
+    except Exception:
+        traceback.print_exc()
+        sys.exit(1)
+
+
+if __name__ == "__main__":
+    main()
