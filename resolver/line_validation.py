@@ -12,6 +12,11 @@ The models of a line are parsed once. With ``jobs > 1`` the products run in a po
 forked processes that inherit the parsed lines (and their SAT formulas) from the parent,
 so nothing is parsed or pickled per product; results come back in submission order, so
 the report does not depend on scheduling.
+
+A caller may add a check of the generated files (``rehearse``: ``spl validate --smoke``
+passes the live ROS rehearsal); its problems fail the product like any other and its
+summary line goes into the report. The check is handed in, so this module does not
+depend on the application layer that implements it.
 """
 
 from __future__ import annotations
@@ -51,6 +56,7 @@ class CaseResult:
     warnings: tuple[str, ...] = ()
     seconds: float = 0.0
     skipped: tuple[str, ...] = ()  # "architecture.svg not written: <reason>" lines
+    checked: str = ""  # the summary line of the caller's extra check (smoke rehearsal)
 
     @property
     def passed(self) -> bool:
@@ -76,8 +82,9 @@ def load_lines(directories: Iterable[Path]) -> list[LoadedLine]:
             line = load_product_line(directory)
             line.formula.backbone()  # computed here, inherited by every worker
         except ModelError as exc:
-            loaded.append(LoadedLine(Path(directory), name, None,
-                                     tuple(str(d) for d in exc.diagnostics)))
+            loaded.append(
+                LoadedLine(Path(directory), name, None, tuple(str(d) for d in exc.diagnostics))
+            )
             continue
         loaded.append(LoadedLine(Path(directory), name, line))
     return loaded
@@ -125,8 +132,15 @@ def _listed_name(path: Path) -> str:
     return name if isinstance(name, str) and name.isidentifier() else path.stem
 
 
-def run_case(line: ProductLine, classname: str, case: ProductCase) -> CaseResult:
-    """Resolve one product, generate its bundle in memory and validate every file."""
+# An extra check of a valid bundle's files: (problems, one summary line).
+Rehearsal = Callable[[dict[str, bytes]], tuple[list[str], str]]
+
+
+def run_case(
+    line: ProductLine, classname: str, case: ProductCase, rehearse: Rehearsal | None = None
+) -> CaseResult:
+    """Resolve one product, generate its bundle in memory and validate every file;
+    then, when the files are valid, run ``rehearse`` on them."""
     from spl.generators.bundle import build_bundle
     from spl.generators.validation import validate_bundle
     from spl.resolver.engine import resolve
@@ -137,53 +151,81 @@ def run_case(line: ProductLine, classname: str, case: ProductCase) -> CaseResult
         if case.selection_file is not None:
             selection = load_selection_file(case.selection_file)
         else:
-            selection = selection_from_list(",".join(case.features),
-                                            name="_".join(case.features))
+            selection = selection_from_list(",".join(case.features), name="_".join(case.features))
         product = resolve(line, selection).product
         bundle = build_bundle(product)
         problems = validate_bundle(bundle.files)
         warnings = tuple(str(w) for w in product.warnings)
+        checked = ""
+        if rehearse is not None and not problems:
+            found, checked = rehearse(bundle.files)
+            problems += found
     except ModelError as exc:
-        return CaseResult(classname, case.name, "failed",
-                          tuple(str(d) for d in exc.diagnostics if d.severity == "error"),
-                          seconds=time.perf_counter() - start)
+        return CaseResult(
+            classname,
+            case.name,
+            "failed",
+            tuple(str(d) for d in exc.diagnostics if d.severity == "error"),
+            seconds=time.perf_counter() - start,
+        )
     except Exception as exc:  # an spl bug: reported as this product's error, run goes on
-        return CaseResult(classname, case.name, "error",
-                          (f"internal error: {type(exc).__name__}: {exc}",),
-                          seconds=time.perf_counter() - start)
+        return CaseResult(
+            classname,
+            case.name,
+            "error",
+            (f"internal error: {type(exc).__name__}: {exc}",),
+            seconds=time.perf_counter() - start,
+        )
     outcome: Outcome = "failed" if problems else "passed"
-    return CaseResult(classname, case.name, outcome, tuple(problems), warnings,
-                      time.perf_counter() - start, tuple(bundle.skip_warnings()))
+    return CaseResult(
+        classname,
+        case.name,
+        outcome,
+        tuple(problems),
+        warnings,
+        time.perf_counter() - start,
+        tuple(bundle.skip_warnings()),
+        checked,
+    )
 
 
 # The lines of the current run, set before the pool forks: workers read them from here.
 _LINES: list[LoadedLine] = []
+_REHEARSE: Rehearsal | None = None
 
 
 def _run_in_worker(case: ProductCase) -> CaseResult:
     loaded = _LINES[case.line]
     assert loaded.line is not None
-    return run_case(loaded.line, loaded.name, case)
+    return run_case(loaded.line, loaded.name, case, _REHEARSE)
 
 
-def run_cases(lines: list[LoadedLine], cases: list[ProductCase], jobs: int = 1,
-              on_result: Callable[[CaseResult], None] | None = None) -> list[CaseResult]:
+def run_cases(
+    lines: list[LoadedLine],
+    cases: list[ProductCase],
+    jobs: int = 1,
+    on_result: Callable[[CaseResult], None] | None = None,
+    rehearse: Rehearsal | None = None,
+) -> list[CaseResult]:
     """Every case's result, in the order of ``cases`` (plus one failing case per line
     that did not load, first). ``jobs > 1`` uses forked worker processes."""
-    results = [CaseResult(loaded.name, LINE_CASE, "failed", loaded.problems)
-               for loaded in lines if loaded.line is None]
+    results = [
+        CaseResult(loaded.name, LINE_CASE, "failed", loaded.problems)
+        for loaded in lines
+        if loaded.line is None
+    ]
     for result in results:
         if on_result:
             on_result(result)
-    global _LINES
-    _LINES = lines
+    global _LINES, _REHEARSE
+    _LINES, _REHEARSE = lines, rehearse
     try:
         for result in _results(cases, jobs):
             results.append(result)
             if on_result:
                 on_result(result)
     finally:
-        _LINES = []
+        _LINES, _REHEARSE = [], None
     return results
 
 
@@ -213,27 +255,42 @@ def junit_xml(results: list[CaseResult]) -> bytes:
     suites: dict[str, list[CaseResult]] = {}
     for result in results:
         suites.setdefault(result.classname, []).append(result)
-    root = etree.Element("testsuites", name="spl validate", tests=str(len(results)),
-                         failures=str(_count(results, "failed")),
-                         errors=str(_count(results, "error")))
+    root = etree.Element(
+        "testsuites",
+        name="spl validate",
+        tests=str(len(results)),
+        failures=str(_count(results, "failed")),
+        errors=str(_count(results, "error")),
+    )
     for suite_name, cases in suites.items():
-        suite = etree.SubElement(root, "testsuite", name=_xml_text(suite_name),
-                                 tests=str(len(cases)),
-                                 failures=str(_count(cases, "failed")),
-                                 errors=str(_count(cases, "error")), skipped="0")
+        suite = etree.SubElement(
+            root,
+            "testsuite",
+            name=_xml_text(suite_name),
+            tests=str(len(cases)),
+            failures=str(_count(cases, "failed")),
+            errors=str(_count(cases, "error")),
+            skipped="0",
+        )
         for result in cases:
-            case = etree.SubElement(suite, "testcase", classname=_xml_text(result.classname),
-                                    name=_xml_text(result.name))
+            case = etree.SubElement(
+                suite,
+                "testcase",
+                classname=_xml_text(result.classname),
+                name=_xml_text(result.name),
+            )
             if result.outcome != "passed":
                 first = result.messages[0] if result.messages else "failed"
                 problem = etree.SubElement(
-                    case, "failure" if result.outcome == "failed" else "error",
+                    case,
+                    "failure" if result.outcome == "failed" else "error",
                     message=_xml_text(first),
-                    type="ModelError" if result.outcome == "failed" else "InternalError")
+                    type="ModelError" if result.outcome == "failed" else "InternalError",
+                )
                 problem.text = _xml_text("\n".join(result.messages))
-            if result.warnings or result.skipped:
-                etree.SubElement(case, "system-out").text = _xml_text(
-                    "\n".join(result.warnings + result.skipped))
+            notes = result.warnings + result.skipped + ((result.checked,) if result.checked else ())
+            if notes:
+                etree.SubElement(case, "system-out").text = _xml_text("\n".join(notes))
     return etree.tostring(root, xml_declaration=True, encoding="UTF-8", pretty_print=True)
 
 
@@ -244,8 +301,12 @@ def _count(results: list[CaseResult], outcome: str) -> int:
 def _xml_text(text: str) -> str:
     """Messages and folder names are user input; characters XML 1.0 cannot carry are
     shown escaped instead of making lxml refuse the whole report."""
-    return "".join(c if c in "\t\n\r" or (" " <= c <= "\ud7ff") or ("\ue000" <= c <= "\ufffd")
-                   or c > "\uffff" else f"\\x{ord(c):02x}" for c in text)
+    return "".join(
+        c
+        if c in "\t\n\r" or (" " <= c <= "\ud7ff") or ("\ue000" <= c <= "\ufffd") or c > "\uffff"
+        else f"\\x{ord(c):02x}"
+        for c in text
+    )
 
 
 def summary(results: list[CaseResult]) -> str:
@@ -256,5 +317,8 @@ def summary(results: list[CaseResult]) -> str:
 def describe(result: CaseResult) -> list[str]:
     """Plain-text lines for one result (CI logs): a status line, then its messages."""
     head = {"passed": "ok  ", "failed": "FAIL", "error": "ERROR"}[result.outcome]
-    return [f"{head} {result.classname} :: {result.name}",
-            *(f"    {m}" for m in result.messages)]
+    checked = f"  ({result.checked})" if result.checked else ""
+    return [
+        f"{head} {result.classname} :: {result.name}{checked}",
+        *(f"    {m}" for m in result.messages),
+    ]

@@ -15,20 +15,51 @@ import click
 
 
 @click.command("validate")
-@click.argument("directories", metavar="DIR...", nargs=-1, required=True,
-                type=click.Path(exists=True, file_okay=False, path_type=Path))
-@click.option("--all", "all_products", is_flag=True,
-              help="also every valid product of the feature model")
-@click.option("--sample", metavar="t=N",
-              help="also a t-wise covering array of the feature model (t = 1, 2 or 3)")
-@click.option("--junit", type=click.Path(dir_okay=False, path_type=Path),
-              help="write a JUnit XML report (one test case per product)")
-@click.option("--jobs", "-j", type=click.IntRange(min=0), default=1, show_default=True,
-              help="worker processes (0: one per CPU)")
-def command(directories: tuple[Path, ...], all_products: bool, sample: str | None,
-            junit: Path | None, jobs: int) -> None:
+@click.argument(
+    "directories",
+    metavar="DIR...",
+    nargs=-1,
+    required=True,
+    type=click.Path(exists=True, file_okay=False, path_type=Path),
+)
+@click.option(
+    "--all", "all_products", is_flag=True, help="also every valid product of the feature model"
+)
+@click.option(
+    "--sample",
+    metavar="t=N",
+    help="also a t-wise covering array of the feature model (t = 1, 2 or 3)",
+)
+@click.option(
+    "--junit",
+    type=click.Path(dir_okay=False, path_type=Path),
+    help="write a JUnit XML report (one test case per product)",
+)
+@click.option(
+    "--jobs",
+    "-j",
+    type=click.IntRange(min=0),
+    default=1,
+    show_default=True,
+    help="worker processes (0: one per CPU)",
+)
+@click.option(
+    "--smoke",
+    is_flag=True,
+    help="also rehearse each valid bundle live with ROS 1 (as spl smoke does)",
+)
+def command(
+    directories: tuple[Path, ...],
+    all_products: bool,
+    sample: str | None,
+    junit: Path | None,
+    jobs: int,
+    smoke: bool,
+) -> None:
     """Resolve every product of the product lines, generate and validate all of its
-    artifacts, and report one test case per product (products/*.yaml always included)."""
+    artifacts, and report one test case per product (products/*.yaml always included).
+    With --smoke every valid bundle is also started with the real ROS 1 and its live
+    graph compared with the model (exit 2 when ROS 1 is not installed)."""
     from spl.commands.products import parse_sample
     from spl.resolver.line_validation import (
         describe,
@@ -39,6 +70,7 @@ def command(directories: tuple[Path, ...], all_products: bool, sample: str | Non
         summary,
     )
 
+    rehearse = _rehearsal() if smoke else None
     t = parse_sample(sample)
     if all_products and t is not None:
         raise click.UsageError("give one of --all and --sample")
@@ -52,17 +84,20 @@ def command(directories: tuple[Path, ...], all_products: bool, sample: str | Non
     total = len(cases) + sum(1 for loaded in lines if loaded.line is None)
     if sys.stderr.isatty():
         with click.progressbar(length=total, label="validating", file=sys.stderr) as bar:
-            results = run_cases(lines, cases, jobs, on_result=lambda _: bar.update(1))
+            results = run_cases(
+                lines, cases, jobs, on_result=lambda _: bar.update(1), rehearse=rehearse
+            )
         for result in results:
             if not result.passed:
                 for text in describe(result):
                     click.echo(text)
     else:
+
         def show(result) -> None:
             for text in describe(result):
                 click.echo(text)
 
-        results = run_cases(lines, cases, jobs, on_result=show)
+        results = run_cases(lines, cases, jobs, on_result=show, rehearse=rehearse)
     if junit is not None:
         data = junit_xml(results)
         junit.parent.mkdir(parents=True, exist_ok=True)
@@ -74,3 +109,17 @@ def command(directories: tuple[Path, ...], all_products: bool, sample: str | Non
     click.echo(summary(results))
     if not all(result.passed for result in results):
         sys.exit(1)
+
+
+def _rehearsal():
+    """The live check of ``--smoke``, bound to the ROS 1 installation (found once)."""
+    from functools import partial
+
+    from spl.smoke.processes import RosMissing, find_ros
+    from spl.smoke.rehearsal import rehearse_files
+
+    try:
+        return partial(rehearse_files, ros=find_ros())
+    except RosMissing as exc:
+        click.echo(f"error: {exc}", err=True)
+        sys.exit(2)

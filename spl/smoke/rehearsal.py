@@ -113,6 +113,24 @@ def run_smoke(
     return SmokeResult(plan.product, str(bundle), time.monotonic() - start, rows, problems)
 
 
+def rehearse_files(
+    files: dict[str, bytes], ros: RosInstall, timeout: float = DEFAULT_TIMEOUT
+) -> tuple[list[str], str]:
+    """The check ``spl validate --smoke`` runs on every valid bundle: the bundle is
+    written to a temporary folder and rehearsed. Returns the failures (``smoke: ...``)
+    and the verdict line."""
+    from spl.generators.bundle import write_bundle
+
+    with tempfile.TemporaryDirectory(prefix="spl-validate-smoke-") as folder:
+        write_bundle(files, Path(folder) / "bundle")
+        result = run_smoke(Path(folder) / "bundle", timeout=timeout, ros=ros)
+    checks = sum(len(rows) for rows in result.rows.values())
+    if result.passed:
+        return [], f"smoke: all {checks} checks ok in {result.seconds:.1f} s"
+    failures = [f"smoke: {failure}" for failure in result.failures()]
+    return failures, f"smoke: FAILED, {len(failures)} of {checks} checks in {result.seconds:.1f} s"
+
+
 class _Rehearsal:
     def __init__(
         self, bundle: Path, plan: SmokePlan, ros: RosInstall, processes: Processes, run_dir: Path

@@ -1,0 +1,170 @@
+"""``spl smoke`` with the real ROS 1 (Debian's roscore, roslaunch and rospy).
+
+Shipped products come up green; two planted faults (a launch file remapping a
+subscriber to a wrong topic, a bundle missing one bridge) fail, naming the node and
+interface; Ctrl-C stops everything; and after every run no roscore, rosmaster, rosout,
+roslaunch or stand-in of that run is still alive (see ``smoke_runs``).
+"""
+
+from __future__ import annotations
+
+import signal
+import subprocess
+import time
+import uuid
+from pathlib import Path
+
+import pytest
+from smoke_runs import (
+    ROOT,
+    leftovers,
+    rows_by_interface,
+    run_spl,
+    smoke_json,
+    spl_command,
+    tagged_env,
+    write_product,
+)
+
+MAPPING = ROOT / "product_lines" / "mapping3d"
+DATA = ROOT / "product_lines" / "data_acquisition"
+PAPER = "YouBot,Stereo,AdditionalPC,Room"
+
+
+@pytest.fixture(scope="module")
+def paper_bundle(tmp_path_factory) -> Path:
+    return write_product(MAPPING, PAPER, tmp_path_factory.mktemp("paper") / "bundle")
+
+
+def test_paper_product_runs_green(paper_bundle):
+    status, report = smoke_json(paper_bundle)
+    assert status == 0 and report["passed"], report["failures"]
+    assert report["product"] == "YouBot_Stereo_AdditionalPC_Room"
+    rows = rows_by_interface(report)
+    assert all(row["ok"] for row in rows.values())
+    # every node of the resolved model is there, each in its container
+    nodes = {(c["name"], r["node"]) for c in report["containers"] for r in c["rows"]}
+    assert {("Robot", "MapOptimizer"), ("Robot", "RGBCameraL"), ("Robot", "endpoint"),
+            ("MappingCloud", "VisualOdometry"), ("MappingCloud", "Database"),
+            ("MappingCloud", "endpoint")} <= nodes  # fmt: skip
+    assert ("MappingCloud", "MapOptimizer") not in nodes  # migrated to the robot
+    # data crossed containers through the relays, from the modelled publisher
+    odometry = rows["MappingCloud.VisualOdometry.rgb"]
+    assert odometry["topic"] == "/camera/rgb/image"
+    assert odometry["seen"].startswith("from Robot.StereoVision.rgb (")
+    # a migrated node's calls reach the cloud server behind the endpoint stand-in
+    calls = rows["Robot.MapOptimizer.add_keyframe"]
+    assert calls["seen"].startswith("answered by MappingCloud.Database.add_keyframe (")
+    # the master registered the model's types; parameters came from the launch file
+    assert rows["Robot.StereoVision.rgb"]["seen"].startswith("publishes sensor_msgs/Image")
+    assert rows["Robot.MapOptimizer.param CameraInfo"]["seen"] == (
+        "'package://stereo_cam/calibration/stereo.yaml'"
+    )
+
+
+@pytest.mark.parametrize(
+    "product", sorted((DATA / "products").glob("*.yaml")), ids=lambda p: p.stem
+)
+def test_data_acquisition_products_run_green(product, tmp_path):
+    bundle = write_product(DATA, product, tmp_path / "bundle")
+    status, report = smoke_json(bundle)
+    assert status == 0 and report["passed"], report["failures"]
+    rows = rows_by_interface(report)
+    # the ROS 2 data clients take part, named and remapped as the ROS 2 launch file says
+    clients = [key for key in rows if key.split(".")[1].endswith(("Writer", "Reader"))]
+    assert clients and all(rows[key]["ok"] for key in clients)
+
+
+def test_subscriber_remapped_to_a_wrong_topic_fails_naming_it(paper_bundle, tmp_path):
+    bundle = tmp_path / "bundle"
+    subprocess.run(["cp", "-r", str(paper_bundle), str(bundle)], check=True)
+    launch = bundle / "ros1" / "Robot.launch"
+    text = launch.read_text(encoding="utf-8")
+    good = '<remap from="left" to="/stereo/left/image_raw"/>'
+    assert good in text
+    launch.write_text(text.replace(good, '<remap from="left" to="/stereo/left/wrong"/>'))
+    status, report = smoke_json(bundle)
+    assert status == 1 and not report["passed"]
+    failed = [(c["name"], r["node"], r["interface"], r["topic"])
+              for c in report["containers"] for r in c["rows"] if not r["ok"]]  # fmt: skip
+    assert failed == [("Robot", "StereoVision", "left", "/stereo/left/image_raw"),
+                      ("Robot", "StereoVision", "left", "/stereo/left/wrong")]  # fmt: skip
+    assert any("Robot.StereoVision.left (/stereo/left/image_raw): expected from "
+               "RGBCameraL.image; seen nothing received; bound to /stereo/left/wrong" in f
+               for f in report["failures"])  # fmt: skip
+    assert any("(/stereo/left/wrong): subscribes sensor_msgs/Image, not in the model" in f
+               for f in report["failures"])  # fmt: skip
+
+
+def test_missing_bridge_starves_the_subscriber_behind_it(paper_bundle, tmp_path):
+    bundle = tmp_path / "bundle"
+    subprocess.run(["cp", "-r", str(paper_bundle), str(bundle)], check=True)
+    model = bundle / "resolved.tsm"
+    bridge = "bridge Robot.RGBImg -> MappingCloud.RGBImg\n"
+    text = model.read_text(encoding="utf-8")
+    assert bridge in text
+    model.write_text(text.replace(bridge, ""), encoding="utf-8")
+    result = run_spl(["smoke", str(bundle), "--timeout", "90"])
+    assert result.returncode == 1, result.stdout + result.stderr
+    lines = result.stdout.splitlines()
+    failing = [line.split() for line in lines if line.startswith("  FAIL")]
+    assert [words[1:3] for words in failing] == [["VisualOdometry", "rgb"]]
+    assert (
+        "  MappingCloud.VisualOdometry.rgb (/camera/rgb/image): expected data, but no "
+        "modelled publisher feeds it; seen nothing received" in lines
+    )
+    assert lines[-2].startswith("smoke YouBot_Stereo_AdditionalPC_Room: FAILED, 1 problem in")
+
+
+def test_without_ros_exits_2_with_the_packages_to_install(paper_bundle, tmp_path):
+    (tmp_path / "bin").mkdir()  # a PATH with no roscore
+    result = run_spl(["smoke", str(paper_bundle)], PATH=str(tmp_path / "bin"))
+    assert result.returncode == 2
+    assert result.stderr == (
+        "error: roscore not found: apt-get install ros-core python3-rospy "
+        "python3-roslaunch python3-rostopic\n"
+    )
+    result = run_spl(["validate", str(MAPPING), "--smoke"], PATH=str(tmp_path / "bin"))
+    assert result.returncode == 2 and "roscore not found" in result.stderr
+
+
+def test_ctrl_c_stops_every_process(paper_bundle):
+    tag = uuid.uuid4().hex
+    process = subprocess.Popen(
+        [*spl_command(), "smoke", str(paper_bundle)], env=tagged_env(tag),
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+    )  # fmt: skip
+    deadline = time.monotonic() + 60
+    while not any("standin.py" in c for c in leftovers(tag)) and time.monotonic() < deadline:
+        time.sleep(0.1)  # wait until the graph is starting: masters and stand-ins run
+    assert any("rosmaster" in c for c in leftovers(tag))
+    process.send_signal(signal.SIGINT)
+    _, err = process.communicate(timeout=60)
+    assert process.returncode == 130, err
+    assert "interrupted; every process it started has been stopped" in err
+    assert "Traceback" not in err
+    assert leftovers(tag) == []
+
+
+def test_validate_smoke_reports_each_product_in_junit(tmp_path):
+    """The launch test line: 'Fleet' alone leaves Navigator.map without a publisher
+    (the resolver warns; live, the subscriber starves), the other two run green."""
+    junit = tmp_path / "report.xml"
+    line = ROOT / "tests" / "models" / "launch"
+    result = run_spl(["validate", str(line), "--all", "--smoke", "--jobs", "2",
+                      "--junit", str(junit)])  # fmt: skip
+    assert result.returncode == 1, result.stdout + result.stderr
+    from lxml import etree
+
+    cases = {c.get("name"): c for c in etree.parse(str(junit)).iter("testcase")}
+    assert sorted(cases) == ["CloudMapping", "CloudMapping,OnboardSlam", "Fleet"]
+    failure = cases["Fleet"].find("failure")
+    assert failure is not None
+    assert (
+        "smoke: Scout.Navigator.map (/map): expected data, but no modelled publisher "
+        "feeds it; seen nothing received" in failure.text
+    )
+    for name in ("CloudMapping", "CloudMapping,OnboardSlam"):
+        assert cases[name].find("failure") is None
+        assert "smoke: all " in cases[name].findtext("system-out")
+    assert "2 passed, 1 failed" in result.stdout
