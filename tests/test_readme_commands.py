@@ -47,3 +47,13 @@ def test_ci_script_runs_the_readme_test_command_then_validates_every_line() -> N
     assert f"{command} || exit" in script.splitlines()
     assert re.search(r"spl check \"\$line\"", script)
     assert re.search(r"spl validate product_lines/\*/ --all .*--junit", script)
+
+
+def test_ci_installs_what_spl_smoke_asks_for_and_smokes_every_listed_product() -> None:
+    from spl.smoke.processes import ROS_MISSING
+
+    script = (ROOT / ".ci" / "run").read_text(encoding="utf-8")
+    (install,) = [line for line in script.splitlines() if "apt-get install" in line]
+    packages = ROS_MISSING.split("apt-get install ", 1)[1].split()
+    assert set(packages) | {"graphviz", "postgresql"} <= set(install.split())
+    assert re.search(r"spl validate product_lines/\*/ --smoke .*--junit", script)

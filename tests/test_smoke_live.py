@@ -17,6 +17,7 @@ from pathlib import Path
 import pytest
 from smoke_runs import (
     ROOT,
+    TAG,
     leftovers,
     rows_by_interface,
     run_spl,
@@ -168,3 +169,46 @@ def test_validate_smoke_reports_each_product_in_junit(tmp_path):
         assert cases[name].find("failure") is None
         assert "smoke: all " in cases[name].findtext("system-out")
     assert "2 passed, 1 failed" in result.stdout
+
+
+def test_a_master_it_did_not_start_is_never_used(tmp_path, monkeypatch):
+    """When the port picked for a container's roscore is taken by someone else's master
+    (ours then refuses to start), the rehearsal starts its own on another port and
+    leaves the foreign master untouched."""
+    import os
+
+    from spl.smoke import rehearsal
+    from spl.smoke.live import Master
+    from spl.smoke.processes import free_port
+
+    bundle = write_product(ROOT / "tests" / "models" / "launch", "CloudMapping", tmp_path / "b")
+    port = free_port()
+    foreign = subprocess.Popen(
+        ["rosmaster", "--core", "-p", str(port)],
+        env={**os.environ, "ROS_HOME": str(tmp_path / "foreign")},
+        stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True,
+    )  # fmt: skip
+    try:
+        master = Master(f"http://127.0.0.1:{port}/")
+        deadline = time.monotonic() + 30
+        while master.pid() != foreign.pid and time.monotonic() < deadline:
+            time.sleep(0.1)
+        assert master.pid() == foreign.pid
+        picks = iter([port])
+        given = []
+
+        def pick() -> int:
+            given.append(next(picks, None) or free_port())
+            return given[-1]
+
+        monkeypatch.setattr(rehearsal, "free_port", pick)
+        tag = uuid.uuid4().hex
+        monkeypatch.setenv(TAG, tag)
+        result = rehearsal.run_smoke(bundle, timeout=90)
+        assert result.passed, result.failures()
+        assert len(given) == 3 and given[0] == port  # two containers, one started again
+        assert leftovers(tag) == []
+        assert master.graph().nodes() == set()  # nothing of the rehearsal came here
+    finally:
+        foreign.kill()
+        foreign.wait()

@@ -47,12 +47,12 @@ class Master:
             raise LookupError(message)
         return value
 
-    def up(self) -> bool:
+    def pid(self) -> int | None:
+        """The process id of the master answering at this URI, or None when none does."""
         try:
-            self._call("getSystemState")
-        except (OSError, xmlrpc.client.Error, LookupError):
-            return False
-        return True
+            return int(self._call("getPid"))
+        except (OSError, xmlrpc.client.Error, LookupError, ValueError):
+            return None
 
     def graph(self) -> LiveGraph:
         publishers, subscribers, services = self._call("getSystemState")

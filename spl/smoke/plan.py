@@ -139,7 +139,7 @@ def load_plan(bundle: Path) -> SmokePlan:
 
     model = bundle / "resolved.tsm"
     if not model.is_file():
-        raise ModelError([Diagnostic(Location(str(model)), "not found: not an spl bundle")])
+        raise ModelError([Diagnostic(None, f"{bundle} is not an spl bundle: no resolved.tsm")])
     system = parse_text(model.read_text(encoding="utf-8"), str(model))
     product = system.name
     manifest = bundle / "manifest.json"

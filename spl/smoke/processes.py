@@ -138,6 +138,7 @@ class Processes:
         self.run_dir = run_dir
         self.token = uuid.uuid4().hex
         self.children: list[tuple[str, subprocess.Popen[bytes], Path]] = []
+        self.retired: set[int] = set()
 
     def environment(self, **settings: str) -> dict[str, str]:
         """The caller's environment without its ROS graph settings, with the marker."""
@@ -157,11 +158,18 @@ class Processes:
         self.children.append((label, process, log))
         return process
 
+    def retire(self, process: subprocess.Popen[bytes]) -> None:
+        """A child that was replaced: stopped if still running, no longer reported by
+        :meth:`exited` (its own children are still swept by :meth:`stop`)."""
+        with contextlib.suppress(ProcessLookupError):
+            process.terminate()
+        self.retired.add(process.pid)
+
     def exited(self) -> list[tuple[str, int, str]]:
         """``(label, exit status, last lines of its output)`` of children that ended."""
         ended = []
         for label, process, log in self.children:
-            if process.poll() is not None:
+            if process.poll() is not None and process.pid not in self.retired:
                 ended.append((label, process.returncode, tail(log)))
         return ended
 

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import json
 import shutil
+import subprocess
 import tempfile
 import time
 from collections.abc import Callable
@@ -27,11 +28,20 @@ from lxml import etree
 
 from spl.smoke.live import NOT_MODELLED, Master, Row, compare, read_statuses
 from spl.smoke.plan import ContainerPlan, SmokePlan, load_plan
-from spl.smoke.processes import STANDIN, Processes, RosInstall, find_ros, free_port, write_sandbox
+from spl.smoke.processes import (
+    STANDIN,
+    Processes,
+    RosInstall,
+    find_ros,
+    free_port,
+    marked_processes,
+    write_sandbox,
+)
 
 DEFAULT_TIMEOUT = 30.0
 DEFAULT_SETTLE = 5.0
 POLL = 0.25
+MASTER_RETRIES = 3  # roscores started again, in all, when one loses its port
 
 
 @dataclass
@@ -100,8 +110,8 @@ def run_smoke(
     """Rehearse the bundle in folder ``bundle``. Raises RosMissing without ROS 1 and
     ModelError when the bundle's model does not parse."""
     start = time.monotonic()
-    ros = ros or find_ros()
     plan = load_plan(bundle)
+    ros = ros or find_ros()
     run_dir = Path(tempfile.mkdtemp(prefix="spl-smoke-"))
     try:
         with Processes(run_dir) as processes:
@@ -140,6 +150,8 @@ class _Rehearsal:
         self.status_dir = run_dir / "status"
         self.plan_file = run_dir / "plan.json"
         self.masters: dict[str, Master] = {}
+        self.cores: dict[str, subprocess.Popen[bytes]] = {}
+        self.core_starts = 0
         self.environments: dict[str, dict[str, str]] = {}
         self.launched: set[str] = set()
         self.labels: dict[str, tuple[str, str | None]] = {}  # label -> (container, node)
@@ -155,18 +167,23 @@ class _Rehearsal:
         write_sandbox(self.run_dir / "sandbox", executables, self.ros.python)
         (self.run_dir / "tmp").mkdir()
         for container in self.plan.containers:
-            port = free_port()
-            uri = f"http://127.0.0.1:{port}/"
-            home = self.run_dir / "home" / container.name
-            env = self.processes.environment(
-                ROS_MASTER_URI=uri, ROS_IP="127.0.0.1", ROS_HOME=str(home),
-                ROS_LOG_DIR=str(home / "log"), TMPDIR=str(self.run_dir / "tmp"),
-                SPL_SMOKE_PLAN=str(self.plan_file), SPL_SMOKE_CONTAINER=container.name,
-            )  # fmt: skip
-            self.environments[container.name] = env
-            self.masters[container.name] = Master(uri)
-            argv = [self.ros.roscore, "-p", str(port), "--sigint-timeout=1", "--sigterm-timeout=1"]
-            self.processes.start(f"roscore-{container.name}", argv, env)
+            self._start_master(container)
+
+    def _start_master(self, container: ContainerPlan) -> None:
+        """roscore on a free port; started again on another port when it dies before it
+        answers (another program took the port between the probe and roscore)."""
+        port = free_port()
+        uri = f"http://127.0.0.1:{port}/"
+        home = self.run_dir / "home" / container.name
+        env = self.processes.environment(
+            ROS_MASTER_URI=uri, ROS_IP="127.0.0.1", ROS_HOME=str(home),
+            ROS_LOG_DIR=str(home / "log"), TMPDIR=str(self.run_dir / "tmp"),
+            SPL_SMOKE_PLAN=str(self.plan_file), SPL_SMOKE_CONTAINER=container.name,
+        )  # fmt: skip
+        self.environments[container.name] = env
+        self.masters[container.name] = Master(uri)
+        argv = [self.ros.roscore, "-p", str(port), "--sigint-timeout=1", "--sigterm-timeout=1"]
+        self.cores[container.name] = self.processes.start(f"roscore-{container.name}", argv, env)
 
     def _launch(self, container: ContainerPlan) -> None:
         env = self.environments[container.name]
@@ -207,8 +224,19 @@ class _Rehearsal:
             now = time.monotonic()
             for container in self.plan.containers:
                 name = container.name
-                if name not in self.launched and self.masters[name].up():
+                if name in self.launched:
+                    continue
+                pid = self.masters[name].pid()
+                if pid is not None and pid in marked_processes(self.processes.token):
                     self._launch(container)
+                elif (
+                    pid is not None or self.cores[name].poll() is not None
+                ) and self.core_starts < MASTER_RETRIES:
+                    # another program's master holds the port (ours refuses to start
+                    # next to it), or ours died: never use it, start ours elsewhere
+                    self.core_starts += 1
+                    self.processes.retire(self.cores[name])
+                    self._start_master(container)
             rows, ready, stand_ins, given_up = self._snapshot()
             problems = self._process_problems()
             state = (ready, [r.ok for rs in rows.values() for r in rs])
