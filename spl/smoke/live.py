@@ -17,6 +17,7 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
+from spl.diagnostics import counted
 from spl.smoke.plan import ContainerPlan, Interface, NodePlan
 
 CALLER = "/spl_smoke"
@@ -184,7 +185,8 @@ def _interface_row(
             notes.append("not in the model: " + ", ".join(short(s, plan.name) for s in extra))
     elif kind == "server":
         expected = f"provides {interface.type}"
-        seen = f"provides ({entry.get('served', 0)} calls answered)" if registered else ""
+        answered = counted(entry.get("served", 0), "call")
+        seen = f"provides ({answered} answered)" if registered else ""
     else:
         expected = (
             f"answer from {short(interface.server, plan.name)}"

@@ -104,6 +104,13 @@ def write_sandbox(root: Path, executables: Iterable[tuple[str, str]], python: st
     Pointing both at this folder makes the stand-in win even over an installed package
     of the same name, while the launch file itself stays the bundle's own, so the node
     name, namespace, remappings, parameters and arguments come from it unchanged.
+
+    Why not the alternatives: a ``launch-prefix`` is put in front of the executable
+    roslaunch has already found, so it cannot stand in for a package that is not
+    installed (and a prefixed copy of the launch file would no longer be the bundle's
+    file); a custom process launcher through roslaunch's Python API would replace the
+    real ``roslaunch`` command by its internal classes. Here the real command runs the
+    real file; only the package lookup answers with the stand-in.
     """
     root.mkdir(parents=True, exist_ok=True)
     (root / ".catkin").write_text("", encoding="utf-8")
