@@ -7,8 +7,8 @@ place of the executables (:func:`spl.smoke.processes.write_sandbox`); the data c
 bundle's ROS 2 launch file says; and the container's endpoint relaying along the
 resolved architecture's endpoint connections. Then the graph is read from each
 master and from the stand-ins until every expectation of the plan holds, until
-every stand-in is up and no check has changed for ``settle`` seconds, or until
-``timeout``. All
+every stand-in is up and no check has changed for ``settle`` seconds (or half the
+time the stand-ins took to come up, when that is longer), or until ``timeout``. All
 processes are ended whatever happens (success, failure, an exception, Ctrl-C).
 """
 
@@ -219,7 +219,7 @@ class _Rehearsal:
         progress: Callable[[Progress], None] | None,
     ) -> tuple[dict[str, list[Row]], list[str]]:
         """Poll until every check passes, the graph has settled, or the deadline."""
-        last_change, before = start, None
+        last_change, before, up_after = start, None, None
         while True:
             now = time.monotonic()
             for container in self.plan.containers:
@@ -248,7 +248,12 @@ class _Rehearsal:
                                   sum(len(rs) for rs in rows.values())))  # fmt: skip
             everything_ok = all(r.ok for rs in rows.values() for r in rs) and not problems
             all_up = len(self.launched) == len(self.plan.containers)
-            settled = all_up and ready + given_up >= stand_ins and now - last_change >= settle
+            up = all_up and ready + given_up >= stand_ins
+            if up and up_after is None:
+                up_after = now - start
+            # a loaded machine that was slow to start is given a longer quiet spell too
+            quiet = max(settle, (up_after or 0.0) / 2)
+            settled = up and now - last_change >= quiet
             if (all_up and everything_ok and ready >= stand_ins) or settled or now >= deadline:
                 break
             time.sleep(POLL)
