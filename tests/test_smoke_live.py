@@ -212,3 +212,21 @@ def test_a_master_it_did_not_start_is_never_used(tmp_path, monkeypatch):
     finally:
         foreign.kill()
         foreign.wait()
+
+
+def test_a_node_that_dies_is_reported_without_waiting_for_the_timeout(tmp_path):
+    """A launch file edited to give a node a prefix that ends it at once: roslaunch
+    reports the death, the rehearsal names the node and does not wait for --timeout."""
+    bundle = write_product(ROOT / "tests" / "models" / "launch", "CloudMapping", tmp_path / "b")
+    launch = bundle / "ros1" / "Scout.launch"
+    text = launch.read_text(encoding="utf-8")
+    node = '<node pkg="nav_stack" type="navigator" name="Navigator" ns="/scout">'
+    assert node in text
+    launch.write_text(text.replace(node, node[:-1] + ' launch-prefix="false">'))
+    status, report = smoke_json(bundle, "--timeout", "120")
+    assert status == 1
+    assert report["failures"][0] == "roslaunch-Scout: node scout/Navigator ended, roslaunch reports"
+    failed = {(c["name"], r["node"]) for c in report["containers"] for r in c["rows"]
+              if not r["ok"]}  # fmt: skip
+    assert failed == {("Scout", "Navigator")}
+    assert report["seconds"] < 100  # a verdict once the graph is quiet, not at the timeout

@@ -172,6 +172,13 @@ class Processes:
             process.terminate()
         self.retired.add(process.pid)
 
+    def output(self, label: str) -> str:
+        """Everything the child ``label`` has written so far, colours removed."""
+        for name, _, log in self.children:
+            if name == label:
+                return ANSI_ESCAPE.sub("", log.read_text(encoding="utf-8", errors="replace"))
+        return ""
+
     def exited(self) -> list[tuple[str, int, str]]:
         """``(label, exit status, last lines of its output)`` of children that ended."""
         ended = []

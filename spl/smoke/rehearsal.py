@@ -15,6 +15,7 @@ processes are ended whatever happens (success, failure, an exception, Ctrl-C).
 from __future__ import annotations
 
 import json
+import re
 import shutil
 import subprocess
 import tempfile
@@ -41,6 +42,8 @@ from spl.smoke.processes import (
 DEFAULT_TIMEOUT = 30.0
 DEFAULT_SETTLE = 5.0
 POLL = 0.25
+# roslaunch's line for a node process that ended: "[ns/Name-1] process has died [...]"
+NODE_DIED = re.compile(r"\[([^\]\s]+)-\d+\] process has (?:died|finished)")
 MASTER_RETRIES = 3  # roscores started again, in all, when one loses its port
 
 
@@ -267,6 +270,7 @@ class _Rehearsal:
     def _snapshot(self) -> tuple[dict[str, list[Row]], int, int, int]:
         rows, ready, stand_ins, given_up = {}, 0, 0, 0
         dead = {self.labels[label] for label, _, _ in self.processes.exited()}
+        dead |= {(container, node) for container, node, _ in self._died_in_roslaunch()}
         for container in self.plan.containers:
             statuses = read_statuses(self.status_dir / container.name)
             master = self.masters[container.name]
@@ -289,6 +293,18 @@ class _Rehearsal:
                     given_up += 1  # its process (or its roslaunch) ended: it never will be
         return rows, ready, stand_ins, given_up
 
+    def _died_in_roslaunch(self) -> list[tuple[str, str, str]]:
+        """``(container, node ROS name, roslaunch's line)`` for every node whose process
+        roslaunch reported dead (a stand-in never ends by itself)."""
+        died = []
+        for label, (container, node) in self.labels.items():
+            if node is not None:
+                continue  # not a roslaunch
+            output = self.processes.output(label)
+            for name in dict.fromkeys(m.group(1) for m in NODE_DIED.finditer(output)):
+                died.append((container, f"/{name}", f"node {name} ended, roslaunch reports"))
+        return died
+
     def _process_problems(self) -> list[str]:
         """Processes that ended on their own: a rehearsal's processes run until the end,
         except a roslaunch with no node to run (it exits 0 at once)."""
@@ -296,11 +312,12 @@ class _Rehearsal:
             (c.name, None) for c in self.plan.containers if not any(
                 n.role == "launched" for n in c.nodes)
         }  # fmt: skip
-        return [
+        ended = [
             f"{label} exited with status {status}: {output}".strip()
             for label, status, output in self.processes.exited()
             if not (status == 0 and self.labels.get(label) in idle)
         ]
+        return ended + [f"roslaunch-{c}: {line}" for c, _, line in self._died_in_roslaunch()]
 
 
 def _launch_executables(launch: Path) -> list[tuple[str, str]]:
