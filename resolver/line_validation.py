@@ -22,6 +22,7 @@ depend on the application layer that implements it.
 from __future__ import annotations
 
 import multiprocessing
+import signal
 import time
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
@@ -229,6 +230,18 @@ def run_cases(
     return results
 
 
+def _unwind_on_signals() -> None:
+    """Workers end on Ctrl-C (SIGINT from the terminal) and on SIGTERM (the pool's
+    terminate) by unwinding quietly, so the task's own cleanup runs (a smoke rehearsal
+    stops the processes it started) and no worker prints a traceback."""
+
+    def leave(signum: int, _frame: object) -> None:
+        raise SystemExit(128 + signum)
+
+    signal.signal(signal.SIGINT, leave)
+    signal.signal(signal.SIGTERM, leave)
+
+
 def _results(cases: list[ProductCase], jobs: int) -> Iterator[CaseResult]:
     if jobs <= 1 or len(cases) <= 1:
         yield from map(_run_in_worker, cases)
@@ -239,7 +252,7 @@ def _results(cases: list[ProductCase], jobs: int) -> Iterator[CaseResult]:
     yield _run_in_worker(cases[0])
     rest = cases[1:]
     context = multiprocessing.get_context("fork")
-    with context.Pool(min(jobs, len(rest))) as pool:
+    with context.Pool(min(jobs, len(rest)), initializer=_unwind_on_signals) as pool:
         chunk = max(1, min(16, len(rest) // (jobs * 8)))
         yield from pool.imap(_run_in_worker, rest, chunksize=chunk)
 

@@ -61,14 +61,7 @@ def command(
     With --smoke every valid bundle is also started with the real ROS 1 and its live
     graph compared with the model (exit 2 when ROS 1 is not installed)."""
     from spl.commands.products import parse_sample
-    from spl.resolver.line_validation import (
-        describe,
-        junit_xml,
-        load_lines,
-        plan_cases,
-        run_cases,
-        summary,
-    )
+    from spl.resolver.line_validation import junit_xml, load_lines, plan_cases, summary
 
     rehearse = _rehearsal() if smoke else None
     t = parse_sample(sample)
@@ -82,22 +75,11 @@ def command(
     except ValueError as exc:  # too many combinations for t
         raise click.ClickException(str(exc)) from None
     total = len(cases) + sum(1 for loaded in lines if loaded.line is None)
-    if sys.stderr.isatty():
-        with click.progressbar(length=total, label="validating", file=sys.stderr) as bar:
-            results = run_cases(
-                lines, cases, jobs, on_result=lambda _: bar.update(1), rehearse=rehearse
-            )
-        for result in results:
-            if not result.passed:
-                for text in describe(result):
-                    click.echo(text)
-    else:
-
-        def show(result) -> None:
-            for text in describe(result):
-                click.echo(text)
-
-        results = run_cases(lines, cases, jobs, on_result=show, rehearse=rehearse)
+    try:
+        results = _run(lines, cases, jobs, rehearse, total)
+    except KeyboardInterrupt:  # workers and rehearsals have stopped what they started
+        click.echo("\nvalidate: interrupted; no report written", err=True)
+        sys.exit(130)
     if junit is not None:
         data = junit_xml(results)
         junit.parent.mkdir(parents=True, exist_ok=True)
@@ -109,6 +91,28 @@ def command(
     click.echo(summary(results))
     if not all(result.passed for result in results):
         sys.exit(1)
+
+
+def _run(lines, cases, jobs: int, rehearse, total: int) -> list:
+    """Run the cases with a progress bar on a terminal, one line per product otherwise."""
+    from spl.resolver.line_validation import describe, run_cases
+
+    if sys.stderr.isatty():
+        with click.progressbar(length=total, label="validating", file=sys.stderr) as bar:
+            results = run_cases(
+                lines, cases, jobs, on_result=lambda _: bar.update(1), rehearse=rehearse
+            )
+        for result in results:
+            if not result.passed:
+                for text in describe(result):
+                    click.echo(text)
+        return results
+
+    def show(result) -> None:
+        for text in describe(result):
+            click.echo(text)
+
+    return run_cases(lines, cases, jobs, on_result=show, rehearse=rehearse)
 
 
 def _rehearsal():

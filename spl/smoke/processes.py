@@ -189,17 +189,17 @@ class Processes:
 
     def stop(self) -> None:
         """SIGTERM every process of the run, SIGKILL what is left after a second, wait
-        until none remains (each one is checked, not assumed). A second Ctrl-C cannot
-        interrupt this."""
-        try:
-            previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
-        except ValueError:  # not the main thread: it cannot receive SIGINT anyway
-            previous = None
+        until none remains (each one is checked, not assumed). Neither a second Ctrl-C
+        nor a SIGTERM can interrupt this."""
+        previous = {}
+        for number in (signal.SIGINT, signal.SIGTERM):
+            with contextlib.suppress(ValueError):  # not the main thread: no signals here
+                previous[number] = signal.signal(number, signal.SIG_IGN)
         try:
             self._stop()
         finally:
-            if previous is not None:
-                signal.signal(signal.SIGINT, previous)
+            for number, handler in previous.items():
+                signal.signal(number, handler)
 
     def _stop(self) -> None:
         deadline = time.monotonic() + 1.0
