@@ -24,7 +24,7 @@ from lxml import etree
 
 from spl import __version__
 from spl.metamodels import tsm
-from spl.resolver.product import ResolvedProduct
+from spl.resolver.product import ResolvedProduct, topic_ros_name
 
 __all__ = [
     "generate",
@@ -39,11 +39,6 @@ __all__ = [
 
 ROS1_TYPES = {"string": "str", "int": "int", "double": "double", "bool": "bool", "yaml": "yaml"}
 BOOL_TEXT = {"true", "false"}
-
-
-def topic_ros_name(topic: Any) -> str:
-    """The ROS name a topic is published under; ``/Name`` when the model leaves it open."""
-    return topic.rosName or f"/{topic.name}"
 
 
 def _endpoint_caller_of(stand_in: Any, system: Any) -> Any | None:
