@@ -77,14 +77,18 @@ class Placement:
     one tag) are appended to ``errors``, located in the model.
     """
 
-    def __init__(self, system: Any, errors: list[Diagnostic]) -> None:
+    def __init__(self, system: Any, errors: list[Diagnostic], group: str | None = None) -> None:
+        """``group``, when given, is the group of every cloud container: a fleet robot's
+        group, which decides whose protected instances it shares."""
         T = tsm()
         self.T = T
         self.errors = errors
         self.robots = [c for c in system.containers if isinstance(c, T.RobotContainer)]
         self.robot_ids = {id(r): self._robot_id(r) for r in self.robots}
         self.groups = {
-            id(c): self._group(c) for c in system.containers if isinstance(c, T.CloudContainer)
+            id(c): self._group(c, group)
+            for c in system.containers
+            if isinstance(c, T.CloudContainer)
         }
         self.neighbours: dict[int, set[int]] = defaultdict(set)
         self.by_id = {id(c): c for c in system.containers}
@@ -110,8 +114,8 @@ class Placement:
             return robot.name
         return robot_id
 
-    def _group(self, cloud: Any) -> str:
-        group = cloud.group or cloud.name
+    def _group(self, cloud: Any, group: str | None) -> str:
+        group = group or cloud.group or cloud.name
         if not TAG.fullmatch(group):
             self.errors.append(
                 Diagnostic(
