@@ -18,6 +18,7 @@ the file is read with located errors (``file:line:col``), all of them at once.
 
 from __future__ import annotations
 
+import os
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -85,7 +86,7 @@ def load_fleet(path: str | Path) -> Fleet:
     elif not isinstance(line, yaml.ScalarNode) or not line.value:
         sink.error(at(line), "product_line: expected a folder, relative to this file")
     else:
-        fleet.product_line = path.parent / line.value
+        fleet.product_line = Path(os.path.normpath(path.parent / line.value))
         fleet.product_line_location = at(line)
         if not fleet.product_line.is_dir():
             sink.error(at(line), f"product_line: no such folder {line.value}")

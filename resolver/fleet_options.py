@@ -76,7 +76,7 @@ class FeatureOption:
 class FleetOptions:
     robot: str
     group: str
-    sharing_with: tuple[str, ...]  # the robots whose instances this robot would share
+    fixed_by: tuple[str, ...]  # the robots whose instances this robot would share
     joinable: bool
     blocking: tuple[str, ...] = ()
     options: list[FeatureOption] = field(default_factory=list)
@@ -196,8 +196,11 @@ def _server_id(server_node: NodeEffects, server: Any) -> str:
     return f"{server_node.origin}.{server_node.name}.{server.name}"
 
 
-def fleet_options(fleet: Fleet, name: str, group: str | None = None) -> FleetOptions:
-    """The options of robot ``name`` (in the fleet or to be added) in ``group``."""
+def fleet_options(
+    fleet: Fleet, name: str, group: str | None = None, sharing: dict[str, str] | None = None
+) -> FleetOptions:
+    """The options of robot ``name`` (in the fleet or to be added) in ``group``, with the
+    sharing modes and attributes of its entry (``sharing`` overrides the modes)."""
     entry = fleet.robot(name)
     group = group or (entry.group if entry is not None else DEFAULT_GROUP)
     others = Fleet(
@@ -209,14 +212,15 @@ def fleet_options(fleet: Fleet, name: str, group: str | None = None) -> FleetOpt
         raise ModelError(errors)
     selection = entry.selection if entry is not None else None
     settings = Settings.of(
-        selection.sharing if selection else {}, selection.attributes if selection else {}
+        {**(selection.sharing if selection else {}), **(sharing or {})},
+        selection.attributes if selection else {},
     )
-    encoding, sharing_with = _build(check, selection, group, settings)
+    encoding, fixed_by = _build(check, selection, group, settings)
     core, dead = check.line.formula.backbone()
     result = FleetOptions(
         name,
         group,
-        tuple(sharing_with),
+        tuple(fixed_by),
         True,
         core=tuple(n for n in encoding.cnf.names if n in core),
         dead=tuple(n for n in encoding.cnf.names if n in dead),
@@ -248,12 +252,12 @@ def _build(
 ) -> tuple[_Encoding, list[str]]:
     """The encoding with every requirement: shared nodes, and the robot's capabilities."""
     encoding = _Encoding(check, settings)
-    sharing_with = _requirements(encoding, check.asks, group)
+    fixed_by = _requirements(encoding, check.asks, group)
     if selection is not None and selection.capabilities is not None:
         for choice in choose_features(check.line.fm, selection.capabilities):
             v = encoding.cnf.var[choice.feature]
             encoding.require(Requirement(str(choice)), ("lit", v if choice.selected else -v))
-    return encoding, sharing_with
+    return encoding, fixed_by
 
 
 def _sharing_alternatives(
@@ -299,18 +303,18 @@ def _requirements(encoding: _Encoding, asks: list[Ask], group: str) -> list[str]
         robot_containers = sorted(encoding.effects.robot_containers)
         on_board = _or([encoding.equals(node.aspects[PLACEMENT], r) for r in robot_containers])
         exempt = _or([_not(comparable), on_board if ask.on_robot else FALSE])
-        fixed_by = f", as {ask.robot} fixed it ({ask.where()})"
+        suffix = f", as {ask.robot} fixed it ({ask.where()})"
         wanted = [(PLACEMENT, ask.placement), (SHARING, ask.mode)]
         if not ask.on_robot:
             wanted += list(ask.values)
         for aspect, value in wanted:
             if aspect == PLACEMENT:
                 where = "on the robot" if ask.on_robot else f"in {ask.placement}"
-                text = f"{ask.node} must run {where}{fixed_by}"
+                text = f"{ask.node} must run {where}{suffix}"
             elif aspect == SHARING:
-                text = f"{ask.node} must be shared {ask.mode}{fixed_by}"
+                text = f"{ask.node} must be shared {ask.mode}{suffix}"
             else:
-                text = f"{ask.node} must have {aspect} {shown(ask, aspect)}{fixed_by}"
+                text = f"{ask.node} must have {aspect} {shown(ask, aspect)}{suffix}"
             breaking = _breaking(encoding, node, aspect, value)
             encoding.require(
                 Requirement(text, breaking, value),

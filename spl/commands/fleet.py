@@ -41,18 +41,28 @@ def check(fleet_file: Path) -> None:
 @click.argument("fleet_file", type=FLEET_FILE)
 @click.option("--robot", required=True, help="the robot to add (or to change)")
 @click.option("--group", default=None, help="its group (default: its entry's, else 'default')")
+@click.option(
+    "--sharing",
+    multiple=True,
+    metavar="FEATURE=MODE",
+    help="sharing mode private|protected|public for a feature (overrides the robot's entry)",
+)
 @click.option("--json", "as_json", is_flag=True, help="one JSON object")
-def options(fleet_file: Path, robot: str, group: str | None, as_json: bool) -> None:
+def options(
+    fleet_file: Path, robot: str, group: str | None, sharing: tuple[str, ...], as_json: bool
+) -> None:
     """Which features ROBOT may still choose given the other robots as deployed: forced,
     forbidden and free, each with its reason; exit 1 when it cannot join at all."""
     from spl.resolver.fleet_file import NAME, load_fleet
     from spl.resolver.fleet_options import fleet_options
+    from spl.resolver.product_selection import ProductSelection, apply_overrides
 
     for value, option in ((robot, "--robot"), (group, "--group")):
         if value is not None and not NAME.fullmatch(value):
             raise click.BadParameter(f"{value!r}: letters, digits, '_' and '-'", param_hint=option)
+    overrides = apply_overrides(ProductSelection(robot, []), list(sharing), []).sharing
     fleet = load_fleet(fleet_file)
-    result = fleet_options(fleet, robot, group)
+    result = fleet_options(fleet, robot, group, overrides)
     for problem in result.fleet_problems:
         click.echo(str(Diagnostic(problem.location, problem.message, "warning")), err=True)
     if as_json:
@@ -70,9 +80,11 @@ def options(fleet_file: Path, robot: str, group: str | None, as_json: bool) -> N
 
 
 def _lines(result) -> list[str]:
-    shares = ", ".join(result.sharing_with) or "nobody"
+    fixed = ", ".join(result.fixed_by) or "no robot"
     state = "can join" if result.joinable else "cannot join"
-    lines = [f"robot {result.robot} in group {result.group}: {state} (shares nodes with {shares})"]
+    lines = [
+        f"robot {result.robot} in group {result.group}: {state} (shared nodes fixed by {fixed})"
+    ]
     for option in result.options:
         if option.status != "free":
             lines.append(f"{option.status} {option.feature}: {'; '.join(option.reasons)}")
@@ -90,7 +102,7 @@ def _as_dict(result) -> dict:
         "robot": result.robot,
         "group": result.group,
         "joinable": result.joinable,
-        "shares_with": list(result.sharing_with),
+        "fixed_by": list(result.fixed_by),
         "blocking": list(result.blocking),
         "alternatives": list(result.alternatives),
         "features": {
