@@ -294,8 +294,6 @@ def test_robot_errors_are_located_in_the_fleet_file_and_name_the_robot(tmp_path)
 
 def test_the_shipped_fleets_check_and_resolve(tmp_path) -> None:
     for path in sorted(ROOT.glob("product_lines/*/fleets/*.yaml")):
-        if path.name.startswith("youbot_"):
-            continue  # a capability file
         code, _, stderr = run("fleet", "resolve", path, "-o", tmp_path / path.stem)
         assert code == 0, stderr
     lab = json.loads((tmp_path / "lab" / "fleet.json").read_text())
@@ -312,3 +310,21 @@ def test_the_shipped_fleets_check_and_resolve(tmp_path) -> None:
     ]
     assert any("selects Stereo" in c for c in lab["robots"]["youbot_1"]["capabilities"])
     assert lab["robots"]["roomba_2"]["robot_ids"] == {"Robot": "roomba-cellar"}
+
+
+def test_options_of_a_robot_with_capabilities_follow_its_hardware() -> None:
+    path = ROOT / "product_lines" / "mapping3d" / "fleets" / "lab.yaml"
+    code, stdout, stderr = run("fleet", "options", path, "--robot", "youbot_1", "--json")
+    assert code == 0, stderr
+    features = json.loads(stdout)["features"]
+    assert {f: v["status"] for f, v in features.items()} == {
+        "YouBot": "forced",
+        "Roomba": "forbidden",
+        "Stereo": "forced",
+        "Depth": "forbidden",
+        "AdditionalPC": "forced",
+        "Room": "forced",
+        "Corridor": "forbidden",
+    }
+    assert features["AdditionalPC"]["reasons"][0].startswith("capability onboard_pc: true (")
+    assert "selects AdditionalPC: onboard_pc holds" in features["AdditionalPC"]["reasons"][0]
