@@ -261,6 +261,8 @@ def test_resolve_of_a_conflicting_fleet_writes_nothing(tmp_path) -> None:
             "4:3: error: robot a: no features",
         ),
         ("fleet: [lab\n", "error: invalid YAML"),
+        ("fleet: lab\nrobots: \udcff\n", "2:9: error: not UTF-8 text"),
+        ("fleet: " + "[" * 5000 + "]" * 5000 + "\n", "1:1: error: the YAML is nested too deeply"),
         (
             "fleets: lab\n",
             "1:1: error: unknown key 'fleets' (expected fleet, product_line, robots)",
@@ -269,7 +271,7 @@ def test_resolve_of_a_conflicting_fleet_writes_nothing(tmp_path) -> None:
 )
 def test_bad_fleet_files_are_located_errors(tmp_path, text: str, expected: str) -> None:
     path = tmp_path / "f.yaml"
-    path.write_text(text)
+    path.write_bytes(text.encode("utf-8", "surrogateescape"))
     code, _, stderr = run("fleet", "check", path)
     assert code == 1
     assert expected in stderr, stderr
