@@ -175,14 +175,19 @@ def agreement(path: Path, robot_group: str) -> int:
     return compared
 
 
-@pytest.mark.parametrize("group", ["default", "other"])
-def test_sat_options_agree_with_the_check_on_the_small_line(line, group) -> None:
-    path = write_fleet(
-        line,
+@pytest.mark.parametrize(
+    "robots",
+    [
         "  a: {features: [Shared]}\n"
         "  p: {group: other, features: [Alt], sharing: {Shared: public}}\n",
-    )
-    assert agreement(path, group) > 30
+        "  a: {features: [Onboard, Fast], attributes: {Fast.rate: 2}}\n"
+        "  p: {group: other, features: [Fast], sharing: {Shared: public}}\n",
+    ],
+    ids=["in the cloud", "on board"],
+)
+@pytest.mark.parametrize("group", ["default", "other"])
+def test_sat_options_agree_with_the_check_on_the_small_line(line, robots, group) -> None:
+    assert agreement(write_fleet(line, robots), group) > 30
 
 
 def test_sat_options_agree_with_the_check_on_mapping3d(tmp_path) -> None:
