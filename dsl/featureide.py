@@ -25,12 +25,15 @@ from lxml import etree
 from spl.diagnostics import Diagnostic, DiagnosticSink, Location, ModelError
 from spl.dsl.fm import SHARING_MODES, canonical_value, too_deep
 from spl.dsl.fm_formats import (
+    CAPABILITY,
     ORIGINAL_NAME,
     FeatureNames,
+    add_capabilities,
     exported_attributes,
     model_name,
     original_name,
 )
+from spl.dsl.fm_printer import format_capabilities
 from spl.metamodels import fm as fm_metamodel
 
 _FEATURE_TAGS = {"feature", "and", "or", "alt"}
@@ -183,6 +186,12 @@ class _Reader:
             config = self.locate(F.SharingConfig(), element)
             config.mode = F.SharingMode.getEEnumLiteral(value)
             feature.sharing = config
+            return
+        if name == CAPABILITY:
+            try:
+                add_capabilities(feature, type_name, value, self.loc(element))
+            except ModelError as exc:
+                self.sink.diagnostics.extend(exc.diagnostics)
             return
         if not _identifier(name):
             self.error(element, f"attribute name {name!r} is not an identifier")
@@ -352,6 +361,12 @@ def _write_feature(parent: Any, feature: Any, mandatory: bool, problems: list) -
             element,
             "attribute",
             {"name": "sharing", "type": "string", "value": feature.sharing.mode.name},
+        )
+    if feature.capabilities:
+        etree.SubElement(
+            element,
+            "attribute",
+            {"name": CAPABILITY, "type": "string", "value": format_capabilities(feature)},
         )
     for child, child_mandatory in children:
         _write_feature(element, child, child_mandatory, problems)

@@ -61,6 +61,60 @@ def _grammar():
     )
 
 
+@cache
+def _capability_grammar():
+    return metamodel_from_file(
+        str(files(__package__).joinpath("capability.tx")), autokwd=True, use_regexp_group=False
+    )
+
+
+def parse_capability_conditions(text: str, where: Location | None) -> list[Any]:
+    """The ``capability`` conditions written as text (``base = "youbot" and onboard_pc``),
+    as UVL and FeatureIDE files carry them in a string attribute; problems are reported
+    at ``where``, the attribute."""
+    try:
+        tree = _capability_grammar().model_from_str(text)
+    except TextXSyntaxError as exc:
+        reason = syntax_diagnostic(exc, "capability").message
+        raise ModelError(
+            [Diagnostic(where, f"capability {text!r}: {reason} at column {exc.col}")]
+        ) from None
+    sink = DiagnosticSink()
+    conditions = [capability_condition(node, where, sink) for node in tree.conditions]
+    sink.raise_if_errors()
+    return conditions
+
+
+_CAPABILITY_LITERALS = {
+    "CapabilityString": "string",
+    "CapabilityBool": "bool",
+    "CapabilityDouble": "double",
+    "CapabilityInt": "int",
+}
+
+
+def capability_condition(node: Any, where: Location | None, sink: DiagnosticSink) -> Any:
+    """One parsed ``KEY [OP VALUE]`` as an ``fm.CapabilityCondition``; a bound (``>=``,
+    ``<=``) on something that is not a number is reported to ``sink``."""
+    F = fm_metamodel()
+    condition = F.CapabilityCondition(key=node.key, operator=node.operator or "")
+    if where is not None:
+        condition.srcFile, condition.srcLine, condition.srcCol = where.file, where.line, where.col
+    if node.value is not None:
+        kind = _CAPABILITY_LITERALS[type(node.value).__name__]
+        text = node.value.text[1:-1] if kind == "string" else node.value.text
+        condition.valueType = F.AttributeType.getEEnumLiteral(kind)
+        condition.value = canonical_value(kind, text)
+        if condition.value is None:
+            sink.error(where, f"capability {node.key}: {node.value.text} is not a {kind}")
+        elif node.operator in (">=", "<=") and kind not in ("int", "double"):
+            sink.error(
+                where,
+                f"capability {node.key} {node.operator} needs a number, got {node.value.text}",
+            )
+    return condition
+
+
 def parse_file(path: str | Path) -> Any:
     """Parse a .fm file into an ``fm.FeatureModel``; raise ModelError with every problem."""
     path = Path(path)
@@ -111,6 +165,12 @@ _RULE_LABELS = {
     "DoubleNumber": "number",
     "IntNumber": "number",
     "EOF": "end of file",
+    "CapabilityKey": "capability name",
+    "CapabilityOperator": "operator",
+    "CapabilityQuoted": "string",
+    "CapabilityBoolWord": "true or false",
+    "CapabilityDoubleNumber": "number",
+    "CapabilityIntNumber": "number",
 }
 
 
@@ -264,6 +324,11 @@ class _Builder:
                 config = self.locate(F.SharingConfig(), self.loc(item))
                 config.mode = F.SharingMode.getEEnumLiteral(item.mode)
                 feature.sharing = config
+            elif kind == "CapabilityDecl":
+                for node in item.conditions:
+                    feature.capabilities.append(
+                        capability_condition(node, self.loc(node), self.sink)
+                    )
             elif kind == "Child":
                 child = self.feature(item.feature)
                 if child_group is None or child_group.kind.name != item.kind:
@@ -386,6 +451,7 @@ class _Builder:
 _RESERVED_ATTRIBUTES = {
     "abstract": "attribute name abstract is reserved: write 'abstract' before the feature name",
     "sharing": "attribute name sharing is reserved: write 'sharing public|protected|private'",
+    "capability": "attribute name capability is reserved: write 'capability KEY [OP VALUE]'",
 }
 _IMPLICATION_OPERATORS = {"=>": "implies", "requires": "requires", "excludes": "excludes"}
 _LITERAL_KINDS = {

@@ -25,6 +25,9 @@ from spl.dsl.fm import RESERVED_WORDS, is_feature_name
 
 FORMATS = {".fm": "FeatureModel (.fm)", ".uvl": "UVL", ".xml": "FeatureIDE XML"}
 ORIGINAL_NAME = "original_name"
+# UVL and FeatureIDE carry a feature's capability conditions in one string attribute of
+# this name, written as the .fm language writes them after `capability`.
+CAPABILITY = "capability"
 
 
 def load_feature_model(path: str | Path) -> Any:
@@ -146,3 +149,18 @@ def original_name(feature: Any) -> str:
 def exported_attributes(feature: Any) -> list[Any]:
     """The attributes an exporter writes as attributes (not the kept original name)."""
     return [a for a in feature.attributes if a.name != ORIGINAL_NAME]
+
+
+def add_capabilities(feature: Any, type_name: str, text: str, where: Location | None) -> None:
+    """Read the ``capability`` attribute of an imported feature into its conditions;
+    raise ModelError (located at the attribute) when it is not a condition string."""
+    from spl.dsl.fm import parse_capability_conditions
+
+    if type_name != "string":
+        message = f"{CAPABILITY} takes a condition string, like 'base = \"youbot\" and onboard_pc'"
+        raise ModelError([Diagnostic(where, message)])
+    if feature.capabilities:
+        raise ModelError(
+            [Diagnostic(where, f"feature {feature.name} has two {CAPABILITY} attributes")]
+        )
+    feature.capabilities.extend(parse_capability_conditions(text, where))

@@ -6,7 +6,8 @@ can turn community models into .fm files people then edit. The canonical form:
 
 - a feature whose only content is one ``xor``/``or``/``group`` group is written with
   the group after its name (``mandatory MobileBase xor { YouBot Roomba }``);
-  otherwise its attributes, sharing mode and groups go in a ``{ }`` body in that order;
+  otherwise its attributes, sharing mode, capability conditions (one ``capability``
+  line each) and groups go in a ``{ }`` body in that order;
 - a group written right after a feature name belongs to that feature, so a leaf child
   followed by a group of its parent is closed with an empty body (``optional A { }``);
 - a mandatory/optional group is written as ``mandatory A`` lines; a group directly
@@ -106,8 +107,29 @@ def _literal(attribute: Any) -> str:
     return attribute.value or ""
 
 
+def format_capability(condition: Any) -> str:
+    """One capability condition as the .fm language writes it: ``base = "youbot"``."""
+    if not condition.operator:
+        return condition.key
+    value = condition.value or ""
+    if condition.valueType.name == "string":
+        value = f'"{value}"'
+    return f"{condition.key} {condition.operator} {value}"
+
+
+def format_capabilities(feature: Any) -> str:
+    """All capability conditions of a feature as one text (``a = "x" and b``): the value
+    of the ``capability`` attribute UVL and FeatureIDE files carry."""
+    return " and ".join(format_capability(c) for c in feature.capabilities)
+
+
 def _is_leaf(feature: Any) -> bool:
-    return not feature.groups and not feature.attributes and feature.sharing is None
+    return (
+        not feature.groups
+        and not feature.attributes
+        and feature.sharing is None
+        and not feature.capabilities
+    )
 
 
 def _head(feature: Any) -> str:
@@ -120,6 +142,7 @@ def _has_head_group(feature: Any) -> bool:
         and feature.groups[0].kind.name in ("alternative", "or", "cardinality")
         and not feature.attributes
         and feature.sharing is None
+        and not feature.capabilities
     )
 
 
@@ -137,6 +160,8 @@ def _rest(feature: Any, indent: str) -> str:
         )
     if feature.sharing is not None:
         lines.append(f"{inner}sharing {feature.sharing.mode.name}")
+    for condition in feature.capabilities:
+        lines.append(f"{inner}capability {format_capability(condition)}")
     previous_child_kind = None
     groups = list(feature.groups)
     for index, group in enumerate(groups):

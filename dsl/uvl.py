@@ -24,13 +24,15 @@ from typing import Any, ClassVar
 from spl.diagnostics import Diagnostic, DiagnosticSink, Location, ModelError
 from spl.dsl.fm import SHARING_MODES, canonical_value, too_deep
 from spl.dsl.fm_formats import (
+    CAPABILITY,
     ORIGINAL_NAME,
     FeatureNames,
+    add_capabilities,
     exported_attributes,
     model_name,
     original_name,
 )
-from spl.dsl.fm_printer import format_formula
+from spl.dsl.fm_printer import format_capabilities, format_formula
 from spl.metamodels import fm as fm_metamodel
 
 _GROUP_KEYWORDS = {"mandatory", "optional", "alternative", "or"}
@@ -317,6 +319,12 @@ class _Reader:
                 config.mode = F.SharingMode.getEEnumLiteral(text)
                 feature.sharing = config
                 continue
+            if name == CAPABILITY:
+                try:
+                    add_capabilities(feature, type_name, text, self.loc(key.position))
+                except ModelError as exc:
+                    self.sink.diagnostics.extend(exc.diagnostics)
+                continue
             attribute = self.locate(F.Attribute(name=name), key.position)
             attribute.type = F.AttributeType.getEEnumLiteral(type_name)
             attribute.value = canonical_value(type_name, text)
@@ -573,6 +581,8 @@ def _write_feature(feature: Any, depth: int, lines: list[str], problems: list[Di
         entries.append(f"{_uvl_id(attribute.name)} {value}")
     if feature.sharing is not None:
         entries.append(f"sharing '{feature.sharing.mode.name}'")
+    if feature.capabilities:
+        entries.append(f"{CAPABILITY} '{format_capabilities(feature)}'")
     text = _uvl_name(feature, problems)
     if entries:
         text += " {" + ", ".join(entries) + "}"

@@ -1,16 +1,9 @@
 """Rapyuta (RoboEarth Cloud Engine) configuration: one rce-ros file per robot container.
 
-Sharing placement (SPEC 5.2). A TSM cloud container ``C`` is a template: in Rapyuta it
-becomes up to three containers, by the sharing mode of its nodes:
-
-=============  =====================  ==========================================
-mode           cTag                   instances
-=============  =====================  ==========================================
-private        ``<C>_<robotID>``      one per robot using ``C``
-protected      ``<C>_<group>``        one per group (``group`` = C's group, else
-                                      C's name); carries ``"group": "<group>"``
-public         ``<C>_public``         one for everybody
-=============  =====================  ==========================================
+Sharing placement (SPEC 5.2) is :mod:`spl.resolver.placement`'s rule: a TSM cloud
+container ``C`` becomes up to three Rapyuta containers, ``<C>_<robotID>`` for private
+nodes (one per robot), ``<C>_<group>`` for protected nodes (one per group; carries
+``"group": "<group>"``) and ``<C>_public`` for public nodes.
 
 A robot *uses* ``C`` when endpoint connections link the two, directly or through other
 cloud containers (robots never relay for each other). Each robot's file declares its
@@ -64,30 +57,10 @@ import yaml
 from spl.diagnostics import Diagnostic, ModelError, location_of
 from spl.generators.rapyuta_rules import check_all
 from spl.generators.ros1 import server_ros_name, topic_ros_name
-from spl.metamodels import tsm
+from spl.resolver.placement import MODES, Place, Placement, container_of, sharing_mode
 from spl.resolver.product import NodeInterfaces, ResolvedProduct
 
-TAG = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_-]*")
 ENV_VAR = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
-MODES = ("private", "protected", "public")
-
-
-@dataclass(frozen=True, order=True)
-class Place:
-    """A Rapyuta endpoint: a robot, or one sharing partition of a TSM cloud container."""
-
-    tag: str  # eTag: the robotID or the cTag
-    kind: str  # "robot" or a sharing mode
-    container: str  # the TSM container whose ROS graph this is (a partition of it)
-    owner: str  # robotID (robot, private), group (protected) or "public"
-
-    @property
-    def is_robot(self) -> bool:
-        return self.kind == "robot"
-
-    @property
-    def shared(self) -> bool:
-        return self.kind in ("protected", "public")
 
 
 @dataclass(frozen=True, order=True)
@@ -104,113 +77,6 @@ class Bridge:
             "tagA": f"{self.source.tag}/{self.source_tag}",
             "tagB": f"{self.target.tag}/{self.target_tag}",
         }
-
-
-class _Placement:
-    """Where each node runs in the instance of the system seen from one robot."""
-
-    def __init__(self, system: Any, errors: list[Diagnostic]) -> None:
-        T = tsm()
-        self.T = T
-        self.errors = errors
-        self.robots = [c for c in system.containers if isinstance(c, T.RobotContainer)]
-        self.robot_ids = {id(r): self._robot_id(r) for r in self.robots}
-        self.groups = {
-            id(c): self._group(c) for c in system.containers if isinstance(c, T.CloudContainer)
-        }
-        self.neighbours: dict[int, set[int]] = defaultdict(set)
-        self.by_id = {id(c): c for c in system.containers}
-        for connection in system.connections:
-            a, b = _owner(connection.source), _owner(connection.target)
-            if a is not None and b is not None and a is not b:
-                self.neighbours[id(a)].add(id(b))
-                self.neighbours[id(b)].add(id(a))
-        self.tags: dict[str, Place] = {}
-        for robot in self.robots:  # robots first: a container tag may not take their ids
-            self.place(robot, "private", robot)
-
-    def _robot_id(self, robot: Any) -> str:
-        robot_id = robot.endpoint.robotId if robot.endpoint is not None else None
-        if not robot_id or not TAG.fullmatch(robot_id):
-            self.errors.append(
-                Diagnostic(
-                    location_of(robot.endpoint) or location_of(robot),
-                    f"robot container {robot.name}: robot_id {robot_id!r} is not a Rapyuta "
-                    "tag (letters, digits, '_' and '-')",
-                )
-            )
-            return robot.name
-        return robot_id
-
-    def _group(self, cloud: Any) -> str:
-        group = cloud.group or cloud.name
-        if not TAG.fullmatch(group):
-            self.errors.append(
-                Diagnostic(
-                    location_of(cloud),
-                    f"cloud container {cloud.name}: group {group!r} is not a Rapyuta tag "
-                    "(letters, digits, '_' and '-')",
-                )
-            )
-            return cloud.name
-        return group
-
-    def is_robot(self, container: Any) -> bool:
-        return isinstance(container, self.T.RobotContainer)
-
-    def scope(self, robot: Any) -> list[Any]:
-        """The cloud containers ``robot`` uses: linked directly or through other clouds."""
-        seen: set[int] = set()
-        frontier = [id(robot)]
-        while frontier:
-            current = frontier.pop()
-            for neighbour in self.neighbours[current]:
-                if neighbour not in seen and not self.is_robot(self.by_id[neighbour]):
-                    seen.add(neighbour)
-                    frontier.append(neighbour)
-        return [self.by_id[i] for i in sorted(seen, key=lambda i: self.by_id[i].name)]
-
-    def place(self, container: Any, mode: str, robot: Any) -> Place:
-        if self.is_robot(container):
-            robot_id = self.robot_ids[id(container)]
-            place = Place(robot_id, "robot", container.name, robot_id)
-        elif mode == "private":
-            robot_id = self.robot_ids[id(robot)]
-            place = Place(f"{container.name}_{robot_id}", mode, container.name, robot_id)
-        elif mode == "protected":
-            group = self.groups[id(container)]
-            place = Place(f"{container.name}_{group}", mode, container.name, group)
-        else:
-            place = Place(f"{container.name}_public", mode, container.name, "public")
-        known = self.tags.setdefault(place.tag, place)
-        if known != place:
-            self.errors.append(
-                Diagnostic(
-                    location_of(container),
-                    f"Rapyuta tag {place.tag!r} would name both {_describe(known)} and "
-                    f"{_describe(place)}: rename a container, group or robot_id",
-                )
-            )
-        return place
-
-    def node_place(self, node: Any, robot: Any) -> Place:
-        return self.place(node.eContainer(), _mode(node), robot)
-
-
-def _describe(place: Place) -> str:
-    if place.is_robot:
-        return f"robot container {place.container}"
-    return f"the {place.kind} partition of {place.container}"
-
-
-def _mode(node: Any) -> str:
-    return node.sharing.name if node.sharing is not None else "private"
-
-
-def _owner(interface: Any) -> Any:
-    """The container of an endpoint interface or of a node interface."""
-    owner = interface.eContainer() if interface is not None else None
-    return owner.eContainer() if owner is not None else None
 
 
 def _ros_name(name: str, namespace: str | None) -> str:
@@ -248,7 +114,7 @@ def _end(
 class _Wiring:
     """Every bridge of the system, over the views of all robots, and their interfaces."""
 
-    def __init__(self, system: Any, placement: _Placement, errors: list[Diagnostic]) -> None:
+    def __init__(self, system: Any, placement: Placement, errors: list[Diagnostic]) -> None:
         self.system = system
         self.placement = placement
         self.errors = errors
@@ -416,7 +282,9 @@ class _Wiring:
             if id(server) in seen:
                 return None
             seen.add(id(server))
-            callers = [c for c in self.callers_of.get(id(server), ()) if id(_owner(c)) in allowed]
+            callers = [
+                c for c in self.callers_of.get(id(server), ()) if id(container_of(c)) in allowed
+            ]
             server = callers[0].server if callers else None
         if server is None or id(server.eContainer().eContainer()) not in allowed:
             return None
@@ -553,7 +421,7 @@ def _partition_entries(
 def configurations(system: Any) -> dict[str, dict[str, Any]]:
     """The rce-ros configuration of every robot container, by container name."""
     errors: list[Diagnostic] = []
-    placement = _Placement(system, errors)
+    placement = Placement(system, errors)
     wiring = _Wiring(system, placement, errors)
     documents: dict[str, dict[str, Any]] = {}
     for robot in placement.robots:
@@ -564,7 +432,7 @@ def configurations(system: Any) -> dict[str, dict[str, Any]]:
         for cloud in placement.scope(robot):
             by_mode: dict[str, list[Any]] = defaultdict(list)
             for node in cloud.nodes:
-                by_mode[_mode(node)].append(node)
+                by_mode[sharing_mode(node)].append(node)
             for mode in MODES:
                 if not by_mode[mode]:
                     continue

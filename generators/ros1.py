@@ -17,6 +17,7 @@ from __future__ import annotations
 import json
 import math
 import re
+from collections.abc import Iterable
 from typing import Any
 
 import yaml
@@ -24,7 +25,7 @@ from lxml import etree
 
 from spl import __version__
 from spl.metamodels import tsm
-from spl.resolver.product import ResolvedProduct
+from spl.resolver.product import ResolvedProduct, topic_ros_name
 
 __all__ = [
     "generate",
@@ -39,11 +40,6 @@ __all__ = [
 
 ROS1_TYPES = {"string": "str", "int": "int", "double": "double", "bool": "bool", "yaml": "yaml"}
 BOOL_TEXT = {"true", "false"}
-
-
-def topic_ros_name(topic: Any) -> str:
-    """The ROS name a topic is published under; ``/Name`` when the model leaves it open."""
-    return topic.rosName or f"/{topic.name}"
 
 
 def _endpoint_caller_of(stand_in: Any, system: Any) -> Any | None:
@@ -156,12 +152,18 @@ def _parameter_element(node_element: Any, parameter: Any) -> None:
     etree.SubElement(node_element, "param", name=parameter.name, value=text, type=ROS1_TYPES[kind])
 
 
-def launch_document(product: ResolvedProduct, container: Any) -> etree._Element:
-    """The ``<launch>`` tree of one container: its nodes, never its endpoint."""
+def launch_document(
+    product: ResolvedProduct,
+    container: Any,
+    nodes: Iterable[Any] | None = None,
+    header: str | None = None,
+) -> etree._Element:
+    """The ``<launch>`` tree of one container: its nodes (or only ``nodes`` of it, as a
+    fleet runs one sharing partition of a container), never its endpoint."""
     root = etree.Element("launch")
-    root.append(etree.Comment(header_text(product, container)))
+    root.append(etree.Comment(header or header_text(product, container)))
     system = product.system
-    for node in container.nodes:
+    for node in container.nodes if nodes is None else nodes:
         if node.eClass.name in ("Writer", "Reader"):
             # generated data clients are rclpy (ROS 2) packages: roslaunch cannot start them
             root.append(etree.Comment(f" {node.name}: ROS 2 data client, see ros2/ "))
@@ -193,8 +195,13 @@ def serialize(root: etree._Element) -> bytes:
     return data if data.endswith(b"\n") else data + b"\n"
 
 
-def launch_file(product: ResolvedProduct, container: Any) -> bytes:
-    return serialize(launch_document(product, container))
+def launch_file(
+    product: ResolvedProduct,
+    container: Any,
+    nodes: Iterable[Any] | None = None,
+    header: str | None = None,
+) -> bytes:
+    return serialize(launch_document(product, container, nodes, header))
 
 
 def generate(product: ResolvedProduct) -> dict[str, bytes]:

@@ -17,6 +17,7 @@ node sees ``filters.median.window``), as ROS 2 parameter files do.
 from __future__ import annotations
 
 import re
+from collections.abc import Iterable
 from typing import Any
 
 import yaml
@@ -67,11 +68,17 @@ def _yaml_parameter(parent: Any, name: str, value: Any, parameter: Any) -> None:
     param.set("type", "yaml")
 
 
-def launch_document(product: ResolvedProduct, container: Any) -> etree._Element:
-    """The ``<launch>`` tree of one container: its nodes, never its endpoint."""
+def launch_document(
+    product: ResolvedProduct,
+    container: Any,
+    nodes: Iterable[Any] | None = None,
+    header: str | None = None,
+) -> etree._Element:
+    """The ``<launch>`` tree of one container: its nodes (or only ``nodes`` of it, as a
+    fleet runs one sharing partition of a container), never its endpoint."""
     root = etree.Element("launch")
-    root.append(etree.Comment(header_text(product, container)))
-    for node in container.nodes:
+    root.append(etree.Comment(header or header_text(product, container)))
+    for node in container.nodes if nodes is None else nodes:
         package, executable = require_implementation(node)
         element = etree.SubElement(root, "node")
         _set(element, "pkg", package)
@@ -102,8 +109,13 @@ def launch_document(product: ResolvedProduct, container: Any) -> etree._Element:
     return root
 
 
-def launch_file(product: ResolvedProduct, container: Any) -> bytes:
-    return serialize(launch_document(product, container))
+def launch_file(
+    product: ResolvedProduct,
+    container: Any,
+    nodes: Iterable[Any] | None = None,
+    header: str | None = None,
+) -> bytes:
+    return serialize(launch_document(product, container, nodes, header))
 
 
 def generate(product: ResolvedProduct) -> dict[str, bytes]:

@@ -19,6 +19,7 @@ from spl.generators.clients import client_package_name
 from spl.metamodels import tsm
 from spl.resolver import pruning, rewiring
 from spl.resolver.architecture_checks import check_architecture
+from spl.resolver.capabilities import CapabilityChoice, choose_features, merge_choices
 from spl.resolver.context import ResolutionContext, describe
 from spl.resolver.product import ResolvedProduct
 from spl.resolver.product_line import ProductLine
@@ -35,6 +36,7 @@ class Resolution:
     completion: SelectionCheck
     removed_nodes: tuple[str, ...]
     kept_nodes: tuple[str, ...]
+    capability_choices: tuple[CapabilityChoice, ...] = ()
 
 
 def resolve(line: ProductLine, selection: ProductSelection) -> Resolution:
@@ -57,12 +59,15 @@ def _collector_paused():
 
 
 def _resolve(line: ProductLine, selection: ProductSelection) -> Resolution:
+    features, deselected, locations = selection.features, selection.deselected, selection.locations
+    choices: list[CapabilityChoice] = []
+    if selection.capabilities is not None:  # the robot's capabilities choose features too
+        choices = choose_features(line.fm, selection.capabilities)
+        features, deselected, locations = merge_choices(
+            choices, features, deselected, locations, Location(selection.source, 1, 1)
+        )
     completion = check_selection(  # step 2: an invalid or open selection is refused
-        line.formula,
-        selection.features,
-        selection.deselected,
-        selection.locations,
-        Location(selection.source, 1, 1),
+        line.formula, features, deselected, locations, Location(selection.source, 1, 1)
     )
     completion.raise_unless_complete()
     selected = set(completion.features)
@@ -112,7 +117,8 @@ def _resolve(line: ProductLine, selection: ProductSelection) -> Resolution:
         warnings=tuple(problems),
     )
     system.name = line.tsm.name
-    return Resolution(product, trace, completion, tuple(sorted(before - set(kept))), kept)
+    removed = tuple(sorted(before - set(kept)))
+    return Resolution(product, trace, completion, removed, kept, tuple(choices))
 
 
 def product_attributes(
@@ -225,18 +231,30 @@ def _apply_sharing(ctx: ResolutionContext, active: list[Any], selection: Product
             )
 
 
+def data_client_implementation(node: Any) -> str | None:
+    """``package/executable`` of a writer or reader the models leave unimplemented: the
+    ROS package generated for it (clients/<package>); None for any other node."""
+    T = tsm()
+    if isinstance(node, (T.Writer, T.Reader)) and not node.package:
+        name = client_package_name(node.name)
+        return f"{name}/{name}"
+    return None
+
+
 def _implement_data_clients(system: Any) -> None:
     """Writers and readers run the ROS package generated for them (clients/<package>)."""
-    T = tsm()
     for container in system.containers:
         for node in container.nodes:
-            if isinstance(node, (T.Writer, T.Reader)) and not node.package:
-                node.package = node.executable = client_package_name(node.name)
+            implementation = data_client_implementation(node)
+            if implementation is not None:
+                node.package, node.executable = implementation.split("/")
 
 
 def summary_lines(resolution: Resolution) -> list[str]:
     product = resolution.product
     lines = [f"product {product.name}: {', '.join(product.features)}"]
+    for choice in resolution.capability_choices:
+        lines.append(f"  {choice}")
     if resolution.completion.added:
         lines.append(f"  added by completion: {', '.join(resolution.completion.added)}")
     lines.append(

@@ -39,6 +39,11 @@ class ResolvedProduct:
         return next((m for m in self.migrations if m.node == node_name), None)
 
 
+def topic_ros_name(topic: Any) -> str:
+    """The ROS name a topic is published under; ``/Name`` when the model leaves it open."""
+    return topic.rosName or f"/{topic.name}"
+
+
 class NodeInterfaces(NamedTuple):
     """The wired interfaces of the nodes of some containers, by kind: the starting point
     of every data-flow walk (rewiring, Rapyuta bridges). Endpoint interfaces are not

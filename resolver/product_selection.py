@@ -8,19 +8,31 @@ every name that will later reach a generated file is checked here.
 from __future__ import annotations
 
 import re
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import yaml
 
-from spl.diagnostics import DiagnosticSink, Location
+from spl.diagnostics import DiagnosticSink, Location, ModelError
+
+if TYPE_CHECKING:
+    from spl.resolver.capabilities import RobotCapabilities
 
 IDENT = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 ROBOT_ID = re.compile(r"[A-Za-z][A-Za-z0-9_-]{0,63}")
 URL = re.compile(r"wss?://[A-Za-z0-9.-]+(:[0-9]{1,5})?(/[A-Za-z0-9._~/-]*)?")
 SHARING_MODES = ("private", "protected", "public")
-TOP_LEVEL_KEYS = ("product", "features", "deselected", "sharing", "attributes", "deployment")
+TOP_LEVEL_KEYS = (
+    "product",
+    "features",
+    "deselected",
+    "sharing",
+    "attributes",
+    "deployment",
+    "capabilities",
+)
 DEPLOYMENT_KEYS = {"robot_id": ROBOT_ID, "url": URL}
 
 
@@ -32,6 +44,7 @@ class ProductSelection:
     sharing: dict[str, str] = field(default_factory=dict)  # feature -> mode
     attributes: dict[str, Any] = field(default_factory=dict)  # "Feature.attr" -> value
     deployment: dict[str, dict[str, str]] = field(default_factory=dict)  # container -> settings
+    capabilities: RobotCapabilities | None = None  # chooses features (resolver.capabilities)
     # where each name was given (feature name / "Feature.attr" / sharing feature), for errors
     locations: dict[str, Location] = field(default_factory=dict)
     source: str = "--features"
@@ -54,12 +67,23 @@ def selection_from_list(text: str, name: str | None = None) -> ProductSelection:
     return ProductSelection(name=name or "_".join(features), features=features)
 
 
-def load_selection_file(path: str | Path) -> ProductSelection:
-    path = Path(path)
+def read_yaml(path: Path, sink: DiagnosticSink) -> tuple[yaml.Node | None, Callable]:
+    """The YAML of ``path`` composed into nodes (which keep their line and column), and the
+    function giving a node's location; invalid YAML is raised as a located error."""
     filename = str(path)
-    sink = DiagnosticSink()
+    data = path.read_bytes()
     try:
-        root = yaml.compose(path.read_text(encoding="utf-8"), Loader=yaml.SafeLoader)
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        line = data.count(b"\n", 0, exc.start) + 1
+        col = exc.start - (data.rfind(b"\n", 0, exc.start) + 1) + 1
+        sink.error(Location(filename, line, col), "not UTF-8 text")
+        sink.raise_if_errors()
+    try:
+        root = yaml.compose(text, Loader=yaml.SafeLoader)
+    except RecursionError:
+        sink.error(Location(filename, 1, 1), "the YAML is nested too deeply")
+        sink.raise_if_errors()
     except yaml.MarkedYAMLError as exc:
         mark = exc.problem_mark
         where = Location(filename, mark.line + 1, mark.column + 1) if mark else None
@@ -70,19 +94,50 @@ def load_selection_file(path: str | Path) -> ProductSelection:
     def at(node: yaml.Node) -> Location:
         return Location(filename, node.start_mark.line + 1, node.start_mark.column + 1)
 
+    return root, at
+
+
+def load_selection_file(path: str | Path) -> ProductSelection:
+    path = Path(path)
+    filename = str(path)
+    sink = DiagnosticSink()
+    root, at = read_yaml(path, sink)
     selection = ProductSelection(name=path.stem, features=[], source=filename)
     if not isinstance(root, yaml.MappingNode):
         sink.error(Location(filename, 1, 1), "a product selection is a mapping (product, features)")
         sink.raise_if_errors()
-    for key_node, value_node in root.value:
+    for key_node, value_node in read_selection(root.value, at, sink, selection, ("product",)):
+        if isinstance(value_node, yaml.ScalarNode) and IDENT.fullmatch(value_node.value):
+            selection.name = value_node.value
+        else:
+            sink.error(at(value_node), f"{key_node.value}: expected an identifier")
+    if not selection.features and "capabilities" not in selection.locations:
+        sink.error(
+            Location(filename, 1, 1), "no features selected (key 'features' or 'capabilities')"
+        )
+    sink.raise_if_errors()
+    return selection
+
+
+def read_selection(
+    pairs: list[tuple[yaml.Node, yaml.Node]],
+    at: Callable[[yaml.Node], Location],
+    sink: DiagnosticSink,
+    selection: ProductSelection,
+    extra_keys: tuple[str, ...] = (),
+) -> list[tuple[yaml.Node, yaml.Node]]:
+    """Read the product-selection keys of a YAML mapping into ``selection`` (a product file,
+    or a robot entry of a fleet file); return the pairs of ``extra_keys`` for the caller.
+    Any other key is a located error naming the keys allowed."""
+    allowed = tuple(k for k in TOP_LEVEL_KEYS if k != "product" or k in extra_keys)
+    allowed += tuple(k for k in extra_keys if k not in TOP_LEVEL_KEYS)
+    extra = []
+    for key_node, value_node in pairs:
         key = key_node.value
-        if key not in TOP_LEVEL_KEYS:
-            sink.error(at(key_node), f"unknown key {key!r} (expected {', '.join(TOP_LEVEL_KEYS)})")
-        elif key == "product":
-            if isinstance(value_node, yaml.ScalarNode) and IDENT.fullmatch(value_node.value):
-                selection.name = value_node.value
-            else:
-                sink.error(at(value_node), "product: expected an identifier")
+        if key not in allowed:
+            sink.error(at(key_node), f"unknown key {key!r} (expected {', '.join(allowed)})")
+        elif key in extra_keys:
+            extra.append((key_node, value_node))
         elif key in ("features", "deselected"):
             names = _names(value_node, at, sink, key)
             getattr(selection, key).extend(names)
@@ -104,12 +159,30 @@ def load_selection_file(path: str | Path) -> ProductSelection:
                 else:
                     selection.attributes[k.value] = yaml.safe_load(yaml.serialize(v))
                     selection.locations[k.value] = at(k)
+        elif key == "capabilities":
+            _capabilities(value_node, at, sink, selection)
         else:
             _deployment(value_node, at, sink, selection)
-    if not selection.features:
-        sink.error(Location(filename, 1, 1), "no features selected (key 'features')")
-    sink.raise_if_errors()
-    return selection
+    return extra
+
+
+def _capabilities(node, at, sink, selection: ProductSelection) -> None:
+    """``capabilities: FILE``, a robot capability file relative to the file naming it."""
+    from spl.resolver.capabilities import load_capabilities
+
+    selection.locations["capabilities"] = at(node)
+    if not isinstance(node, yaml.ScalarNode) or not node.value:
+        sink.error(at(node), "capabilities: expected the path of a robot capability file")
+        return
+    where = at(node)
+    path = Path(where.file).parent / node.value
+    if not path.is_file():
+        sink.error(where, f"capabilities: no such file {node.value}")
+        return
+    try:
+        selection.capabilities = load_capabilities(path)
+    except ModelError as exc:
+        sink.diagnostics.extend(exc.diagnostics)
 
 
 def _names(node, at, sink, key) -> list[str]:

@@ -62,6 +62,8 @@ def test_wheel_ships_models_grammars_and_templates(wheel):
         "spl/metamodels/rm.ecore",
         "spl/dsl/tsm.tx",
         "spl/dsl/rm.tx",
+        "spl/dsl/fm.tx",
+        "spl/dsl/capability.tx",
         "spl/cli.py",
         "spl/smoke/standin.py",  # run by the ROS Python from the installed package
     ):

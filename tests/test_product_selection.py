@@ -51,7 +51,7 @@ def test_errors_are_located(tmp_path):
     ) == [
         "p.yaml:2:20: error: features: 'Bad Name' is not a feature name",
         "p.yaml:3:1: error: unknown key 'colour' (expected product, features, deselected, "
-        "sharing, attributes, deployment)",
+        "sharing, attributes, deployment, capabilities)",
         "p.yaml:4:22: error: sharing: expected one of private, protected, public",
         "p.yaml:5:32: error: deployment: robot_id '$(reboot)' is not valid",
         "p.yaml:5:45: error: deployment: unknown setting 'password' (robot_id, url)",
@@ -62,7 +62,7 @@ def test_invalid_yaml_and_empty_selection(tmp_path):
     (invalid,) = problems(tmp_path, "features: [YouBot\n")
     assert invalid.startswith("p.yaml:2:1: error: invalid YAML")
     assert problems(tmp_path, "product: p\n") == [
-        "p.yaml:1:1: error: no features selected (key 'features')"
+        "p.yaml:1:1: error: no features selected (key 'features' or 'capabilities')"
     ]
 
 

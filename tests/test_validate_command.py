@@ -148,7 +148,10 @@ def test_open_selection_fails_that_product_only(tmp_path: Path) -> None:
     assert result.stdout.splitlines()[-1] == "5 passed, 1 failed"
     message = failure_text(cases(report(out))[("mapping3d", "open")])
     # located at the group the selection leaves open
-    assert message.startswith(f"{line / 'mapping.fm'}:8:32: error: open choice:")
+    text = (line / "mapping.fm").read_text().splitlines()
+    row = next(i for i, t in enumerate(text, 1) if "mandatory PerceptionSensor xor" in t)
+    col = text[row - 1].index("xor") + 1
+    assert message.startswith(f"{line / 'mapping.fm'}:{row}:{col}: error: open choice:")
     assert "exactly one of Stereo, Depth" in message
 
 

@@ -13,7 +13,7 @@ from spl.commands.selection_options import selection_from_options, selection_opt
 @click.argument("directory", type=click.Path(exists=True, file_okay=False, path_type=Path))
 @selection_options
 @click.argument("element")
-def command(directory: Path, features: str, sharing, settings, element: str) -> None:
+def command(directory: Path, features, sharing, settings, capabilities, element: str) -> None:
     """Say why ELEMENT (a node, topic, interface, container or feature) is present,
     absent, migrated or configured as it is in the selected product, naming the
     resolution elements and features responsible with their file locations."""
@@ -21,7 +21,7 @@ def command(directory: Path, features: str, sharing, settings, element: str) -> 
     from spl.resolver.product_line import load_product_line
 
     line = load_product_line(directory)
-    resolution = resolve(line, selection_from_options(features, sharing, settings))
+    resolution = resolve(line, selection_from_options(features, sharing, settings, capabilities))
     system = resolution.product.system
     placed = {n.name: c.name for c in system.containers for n in c.nodes}
     if element in placed:

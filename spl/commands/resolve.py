@@ -15,17 +15,20 @@ from spl.commands.selection_options import selection_from_options, selection_opt
 @click.option(
     "-o", "--out", type=click.Path(path_type=Path), help="bundle folder (default: build/PRODUCT)"
 )
-def command(directory: Path, features: str, sharing, settings, out: Path | None) -> None:
-    """Derive the product selected by --features (a list or a YAML file) and write its
-    deployment bundle. The bundle is written atomically: on any error nothing is left.
-    A file that needs a missing optional program (architecture.svg without Graphviz) is
-    left out with a one-line warning; the rest of the bundle is written, exit 0."""
+def command(
+    directory: Path, features: str | None, sharing, settings, capabilities, out: Path | None
+) -> None:
+    """Derive the product selected by --features (a list or a YAML file) and/or chosen by
+    a robot's --capabilities, and write its deployment bundle. The bundle is written
+    atomically: on any error nothing is left. A file that needs a missing optional program
+    (architecture.svg without Graphviz) is left out with a one-line warning; the rest of
+    the bundle is written, exit 0."""
     from spl.generators.bundle import build_bundle, write_bundle
     from spl.resolver.engine import resolve, summary_lines
     from spl.resolver.product_line import load_product_line
 
     line = load_product_line(directory)
-    resolution = resolve(line, selection_from_options(features, sharing, settings))
+    resolution = resolve(line, selection_from_options(features, sharing, settings, capabilities))
     bundle = build_bundle(resolution.product)
     out = out or Path("build") / resolution.product.name
     write_bundle(bundle.files, out)

@@ -6,6 +6,7 @@ from pathlib import Path
 
 import click
 
+from spl.resolver.capabilities import load_capabilities
 from spl.resolver.product_selection import (
     ProductSelection,
     apply_overrides,
@@ -28,19 +29,36 @@ def selection_options(function):
         metavar="FEATURE=MODE",
         help="sharing mode private|protected|public for a feature (overrides the file)",
     )(function)
+    function = click.option(
+        "--capabilities",
+        type=click.Path(exists=True, dir_okay=False, path_type=Path),
+        metavar="ROBOT.yaml",
+        help="a robot capability file: the capabilities choose features (with --features or alone)",
+    )(function)
     return click.option(
         "--features",
-        required=True,
         metavar="LIST|FILE.yaml",
         help="selected features, comma-separated, or a product selection YAML file",
     )(function)
 
 
-def selection_from_options(features: str, sharing, settings) -> ProductSelection:
-    if features.endswith((".yaml", ".yml")):
+def selection_from_options(
+    features: str | None, sharing, settings, capabilities: Path | None = None
+) -> ProductSelection:
+    """The selection of ``--features`` (a list or a file) and ``--capabilities``, with the
+    ``--sharing`` and ``--set`` overrides; at least one of the two must be given."""
+    if features is None and capabilities is None:
+        raise click.UsageError("give --features LIST|FILE.yaml, --capabilities ROBOT.yaml or both")
+    if features is None:
+        selection = ProductSelection(name=capabilities.stem, features=[])
+    elif features.endswith((".yaml", ".yml")):
         if not Path(features).is_file():
             raise click.BadParameter(f"{features}: no such file", param_hint="--features")
         selection = load_selection_file(features)
     else:
         selection = selection_from_list(features)
+        if capabilities is not None:  # the robot names the product; the list completes it
+            selection.name = capabilities.stem
+    if capabilities is not None:
+        selection.capabilities = load_capabilities(capabilities)
     return apply_overrides(selection, list(sharing), list(settings))

@@ -1,0 +1,304 @@
+"""What the resolution model does to each node, per resolution element: the model the
+fleet analysis reasons with instead of enumerating products.
+
+For every node of the template this module lists the things a product decides about
+it (*aspects*), and for each aspect which resolution elements set it to which value
+when they are active (*effects*); with no effective element the template's value stays:
+
+==================  ===========================================  =======================
+aspect              set by                                       template value
+==================  ===========================================  =======================
+placement           ``migrate NODE to C``                        the node's container
+sharing mode        the sharing mode of the element's feature    the node's ``sharing``
+                    (product override, else the feature's
+                    default) for its required nodes and targets
+implementation      ``implementation NODE = pkg/exe``            the .tsm implementation
+parameter P         ``parameter NODE.P = literal | feature F.a``  the .tsm value
+topic of I          ``connect NODE.I to [new] topic T``          the .tsm binding
+server of C         ``connect NODE.C to server S`` and service   the .tsm binding
+                    bridges; the real server, where its node
+                    runs, or none when its node is absent
+==================  ===========================================  =======================
+
+A node is present when it is stable, or when an active element requires or transforms
+it (:func:`spl.resolver.line_checks.touched_elements`, the engine's ``keep``). Within
+one product two active elements never give one aspect two values (the engine refuses
+that, SPL020), so an aspect's value is that of *the* active effect, or the template's.
+Values are those the resolved model shows, so a prediction can be compared with a
+resolution (:func:`observed`) and, in the fleet analysis, with what other robots'
+resolved products ask.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+from spl.diagnostics import Location, location_of
+from spl.metamodels import tsm
+from spl.resolver.engine import data_client_implementation
+from spl.resolver.line_checks import touched_elements
+from spl.resolver.placement import sharing_mode
+from spl.resolver.product import topic_ros_name
+from spl.resolver.transformations.parameter import canonical_text
+
+Active = Callable[[Any], bool]  # is this resolution element active?
+PLACEMENT = "placement"
+SHARING = "sharing mode"
+
+
+@dataclass(frozen=True)
+class Settings:
+    """What a robot's product decides besides features: sharing overrides, attributes."""
+
+    sharing: tuple[tuple[str, str], ...] = ()  # feature -> mode
+    attributes: tuple[tuple[str, Any], ...] = ()  # "Feature.attr" -> value
+
+    @classmethod
+    def of(cls, sharing: dict[str, str], attributes: dict[str, Any]) -> Settings:
+        return cls(tuple(sorted(sharing.items())), tuple(sorted(attributes.items())))
+
+
+@dataclass(frozen=True)
+class Effect:
+    """An active ``element`` sets the aspect to ``value``; ``where`` is its statement."""
+
+    element: Any
+    value: Any  # a value, or a function of the robot's Settings
+    where: Location | None
+
+    def value_for(self, settings: Settings) -> Any:
+        return self.value(settings) if callable(self.value) else self.value
+
+
+@dataclass
+class Aspect:
+    name: str
+    default: Any
+    default_where: Location | None
+    effects: list[Effect] = field(default_factory=list)
+
+    def effective(self, active: Active) -> Effect | None:
+        """The active effect deciding the aspect (None: the template value stays)."""
+        return next((e for e in self.effects if active(e.element)), None)
+
+    def value(self, active: Active, settings: Settings) -> Any:
+        effect = self.effective(active)
+        return self.default if effect is None else effect.value_for(settings)
+
+
+@dataclass
+class NodeEffects:
+    """Everything the resolution model can do to one template node."""
+
+    node: Any
+    origin: str  # the template container
+    keepers: list[Any] = field(default_factory=list)  # elements making it present
+    aspects: dict[str, Aspect] = field(default_factory=dict)
+    servers: dict[str, Aspect] = field(default_factory=dict)  # client -> template server
+
+    @property
+    def name(self) -> str:
+        return self.node.name
+
+    @property
+    def key(self) -> tuple[str, str]:
+        return (self.origin, self.node.name)
+
+    def present(self, active: Active) -> bool:
+        return not self.node.optional or any(active(e) for e in self.keepers)
+
+
+class LineEffects:
+    """The effects of a product line's resolution model on every node of its template."""
+
+    def __init__(self, line: Any) -> None:
+        T = tsm()
+        self.line = line
+        self.nodes: dict[tuple[str, str], NodeEffects] = {}
+        self.by_node: dict[int, NodeEffects] = {}
+        self.robot_containers = {
+            c.name for c in line.tsm.containers if isinstance(c, T.RobotContainer)
+        }
+        for container in line.tsm.containers:
+            for node in container.nodes:
+                effects = NodeEffects(node, container.name)
+                where = location_of(node)
+                effects.aspects[PLACEMENT] = Aspect(PLACEMENT, container.name, where)
+                effects.aspects[SHARING] = Aspect(SHARING, sharing_mode(node), where)
+                implementation = data_client_implementation(node) or (
+                    f"{node.package}/{node.executable}" if node.package else None
+                )
+                effects.aspects["implementation"] = Aspect("implementation", implementation, where)
+                for parameter in node.parameters:
+                    name = f"parameter {parameter.name}"
+                    effects.aspects[name] = Aspect(name, parameter.value, location_of(parameter))
+                for interface in node.interfaces:
+                    if isinstance(interface, T.Publisher | T.Subscriber):
+                        name = f"topic of {interface.name}"
+                        bound = topic_ros_name(interface.topic) if interface.topic else None
+                        effects.aspects[name] = Aspect(name, bound, location_of(interface))
+                    elif isinstance(interface, T.ServiceClient):
+                        server = real_server(interface.server, line.tsm)
+                        effects.servers[interface.name] = Aspect(
+                            f"server of {interface.name}", server, location_of(interface)
+                        )
+                self.nodes[effects.key] = effects
+                self.by_node[id(node)] = effects
+        for element in line.rm.elements:
+            self._add(element)
+
+    def _add(self, element: Any) -> None:
+        for touched in dict.fromkeys(touched_elements(element)):
+            if id(touched) in self.by_node:
+                self.by_node[id(touched)].keepers.append(element)
+        for t in element.transformations:
+            where = location_of(t)
+            kind = t.eClass.name
+            if kind == "Implementation":
+                value = f"{t.package}/{t.executable}"
+                self._effect(t.node, "implementation", element, value, where)
+            elif kind == "NodeMigration":
+                self._effect(t.node, PLACEMENT, element, t.target.name, where)
+            elif kind == "ParameterValue" and t.parameter is not None:
+                value = t.value if t.attribute is None else _attribute_value(t)
+                self._effect(
+                    t.parameter.eContainer(), f"parameter {t.parameter.name}", element, value, where
+                )
+            elif kind in ("ConnectToTopic", "ConnectToNewTopic"):
+                name = f"topic of {t.interface.name}"
+                value = topic_ros_name(t.topic)
+                self._effect(t.interface.eContainer(), name, element, value, where)
+            elif kind == "ConnectService" or (kind == "ConnectBridge" and t.client is not None):
+                node = self.by_node.get(id(t.client.eContainer()))
+                if node is not None:
+                    node.servers[t.client.name].effects.append(Effect(element, t.server, where))
+        sharing = element.feature.sharing
+        if sharing is not None:
+            feature, default = element.feature.name, sharing.mode.name
+
+            def mode(settings: Settings, feature: str = feature, default: str = default) -> str:
+                return dict(settings.sharing).get(feature, default)
+
+            targets = list(element.required) + [
+                t.node
+                for t in element.transformations
+                if t.eClass.name in ("Implementation", "NodeMigration")
+            ]
+            for node in dict.fromkeys(targets):
+                self._effect(node, SHARING, element, mode, location_of(element))
+
+    def _effect(self, node: Any, aspect: str, element: Any, value: Any, where: Any) -> None:
+        effects = self.by_node.get(id(node))
+        if effects is not None and aspect in effects.aspects:
+            effects.aspects[aspect].effects.append(Effect(element, value, where))
+
+    # -- prediction ------------------------------------------------------------------
+    def server_value(
+        self, node: NodeEffects, client: str, active: Active, settings: Settings
+    ) -> Any:
+        """What the client calls: (server, where its node runs), or None."""
+        server = node.servers[client].value(active, settings)
+        if server is None:
+            return None
+        server_node = self.by_node.get(id(server.eContainer()))
+        if server_node is None or not server_node.present(active):
+            return None
+        placement = server_node.aspects[PLACEMENT].value(active, settings)
+        return (server_id(server_node.origin, server_node.name, server.name), placement)
+
+    def predict(self, node: NodeEffects, active: Active, settings: Settings) -> dict[str, Any]:
+        """Every aspect of a present node in the product where ``active`` holds."""
+        values = {name: aspect.value(active, settings) for name, aspect in node.aspects.items()}
+        for client in node.servers:
+            values[f"server of {client}"] = self.server_value(node, client, active, settings)
+        return values
+
+
+def server_id(container: str, node: str, server: str) -> str:
+    return f"{container}.{node}.{server}"
+
+
+def active_in(features: set[str] | frozenset[str]) -> Active:
+    """The activation rule of the engine (SPEC 5.1 step 4) for a completed selection."""
+    return lambda element: (element.feature.name in features) == element.activeIfSelected
+
+
+def _attribute_value(transformation: Any) -> Callable[[Settings], str]:
+    """A parameter set from a feature attribute: the robot's value, else the default,
+    written as the engine writes it."""
+    attribute = transformation.attribute
+    key = f"{attribute.eContainer().name}.{attribute.name}"
+    kind = transformation.parameter.type.name
+    default = attribute.value
+
+    def value(settings: Settings) -> str:
+        given = dict(settings.attributes)
+        if key in given:
+            return canonical_text(given[key], kind)
+        typed = {"int": int, "double": float, "bool": lambda t: t == "true"}.get(
+            attribute.type.name, str
+        )(default)
+        return canonical_text(typed, kind)
+
+    return value
+
+
+def observed(node: Any, product: Any) -> dict[str, Any]:
+    """The aspects of a node of a resolved product, in the values :class:`LineEffects`
+    predicts (so predictions and resolutions compare)."""
+    T = tsm()
+    container = node.eContainer()
+    values: dict[str, Any] = {
+        PLACEMENT: container.name,
+        SHARING: sharing_mode(node),
+        "implementation": f"{node.package}/{node.executable}" if node.package else None,
+    }
+    for parameter in node.parameters:
+        values[f"parameter {parameter.name}"] = parameter.value
+    for interface in node.interfaces:
+        if isinstance(interface, T.Publisher | T.Subscriber):
+            values[f"topic of {interface.name}"] = (
+                topic_ros_name(interface.topic) if interface.topic else None
+            )
+        elif isinstance(interface, T.ServiceClient):
+            server = real_server(interface.server, product.system)
+            if server is None:
+                values[f"server of {interface.name}"] = None
+                continue
+            server_node = server.eContainer()
+            here = server_node.eContainer().name
+            migration = product.migrated(server_node.name)
+            origin = migration.source if migration is not None else here
+            values[f"server of {interface.name}"] = (
+                server_id(origin, server_node.name, server.name),
+                here,
+            )
+    return values
+
+
+def origin_of(node: Any, product: Any) -> str:
+    """The template container of a node of a resolved product (before any migration)."""
+    migration = product.migrated(node.name)
+    return migration.source if migration is not None else node.eContainer().name
+
+
+def real_server(server: Any, system: Any) -> Any:
+    """The node's ServiceServer behind any chain of endpoint stand-ins (None: unserved)."""
+    T = tsm()
+    seen: set[int] = set()
+    while server is not None and not isinstance(server.eContainer(), T.Node):
+        if id(server) in seen:
+            return None
+        seen.add(id(server))
+        caller = next(
+            (
+                c.target
+                for c in system.connections
+                if c.source is server and isinstance(c.target, T.ServiceClient)
+            ),
+            None,
+        )
+        server = caller.server if caller is not None else None
+    return server

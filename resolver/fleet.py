@@ -1,0 +1,348 @@
+"""Fleets: robots of one product line sharing cloud node instances (seeds/003, sec. VII).
+
+Each robot's product is resolved as usual. A cloud node whose sharing mode is
+``protected`` runs once per group, ``public`` once for everybody
+(:mod:`spl.resolver.placement`): every robot using that instance must *ask the same of
+it*, since one process cannot run two implementations. What a robot asks of a shared
+node is read from its resolved product: where the node runs, its sharing mode,
+implementation, parameter values, the topics its interfaces use and the servers its
+clients call (:func:`spl.resolver.effects.observed`).
+
+Robots are compared in file order with the first robot that fixed the node in their
+scope (their group; and, for a public node, every robot sharing it publicly):
+
+* a node both robots migrated onto their own robot is nobody's shared instance;
+* otherwise a different placement (one runs it in the cloud, the other on board, or
+  in another container) or sharing mode (protected for one, public for the other, in
+  one group) is a conflict, and so is any other aspect with a different value;
+* a robot whose product lacks the node, or keeps it ``private``, asks nothing of the
+  shared instance and never conflicts.
+
+A conflict names the node and its instance, both robots, the values and, for each, the
+feature and resolution element (``file:line:col``) that decided it.
+"""
+
+from __future__ import annotations
+
+import copy
+from dataclasses import dataclass, field
+from typing import Any
+
+from spl.diagnostics import Diagnostic, Location, ModelError, location_of
+from spl.resolver.context import describe
+from spl.resolver.effects import (
+    PLACEMENT,
+    SHARING,
+    LineEffects,
+    active_in,
+    observed,
+    origin_of,
+)
+from spl.resolver.engine import Resolution, resolve
+from spl.resolver.fleet_file import Fleet, FleetRobot
+from spl.resolver.placement import SHARED_MODES, Placement, sharing_mode
+from spl.resolver.product_line import ProductLine, load_product_line
+from spl.resolver.product_selection import ProductSelection
+
+CONFLICT = "SPL040"
+ROBOT_ID_TAKEN = "SPL041"
+
+
+@dataclass(frozen=True)
+class Ask:
+    """What one robot asks of one shared node: the instance and the node's aspects."""
+
+    robot: str
+    group: str
+    key: tuple[str, str]  # (template container, node)
+    mode: str  # protected | public
+    placement: str  # the container the node runs in
+    on_robot: bool
+    tag: str  # the instance (placement rule), e.g. MappingCloud_lab
+    values: tuple[tuple[str, Any], ...]  # implementation, parameters, topics, servers
+
+    @property
+    def node(self) -> str:
+        return self.key[1]
+
+    def value(self, aspect: str) -> Any:
+        if aspect == PLACEMENT:
+            return self.placement
+        if aspect == SHARING:
+            return self.mode
+        return dict(self.values).get(aspect)
+
+    def where(self) -> str:
+        if self.on_robot:
+            return f"on robot container {self.placement}"
+        scope = f"group {self.group}" if self.mode == "protected" else "every group"
+        return f"{self.tag}, {self.mode} for {scope}"
+
+
+@dataclass
+class RobotProduct:
+    robot: FleetRobot
+    resolution: Resolution
+
+    @property
+    def product(self) -> Any:
+        return self.resolution.product
+
+
+@dataclass
+class FleetCheck:
+    fleet: Fleet
+    line: ProductLine
+    effects: LineEffects
+    robots: list[RobotProduct] = field(default_factory=list)
+    asks: list[Ask] = field(default_factory=list)
+    diagnostics: list[Diagnostic] = field(default_factory=list)
+
+    @property
+    def ok(self) -> bool:
+        return not any(d.severity == "error" for d in self.diagnostics)
+
+    def instances(self) -> dict[str, list[Ask]]:
+        """Every shared cloud instance (by tag) and the robots' asks of its nodes."""
+        found: dict[str, list[Ask]] = {}
+        for ask in self.asks:
+            if not ask.on_robot:
+                found.setdefault(ask.tag, []).append(ask)
+        return dict(sorted(found.items()))
+
+
+def robot_selection(robot: FleetRobot, line: ProductLine) -> ProductSelection:
+    """The robot's product selection with its robotIDs: the robot's name (``NAME_C`` for
+    each robot container C when the line has several) unless ``deployment`` gives one."""
+    selection = copy.copy(robot.selection)
+    selection.deployment = {k: dict(v) for k, v in robot.selection.deployment.items()}
+    robots = [c.name for c in line.tsm.containers if c.eClass.name == "RobotContainer"]
+    for container in robots:
+        settings = selection.deployment.setdefault(container, {})
+        settings.setdefault(
+            "robot_id", robot.name if len(robots) == 1 else f"{robot.name}_{container}"
+        )
+    return selection
+
+
+def check_fleet(fleet: Fleet, line: ProductLine | None = None) -> FleetCheck:
+    """Resolve every robot and compare what robots sharing an instance ask of it."""
+    line = line or load_product_line(fleet.product_line)
+    check = FleetCheck(fleet, line, LineEffects(line))
+    resolved: dict[Any, Resolution] = {}  # robotIDs aside, equal selections resolve alike
+    owners: dict[str, str] = {}
+    for robot in fleet.robots:
+        selection = robot_selection(robot, line)
+        for container, settings in sorted(selection.deployment.items()):
+            taken = owners.setdefault(settings.get("robot_id", ""), robot.name)
+            if taken != robot.name:
+                check.diagnostics.append(
+                    Diagnostic(
+                        robot.location,
+                        f"robot {robot.name}: robot_id {settings['robot_id']} of container "
+                        f"{container} is already robot {taken}'s",
+                        code=ROBOT_ID_TAKEN,
+                    )
+                )
+        key = _resolution_key(selection)
+        try:
+            resolution = resolved.get(key) or resolve(line, selection)
+        except ModelError as exc:
+            check.diagnostics.extend(_about(robot, d) for d in exc.diagnostics)
+            continue
+        resolved[key] = resolution
+        entry = RobotProduct(robot, resolution)
+        check.robots.append(entry)
+        errors: list[Diagnostic] = []
+        check.asks.extend(shared_asks(robot, resolution.product, errors))
+        check.diagnostics.extend(_about(robot, d) for d in errors)
+    check.diagnostics.extend(find_conflicts(check))
+    return check
+
+
+def _about(robot: FleetRobot, diagnostic: Diagnostic) -> Diagnostic:
+    return Diagnostic(
+        diagnostic.location or robot.location,
+        f"robot {robot.name}: {diagnostic.message}",
+        diagnostic.severity,
+        diagnostic.code,
+    )
+
+
+def _resolution_key(selection: ProductSelection) -> tuple:
+    capabilities = selection.capabilities.source if selection.capabilities else None
+    deployment = {
+        c: {k: v for k, v in s.items() if k != "robot_id"} for c, s in selection.deployment.items()
+    }
+    return (
+        tuple(selection.features),
+        tuple(selection.deselected),
+        repr(sorted(selection.sharing.items())),
+        repr(sorted(selection.attributes.items())),
+        capabilities,
+        repr(sorted((c, sorted(s.items())) for c, s in deployment.items())),
+    )
+
+
+def shared_asks(robot: FleetRobot, product: Any, errors: list[Diagnostic]) -> list[Ask]:
+    """What ``robot`` asks of every node it runs as protected or public."""
+    placement = Placement(product.system, errors, group=robot.group)
+    asks = []
+    for container in product.system.containers:
+        for node in container.nodes:
+            mode = sharing_mode(node)
+            if mode not in SHARED_MODES:
+                continue
+            place = placement.node_place(node, None)
+            values = {
+                k: v for k, v in observed(node, product).items() if k not in (PLACEMENT, SHARING)
+            }
+            asks.append(
+                Ask(
+                    robot.name,
+                    robot.group,
+                    (origin_of(node, product), node.name),
+                    mode,
+                    container.name,
+                    place.is_robot,
+                    place.tag,
+                    tuple(sorted(values.items())),
+                )
+            )
+    return asks
+
+
+def scopes(ask: Ask) -> list[tuple[str, str]]:
+    """Where an ask is compared: its group, and for a public node all public sharers."""
+    return [("group", ask.group)] + ([("public", "")] if ask.mode == "public" else [])
+
+
+def differences(first: Ask, second: Ask) -> list[str]:
+    """The aspects in which two asks of one node in one scope disagree (none when both
+    robots run the node on board: then nobody shares it)."""
+    if first.on_robot and second.on_robot:
+        return []
+    if first.placement != second.placement:
+        return [PLACEMENT]
+    if first.mode != second.mode:
+        return [SHARING]
+    aspects = sorted({k for k, _ in first.values} | {k for k, _ in second.values})
+    return [a for a in aspects if first.value(a) != second.value(a)]
+
+
+def find_conflicts(check: FleetCheck) -> list[Diagnostic]:
+    """Every robot compared with the first robot that fixed each shared node in its scope."""
+    products = {entry.robot.name: entry for entry in check.robots}
+    first: dict[tuple, Ask] = {}
+    found: dict[tuple, Diagnostic] = {}  # a pair compared in two scopes is reported once
+    for ask in check.asks:
+        for scope in scopes(ask):
+            fixed = first.setdefault((ask.key, scope), ask)
+            for aspect in differences(fixed, ask) if fixed is not ask else ():
+                found.setdefault(
+                    (fixed.robot, ask.robot, ask.key, aspect),
+                    conflict(
+                        check.effects,
+                        products[fixed.robot],
+                        fixed,
+                        products[ask.robot],
+                        ask,
+                        aspect,
+                    ),
+                )
+    return list(found.values())
+
+
+def conflict(
+    effects: LineEffects,
+    first: RobotProduct,
+    fixed: Ask,
+    second: RobotProduct,
+    ask: Ask,
+    aspect: str,
+) -> Diagnostic:
+    node = effects.nodes[ask.key]
+    return Diagnostic(
+        second.robot.location,
+        f"conflict on shared node {ask.node}: robots {fixed.robot} and {ask.robot} ask for a "
+        f"different {aspect}: {fixed.robot} has {shown(fixed, aspect)} "
+        f"({why(effects, node, first, aspect)}), {ask.robot} has {shown(ask, aspect)} "
+        f"({why(effects, node, second, aspect)})",
+        code=CONFLICT,
+    )
+
+
+def shown(ask: Ask, aspect: str) -> str:
+    if aspect in (PLACEMENT, SHARING):
+        return ask.where()
+    value = ask.value(aspect)
+    if value is None:
+        return "none"
+    if isinstance(value, tuple):
+        server, container = value
+        return f"{server.split('.', 1)[1]} running in {container}"
+    return str(value)
+
+
+def why(effects: LineEffects, node: Any, entry: RobotProduct, aspect: str) -> str:
+    """The feature and resolution element that gave the robot's node this value."""
+    active = active_in(set(entry.product.features))
+    if aspect.startswith("server of "):
+        chosen = node.servers[aspect.removeprefix("server of ")]
+        reason = _decided(chosen, active, entry)
+        server = chosen.value(active, None)
+        if server is not None:
+            server_node = effects.by_node.get(id(server.eContainer()))
+            if server_node is not None and not server_node.present(active):
+                return f"{reason}; {server_node.name} is not in this product"
+            moved = server_node.aspects[PLACEMENT].effective(active) if server_node else None
+            if moved is not None:
+                reason += f"; {server_node.name} {_by(moved, entry, PLACEMENT)}"
+        return reason
+    return _decided(node.aspects[aspect], active, entry)
+
+
+def _decided(aspect: Any, active: Any, entry: RobotProduct) -> str:
+    effect = aspect.effective(active)
+    if effect is None:
+        return f"as the template has it ({aspect.default_where})"
+    return _by(effect, entry, aspect.name)
+
+
+def _by(effect: Any, entry: RobotProduct, aspect: str) -> str:
+    element = effect.element
+    feature = element.feature.name
+    text = f"{'migrated ' if aspect == PLACEMENT else ''}by feature {feature}: {describe(element)}"
+    if aspect == SHARING:
+        selection = entry.robot.selection
+        if feature in selection.sharing:
+            where = selection.location(f"sharing:{feature}")
+            mode = selection.sharing[feature]
+            return f"{text}, with the robot's sharing {feature}: {mode} ({where})"
+        return f"{text}, the default sharing of {feature} ({location_of(element.feature.sharing)})"
+    if effect.where is not None and effect.where != location_of(element):
+        text += f" at {effect.where}"
+    return text
+
+
+def summary(check: FleetCheck) -> list[str]:
+    """What ``spl fleet check`` prints on success: robots, groups and shared instances."""
+    groups = sorted({entry.robot.group for entry in check.robots})
+    instances = check.instances()
+    lines = [
+        f"fleet {check.fleet.name}: {len(check.robots)} robots in {len(groups)} "
+        f"group{'s' if len(groups) != 1 else ''} ({', '.join(groups)}), "
+        f"{len(instances)} shared cloud instance{'s' if len(instances) != 1 else ''}, no conflict"
+    ]
+    for tag, asks in instances.items():
+        nodes = sorted({a.node for a in asks})
+        robots = list(dict.fromkeys(a.robot for a in asks))
+        mode = asks[0].mode
+        scope = f"group {asks[0].group}" if mode == "protected" else "every group"
+        lines.append(f"  {tag} ({mode}, {scope}): {', '.join(nodes)}; used by {', '.join(robots)}")
+    return lines
+
+
+def located(diagnostics: list[Diagnostic]) -> list[Diagnostic]:
+    """Diagnostics in file order (robots' entries), as every command prints them."""
+    return sorted(diagnostics, key=lambda d: (d.location or Location(""), d.message))

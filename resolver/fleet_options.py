@@ -1,0 +1,363 @@
+"""Which features a robot may still choose, given the robots of its fleet as deployed.
+
+The robots already in the fleet fix every shared node they use (:mod:`spl.resolver.
+fleet`). For the robot to add (or change) this module asks the SAT solver, never an
+enumeration of products: the feature model's clauses, plus one *requirement* per fixed
+aspect of a shared node the robot would share, encoded over the robot's features with
+the effects model (:mod:`spl.resolver.effects`, which element sets which aspect to what):
+
+    the robot shares node X with the robot that fixed it  (X present, shared, in scope;
+    not both on board)  =>  X's <aspect> has the fixed value
+
+where "X's aspect has value v" is "an element giving v is active, or none giving any
+value is (and the template has v)". Requirements sit behind selector literals, so an
+unsatisfiable query comes back with the requirements that caused it (a minimal core):
+a feature is *forced* when the robot cannot join without it, *forbidden* when it cannot
+join with it, *free* otherwise, each with its reason; when no product meets all
+requirements the robot cannot join at all, and the blocking requirements are named. A
+robot's capability file (``capabilities:``) adds its choices as requirements too.
+Two active elements that decide one aspect differently are excluded as the engine
+excludes them.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+from pysat.solvers import Solver
+
+from spl.diagnostics import Diagnostic, ModelError
+from spl.dsl.fm import all_features
+from spl.resolver.capabilities import choose_features
+from spl.resolver.context import describe
+from spl.resolver.effects import PLACEMENT, SHARING, NodeEffects, Settings
+from spl.resolver.fleet import Ask, FleetCheck, check_fleet, shown
+from spl.resolver.fleet_file import DEFAULT_GROUP, Fleet
+
+TRUE, FALSE = ("const", True), ("const", False)
+
+
+def _or(parts: list) -> tuple:
+    parts = [p for p in parts if p != FALSE]
+    if TRUE in parts:
+        return TRUE
+    return parts[0] if len(parts) == 1 else ("or", tuple(parts)) if parts else FALSE
+
+
+def _and(parts: list) -> tuple:
+    parts = [p for p in parts if p != TRUE]
+    if FALSE in parts:
+        return FALSE
+    return parts[0] if len(parts) == 1 else ("and", tuple(parts)) if parts else TRUE
+
+
+def _not(formula: tuple) -> tuple:
+    if formula[0] == "const":
+        return FALSE if formula[1] else TRUE
+    return ("not", formula)
+
+
+@dataclass(frozen=True)
+class Requirement:
+    text: str
+    effects: tuple[tuple[Any, Any], ...] = ()  # (effect, value) that break it
+    fixed: Any = None  # the value that meets it
+
+
+@dataclass(frozen=True)
+class FeatureOption:
+    feature: str
+    status: str  # forced | forbidden | free
+    reasons: tuple[str, ...] = ()
+
+
+@dataclass
+class FleetOptions:
+    robot: str
+    group: str
+    fixed_by: tuple[str, ...]  # the robots whose instances this robot would share
+    joinable: bool
+    blocking: tuple[str, ...] = ()
+    options: list[FeatureOption] = field(default_factory=list)
+    core: tuple[str, ...] = ()  # in every product of the feature model
+    dead: tuple[str, ...] = ()  # in none
+    fleet_problems: tuple[Diagnostic, ...] = ()  # conflicts among the others
+    alternatives: tuple[str, ...] = ()  # sharing overrides with which it could join
+
+
+class _Encoding:
+    """The feature model plus requirements in one incremental solver (Tseitin)."""
+
+    def __init__(self, check: FleetCheck, settings: Settings) -> None:
+        self.cnf = check.line.formula.cnf
+        self.effects = check.effects
+        self.settings = settings
+        self.solver = Solver(
+            name=check.line.formula.solver_name, bootstrap_with=list(self.cnf.clauses)
+        )
+        self.top = self.cnf.num_vars
+        self.cache: dict[tuple, int] = {}
+        self.selectors: dict[int, Requirement] = {}
+        self._exclude_conflicting_elements()
+
+    def fresh(self) -> int:
+        self.top += 1
+        return self.top
+
+    def literal(self, formula: tuple) -> int:
+        kind = formula[0]
+        if kind == "lit":
+            return formula[1]
+        if kind == "not":
+            return -self.literal(formula[1])
+        if formula in self.cache:
+            return self.cache[formula]
+        v = self.fresh()
+        if kind == "const":
+            self.solver.add_clause([v] if formula[1] else [-v])
+        else:
+            parts = [self.literal(p) for p in formula[1]]
+            if kind == "and":
+                self.solver.add_clause([v, *[-p for p in parts]])
+                for p in parts:
+                    self.solver.add_clause([-v, p])
+            else:
+                self.solver.add_clause([-v, *parts])
+                for p in parts:
+                    self.solver.add_clause([v, -p])
+        self.cache[formula] = v
+        return v
+
+    def active(self, element: Any) -> tuple:
+        v = self.cnf.var[element.feature.name]
+        return ("lit", v if element.activeIfSelected else -v)
+
+    def equals(self, aspect: Any, value: Any) -> tuple:
+        """The aspect has ``value`` in the robot's product."""
+        effects = aspect.effects
+        parts = [self.active(e.element) for e in effects if e.value_for(self.settings) == value]
+        if aspect.default == value:
+            parts.append(_and([_not(self.active(e.element)) for e in effects]))
+        return _or(parts)
+
+    def present(self, node: NodeEffects) -> tuple:
+        return TRUE if not node.node.optional else _or([self.active(e) for e in node.keepers])
+
+    def value_equals(self, node: NodeEffects, aspect: str, value: Any) -> tuple:
+        if not aspect.startswith("server of "):
+            return self.equals(node.aspects[aspect], value)
+        chosen = node.servers[aspect.removeprefix("server of ")]
+        cases = []
+        for server in {
+            id(s): s for s in [chosen.default, *(e.value for e in chosen.effects)]
+        }.values():
+            picked = self.equals(chosen, server)
+            server_node = self.effects.by_node.get(id(server.eContainer())) if server else None
+            if value is None:
+                gone = TRUE if server_node is None else _not(self.present(server_node))
+                cases.append(_and([picked, gone]))
+            elif server_node is not None and value[0] == _server_id(server_node, server):
+                placed = self.equals(server_node.aspects[PLACEMENT], value[1])
+                cases.append(_and([picked, self.present(server_node), placed]))
+        return _or(cases)
+
+    def require(self, requirement: Requirement, formula: tuple) -> None:
+        selector = self.fresh()
+        self.solver.add_clause([-selector, self.literal(formula)])
+        self.selectors[selector] = requirement
+
+    def _exclude_conflicting_elements(self) -> None:
+        for node in self.effects.nodes.values():
+            for aspect in [*node.aspects.values(), *node.servers.values()]:
+                effects = aspect.effects
+                for i, first in enumerate(effects):
+                    for second in effects[i + 1 :]:
+                        if first.value_for(self.settings) != second.value_for(self.settings):
+                            a, b = self.active(first.element), self.active(second.element)
+                            if a[1] != -b[1]:
+                                self.solver.add_clause([-a[1], -b[1]])
+
+    def core(self, assumptions: list[int]) -> list[int]:
+        """A minimal set of selectors that, with ``assumptions``, has no product."""
+        selectors = list(self.selectors)
+        if self.solver.solve(assumptions=assumptions + selectors):
+            return []
+        core = [s for s in selectors if s in set(self.solver.get_core() or [])]
+        for s in list(core):
+            rest = [c for c in core if c != s]
+            if not self.solver.solve(assumptions=assumptions + rest):
+                found = set(self.solver.get_core() or [])
+                core = [c for c in rest if c in found]
+        return core
+
+
+def _server_id(server_node: NodeEffects, server: Any) -> str:
+    return f"{server_node.origin}.{server_node.name}.{server.name}"
+
+
+def fleet_options(
+    fleet: Fleet, name: str, group: str | None = None, sharing: dict[str, str] | None = None
+) -> FleetOptions:
+    """The options of robot ``name`` (in the fleet or to be added) in ``group``, with the
+    sharing modes and attributes of its entry (``sharing`` overrides the modes)."""
+    entry = fleet.robot(name)
+    group = group or (entry.group if entry is not None else DEFAULT_GROUP)
+    others = Fleet(
+        fleet.name, fleet.source, fleet.product_line, [r for r in fleet.robots if r is not entry]
+    )
+    check = check_fleet(others)
+    errors = [d for d in check.diagnostics if d.severity == "error" and d.code != "SPL040"]
+    if errors:
+        raise ModelError(errors)
+    selection = entry.selection if entry is not None else None
+    settings = Settings.of(
+        {**(selection.sharing if selection else {}), **(sharing or {})},
+        selection.attributes if selection else {},
+    )
+    encoding, fixed_by = _build(check, selection, group, settings)
+    core, dead = check.line.formula.backbone()
+    result = FleetOptions(
+        name,
+        group,
+        tuple(fixed_by),
+        True,
+        core=tuple(n for n in encoding.cnf.names if n in core),
+        dead=tuple(n for n in encoding.cnf.names if n in dead),
+        fleet_problems=tuple(d for d in check.diagnostics if d.code == "SPL040"),
+    )
+    blocking = encoding.core([])
+    if blocking:
+        encoding.solver.delete()
+        result.joinable = False
+        result.blocking = tuple(encoding.selectors[s].text for s in blocking)
+        result.alternatives = _sharing_alternatives(check, selection, group, settings)
+        return result
+    for feature in encoding.cnf.names:
+        if feature in core or feature in dead:
+            continue
+        v = encoding.cnf.var[feature]
+        if encoding.core([v]):
+            result.options.append(_explained(encoding, feature, "forbidden", v))
+        elif encoding.core([-v]):
+            result.options.append(_explained(encoding, feature, "forced", -v))
+        else:
+            result.options.append(FeatureOption(feature, "free"))
+    encoding.solver.delete()
+    return result
+
+
+def _build(
+    check: FleetCheck, selection: Any, group: str, settings: Settings
+) -> tuple[_Encoding, list[str]]:
+    """The encoding with every requirement: shared nodes, and the robot's capabilities."""
+    encoding = _Encoding(check, settings)
+    fixed_by = _requirements(encoding, check.asks, group)
+    if selection is not None and selection.capabilities is not None:
+        for choice in choose_features(check.line.fm, selection.capabilities):
+            v = encoding.cnf.var[choice.feature]
+            encoding.require(Requirement(str(choice)), ("lit", v if choice.selected else -v))
+    return encoding, fixed_by
+
+
+def _sharing_alternatives(
+    check: FleetCheck, selection: Any, group: str, settings: Settings
+) -> tuple[str, ...]:
+    """The sharing overrides (one feature, one mode) with which the robot could join."""
+    found = []
+    for feature in all_features(check.line.fm):
+        if feature.sharing is None:
+            continue
+        for mode in ("private", "protected", "public"):
+            if dict(settings.sharing).get(feature.name, feature.sharing.mode.name) == mode:
+                continue
+            changed = Settings(
+                tuple(sorted({**dict(settings.sharing), feature.name: mode}.items())),
+                settings.attributes,
+            )
+            encoding = _build(check, selection, group, changed)[0]
+            if not encoding.core([]):
+                found.append(f"{feature.name}: {mode}")
+            encoding.solver.delete()
+    return tuple(found)
+
+
+def _requirements(encoding: _Encoding, asks: list[Ask], group: str) -> list[str]:
+    """One requirement per fixed aspect of every shared node the robot could share."""
+    seen: set[tuple] = set()
+    robots: list[str] = []
+    for ask in asks:
+        scope = "group" if ask.group == group else "public" if ask.mode == "public" else None
+        identity = (scope, ask.key, ask.mode, ask.placement, ask.on_robot, ask.values)
+        if scope is None or identity in seen:
+            continue
+        seen.add(identity)
+        robots.append(ask.robot)
+        node = encoding.effects.nodes[ask.key]
+        shared_mode = (
+            _or([encoding.equals(node.aspects[SHARING], m) for m in ("protected", "public")])
+            if scope == "group"
+            else encoding.equals(node.aspects[SHARING], "public")
+        )
+        comparable = _and([encoding.present(node), shared_mode])
+        robot_containers = sorted(encoding.effects.robot_containers)
+        on_board = _or([encoding.equals(node.aspects[PLACEMENT], r) for r in robot_containers])
+        exempt = _or([_not(comparable), on_board if ask.on_robot else FALSE])
+        suffix = f", as {ask.robot} fixed it ({ask.where()})"
+        wanted = [(PLACEMENT, ask.placement), (SHARING, ask.mode)]
+        if not ask.on_robot:
+            wanted += list(ask.values)
+        for aspect, value in wanted:
+            if aspect == PLACEMENT:
+                where = "on the robot" if ask.on_robot else f"in {ask.placement}"
+                text = f"{ask.node} must run {where}{suffix}"
+            elif aspect == SHARING:
+                text = f"{ask.node} must be shared {ask.mode}{suffix}"
+            else:
+                text = f"{ask.node} must have {aspect} {shown(ask, aspect)}{suffix}"
+            breaking = _breaking(encoding, node, aspect, value)
+            encoding.require(
+                Requirement(text, breaking, value),
+                _or([exempt, encoding.value_equals(node, aspect, value)]),
+            )
+    return list(dict.fromkeys(robots))
+
+
+def _breaking(encoding: _Encoding, node: NodeEffects, aspect: str, value: Any) -> tuple:
+    """The effects that would give the aspect another value than ``value``."""
+    if aspect.startswith("server of "):
+        chosen = node.servers[aspect.removeprefix("server of ")]
+        found = []
+        for effect in chosen.effects:
+            server_node = encoding.effects.by_node.get(id(effect.value.eContainer()))
+            given = _server_id(server_node, effect.value) if server_node else None
+            if value is None or given != value[0]:
+                found.append((effect, f"{effect.value.eContainer().name}.{effect.value.name}"))
+        return tuple(found)
+    given = [(e, e.value_for(encoding.settings)) for e in node.aspects[aspect].effects]
+    return tuple((e, v) for e, v in given if v != value)
+
+
+def _explained(encoding: _Encoding, feature: str, status: str, literal: int) -> FeatureOption:
+    """A forced or forbidden feature with the requirements that make it so, and the
+    resolution elements through which the feature would break them."""
+    reasons = []
+    for selector in encoding.core([literal]):
+        requirement = encoding.selectors[selector]
+        text = requirement.text
+        if status == "forbidden":
+            through = [
+                f"{feature} makes it {_value_text(given)} ({describe(effect.element)})"
+                for effect, given in requirement.effects
+                if not encoding.solver.solve(
+                    assumptions=[literal, -encoding.literal(encoding.active(effect.element))]
+                )
+            ]
+            if through:
+                text += "; " + "; ".join(through)
+        reasons.append(text)
+    return FeatureOption(feature, status, tuple(reasons))
+
+
+def _value_text(value: Any) -> str:
+    return "none" if value is None else str(value)

@@ -1,0 +1,171 @@
+"""Where each node of a resolved architecture runs, by sharing mode (SPEC 5.2).
+
+A TSM cloud container ``C`` is a template: deployed, it becomes up to three instances,
+by the sharing mode of its nodes:
+
+=============  =====================  ==========================================
+mode           tag                    instances
+=============  =====================  ==========================================
+private        ``<C>_<robotID>``      one per robot using ``C``
+protected      ``<C>_<group>``        one per group (``group`` = C's group, else
+                                      C's name)
+public         ``<C>_public``         one for everybody
+=============  =====================  ==========================================
+
+Nodes of a robot container run on that robot (tag: its robotID). Two robots whose
+nodes get the same tag share one instance: this is the rule both the Rapyuta
+generator (which names containers by it) and the fleet analysis (which checks that
+robots sharing an instance ask the same of it) apply, so it lives here, once.
+
+A robot *uses* ``C`` when endpoint connections link the two, directly or through other
+cloud containers (robots never relay for each other).
+"""
+
+from __future__ import annotations
+
+import re
+from collections import defaultdict
+from dataclasses import dataclass
+from typing import Any
+
+from spl.diagnostics import Diagnostic, location_of
+from spl.metamodels import tsm
+
+TAG = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_-]*")
+MODES = ("private", "protected", "public")
+SHARED_MODES = ("protected", "public")
+
+
+@dataclass(frozen=True, order=True)
+class Place:
+    """A deployed instance: a robot, or one sharing partition of a TSM cloud container."""
+
+    tag: str  # the robotID or the container instance's tag
+    kind: str  # "robot" or a sharing mode
+    container: str  # the TSM container whose ROS graph this is (a partition of it)
+    owner: str  # robotID (robot, private), group (protected) or "public"
+
+    @property
+    def is_robot(self) -> bool:
+        return self.kind == "robot"
+
+    @property
+    def shared(self) -> bool:
+        return self.kind in SHARED_MODES
+
+    def describe(self) -> str:
+        if self.is_robot:
+            return f"robot container {self.container}"
+        return f"the {self.kind} partition of {self.container}"
+
+
+def sharing_mode(node: Any) -> str:
+    """A node's sharing mode (``private`` when the model leaves it unset)."""
+    return node.sharing.name if node.sharing is not None else "private"
+
+
+def container_of(interface: Any) -> Any:
+    """The container of an endpoint interface or of a node interface."""
+    owner = interface.eContainer() if interface is not None else None
+    return owner.eContainer() if owner is not None else None
+
+
+class Placement:
+    """Where each node runs in the instance of one resolved system seen from each robot.
+
+    Problems (a robot_id or group that is no valid tag, two instances that would get
+    one tag) are appended to ``errors``, located in the model.
+    """
+
+    def __init__(self, system: Any, errors: list[Diagnostic], group: str | None = None) -> None:
+        """``group``, when given, is the group of every cloud container: a fleet robot's
+        group, which decides whose protected instances it shares."""
+        T = tsm()
+        self.T = T
+        self.errors = errors
+        self.robots = [c for c in system.containers if isinstance(c, T.RobotContainer)]
+        self.robot_ids = {id(r): self._robot_id(r) for r in self.robots}
+        self.groups = {
+            id(c): self._group(c, group)
+            for c in system.containers
+            if isinstance(c, T.CloudContainer)
+        }
+        self.neighbours: dict[int, set[int]] = defaultdict(set)
+        self.by_id = {id(c): c for c in system.containers}
+        for connection in system.connections:
+            a, b = container_of(connection.source), container_of(connection.target)
+            if a is not None and b is not None and a is not b:
+                self.neighbours[id(a)].add(id(b))
+                self.neighbours[id(b)].add(id(a))
+        self.tags: dict[str, Place] = {}
+        for robot in self.robots:  # robots first: a container tag may not take their ids
+            self.place(robot, "private", robot)
+
+    def _robot_id(self, robot: Any) -> str:
+        robot_id = robot.endpoint.robotId if robot.endpoint is not None else None
+        if not robot_id or not TAG.fullmatch(robot_id):
+            self.errors.append(
+                Diagnostic(
+                    location_of(robot.endpoint) or location_of(robot),
+                    f"robot container {robot.name}: robot_id {robot_id!r} is not a Rapyuta "
+                    "tag (letters, digits, '_' and '-')",
+                )
+            )
+            return robot.name
+        return robot_id
+
+    def _group(self, cloud: Any, group: str | None) -> str:
+        group = group or cloud.group or cloud.name
+        if not TAG.fullmatch(group):
+            self.errors.append(
+                Diagnostic(
+                    location_of(cloud),
+                    f"cloud container {cloud.name}: group {group!r} is not a Rapyuta tag "
+                    "(letters, digits, '_' and '-')",
+                )
+            )
+            return cloud.name
+        return group
+
+    def is_robot(self, container: Any) -> bool:
+        return isinstance(container, self.T.RobotContainer)
+
+    def scope(self, robot: Any) -> list[Any]:
+        """The cloud containers ``robot`` uses: linked directly or through other clouds."""
+        seen: set[int] = set()
+        frontier = [id(robot)]
+        while frontier:
+            current = frontier.pop()
+            for neighbour in self.neighbours[current]:
+                if neighbour not in seen and not self.is_robot(self.by_id[neighbour]):
+                    seen.add(neighbour)
+                    frontier.append(neighbour)
+        return [self.by_id[i] for i in sorted(seen, key=lambda i: self.by_id[i].name)]
+
+    def place(self, container: Any, mode: str, robot: Any) -> Place:
+        """The instance of ``container`` holding its ``mode`` nodes, as ``robot`` sees it."""
+        if self.is_robot(container):
+            robot_id = self.robot_ids[id(container)]
+            place = Place(robot_id, "robot", container.name, robot_id)
+        elif mode == "private":
+            robot_id = self.robot_ids[id(robot)]
+            place = Place(f"{container.name}_{robot_id}", mode, container.name, robot_id)
+        elif mode == "protected":
+            group = self.groups[id(container)]
+            place = Place(f"{container.name}_{group}", mode, container.name, group)
+        else:
+            place = Place(f"{container.name}_public", mode, container.name, "public")
+        known = self.tags.setdefault(place.tag, place)
+        if known != place:
+            self.errors.append(
+                Diagnostic(
+                    location_of(container),
+                    f"Rapyuta tag {place.tag!r} would name both {known.describe()} and "
+                    f"{place.describe()}: rename a container, group or robot_id",
+                )
+            )
+        return place
+
+    def node_place(self, node: Any, robot: Any) -> Place:
+        """The instance ``node`` runs in for ``robot``."""
+        return self.place(node.eContainer(), sharing_mode(node), robot)
