@@ -44,6 +44,7 @@ from typing import Any
 from pysat.solvers import Solver
 
 from spl.diagnostics import Diagnostic, Location, ModelError, location_of
+from spl.dsl.rm_names import Names
 from spl.metamodels import tsm
 from spl.resolver.context import describe, qualified
 from spl.resolver.product_line import ProductLine
@@ -256,11 +257,25 @@ class Decision:
     value: str
     element: Any  # the resolution element deciding
     location: Location | None
+    # a topic decision: (container name, topic name); the container is None when it is
+    # only known in a product (an unqualified name, a node some migration may move)
+    topic: tuple[str | None, str] | None = None
+
+    def differs(self, other: Decision) -> bool:
+        """Whether the two decide differently in every product where both are taken."""
+        if self.topic is None or other.topic is None:
+            return self.value != other.value
+        (container, name), (other_container, other_name) = self.topic, other.topic
+        if name != other_name:
+            return True
+        return None not in (container, other_container) and container != other_container
 
 
-def decisions(element: Any) -> Iterator[tuple[tuple[str, int], Decision]]:
+def decisions(element: Any, names: Names) -> Iterator[tuple[tuple[str, int], Decision]]:
     """Every decision an element takes when active, keyed like the engine's registry
-    (kind, decided template element)."""
+    (kind, decided template element). ``names`` follows the elements in file order (a
+    topic named without its container is where the node can be at that statement)."""
+    names.begin_element()
     for t in element.transformations:
         where = location_of(t)
         kind = t.eClass.name
@@ -271,6 +286,7 @@ def decisions(element: Any) -> Iterator[tuple[tuple[str, int], Decision]]:
                 Decision("implementation", t.node.name, value, element, where),
             )
         elif kind == "NodeMigration":
+            names.migrate(t.node, t.target)
             yield (
                 ("migration target", id(t.node)),
                 Decision("migration target", t.node.name, t.target.name, element, where),
@@ -295,16 +311,22 @@ def decisions(element: Any) -> Iterator[tuple[tuple[str, int], Decision]]:
                 )
         elif kind in ("ConnectToTopic", "ConnectToNewTopic"):
             # a topic is identified by its container and name (a `new topic` declared by
-            # two elements is one topic); the .rm builder put it in the interface's container
-            container = t.interface.eContainer().eContainer()
+            # two elements is one topic)
+            container = getattr(t.topic, "container", None)
+            places = names.places(t.interface.eContainer())
+            if container is None and len(places) == 1:
+                container = places[0]
+            name = t.topic.name
+            topic = (container.name if container is not None else None, name)
             yield (
                 ("topic", id(t.interface)),
                 Decision(
                     "topic",
                     qualified(t.interface),
-                    f"{container.name}.{t.topic.name}",
+                    f"{container.name}.{name}" if container is not None else name,
                     element,
                     where,
+                    topic,
                 ),
             )
         elif kind == "ConnectService" or (kind == "ConnectBridge" and t.client is not None):
@@ -339,15 +361,16 @@ def decisions(element: Any) -> Iterator[tuple[tuple[str, int], Decision]]:
 def reachable_conflicts(line: ProductLine, solver: ActivationSolver) -> list[Diagnostic]:
     """Pairs of decisions that disagree and whose elements are active in one product."""
     index: dict[tuple[str, int], list[Decision]] = defaultdict(list)
+    names = Names(line.tsm)
     for element in line.rm.elements:
-        for key, decision in decisions(element):
+        for key, decision in decisions(element, names):
             index[key].append(decision)
     found = []
     for key, taken in index.items():
         if len({d.value for d in taken}) < 2:
             continue
         for first, second in combinations(taken, 2):
-            if first.value == second.value:
+            if not first.differs(second):
                 continue
             if not solver.possible(first.element, second.element):
                 continue
