@@ -132,9 +132,14 @@ class Names:
         if not found:
             raise NameProblem(f"unknown {what} {name}")
         if len(found) > 1:
-            listed = candidates([(f"{m.eContainer().name}.{name}", m) for m in found])
-            raise NameProblem(f"{what} {name} is ambiguous: {listed}; qualify it")
+            listed = candidates(
+                [(f"{self._kind(m)} {m.eContainer().name}.{name}", m) for m in found]
+            )
+            raise NameProblem(f"{name} is ambiguous: {listed}; qualify it with its container")
         return found[0]
+
+    def _kind(self, member: Any) -> str:
+        return "store" if isinstance(member, self.T.Store) else "node"
 
     def _is(self, member: Any, what: str) -> bool:
         if what == "node":
