@@ -36,6 +36,11 @@ def farm(tmp_path: Path, body: str, tsm: str | None = None) -> Path:
     return tmp_path
 
 
+def element(feature: str, *statements: str) -> str:
+    """``when FEATURE selected { ... }`` with one statement a line, from line 5 on."""
+    return "".join([f"when {feature} selected {{\n", *(f"    {s}\n" for s in statements), "}\n"])
+
+
 def parse_errors(tmp_path: Path, body: str, tsm: str | None = None) -> list[str]:
     """The .rm's parse errors, paths relative to the line's folder."""
     farm(tmp_path, body, tsm)
@@ -143,13 +148,13 @@ def test_regression_bridge_to_topics_created_in_the_same_element(tmp_path):
 )
 def test_node_declared_in_two_containers_must_be_qualified(tmp_path, statement):
     """N2: an unqualified name declared in two containers names both candidates."""
-    errors = parse_errors(tmp_path, f"when Thumbs selected {{\n    {statement}\n}}\n")
+    errors = parse_errors(tmp_path, element("Thumbs", statement))
     assert errors == [
         "farm.rm:5:5: error: Camera is ambiguous: node Tractor.Camera (farm.tsm:14:10) or "
         "node Drone.Camera (farm.tsm:40:10); qualify it with its container"
     ]
     qualified = statement.replace("Camera", "Tractor.Camera", 1)
-    farm(tmp_path, f"when Thumbs selected {{\n    {qualified}\n}}\n")
+    farm(tmp_path, element("Thumbs", qualified))
     rm.load(tmp_path / "farm.rm")
 
 
@@ -210,9 +215,7 @@ def test_every_statement_takes_qualified_names(tmp_path):
 
 def test_migration_into_a_container_with_a_node_of_that_name_is_refused(tmp_path):
     """N5, statically and, when another element moved the other node there, on resolving."""
-    errors = parse_errors(
-        tmp_path, "when OnBoard selected {\n    migrate Drone.Camera to Tractor\n}\n"
-    )
+    errors = parse_errors(tmp_path, element("OnBoard", "migrate Drone.Camera to Tractor"))
     assert errors == [
         "farm.rm:5:5: error: cannot migrate Camera to Tractor: container Tractor already has "
         "a node Camera (farm.tsm:14:10)"
@@ -381,7 +384,7 @@ def test_bridge_end_is_read_by_the_model(tmp_path):
     )
     assert v["bindings"]["Navigator.plan"] == "Tractor.endpoint.srv_Planner_plan"
     errors = parse_errors(
-        tmp_path, "when Planning selected {\n    connect bridge Cloud.Weeds -> Drone.Images\n}\n"
+        tmp_path, element("Planning", "connect bridge Cloud.Weeds -> Drone.Images")
     )
     assert errors == [
         "farm.rm:5:5: error: type mismatch: Weeds is std_msgs/String, Images is sensor_msgs/Image"
@@ -398,7 +401,7 @@ def test_bridge_end_naming_a_topic_and_an_interface_is_ambiguous(tmp_path):
     )
     errors = parse_errors(
         tmp_path,
-        "when Planning selected {\n    connect bridge Navigator.plan -> Planner.plan\n}\n",
+        element("Planning", "connect bridge Navigator.plan -> Planner.plan"),
         tsm,
     )
     assert errors == [
