@@ -166,7 +166,6 @@ class _Builder:
     def build(self, tree: Any) -> Any:
         model = self.locate(self.R.ResolutionModel(name=tree.name), tree)
         for element_tree in tree.elements:
-            self.names.begin_element()
             element = self._element(element_tree)
             if element is not None:
                 model.elements.append(element)
@@ -178,6 +177,7 @@ class _Builder:
             self.error(tree, f"unknown feature {tree.feature}")
         element = self.locate(self.R.ResolutionElement(activeIfSelected=not tree.negated), tree)
         element.feature = feature
+        self.names.begin_element(element)
         for stmt in tree.statements:
             kind = type(stmt).__name__
             if kind == "Require":
@@ -194,6 +194,7 @@ class _Builder:
                 continue
             if transformation is not None:
                 element.transformations.append(self.locate(transformation, stmt))
+                self.names.apply(transformation)
         return element if feature is not None else None
 
     def _typed(self, stmt, interface, kinds: tuple[str, ...], role: str) -> bool:
@@ -255,10 +256,7 @@ class _Builder:
             created = self.names.is_created(existing)
             self.error(stmt, new_topic_clash(stmt.name, container, existing, created))
             return None
-        transformation = self.R.ConnectToNewTopic(interface=interface, topic=topic)
-        for container in places:
-            self.names.create_topic(container, topic)
-        return transformation
+        return self.R.ConnectToNewTopic(interface=interface, topic=topic)
 
     def _same_new_topic(self, existing: Any, topic: Any) -> bool:
         """Two `new topic` statements creating one topic (same type and ROS name) agree."""
@@ -364,7 +362,6 @@ class _Builder:
         if resident is not None and self.names.places(resident) == [target]:
             self.error(stmt, name_taken(node, target, resident))
             return None
-        self.names.migrate(node, target)
         return self.R.NodeMigration(node=node, target=target)
 
     def _same_type(self, stmt, a, b) -> bool:

@@ -62,18 +62,22 @@ class Names:
             for member in [*container.nodes, *container.stores]:
                 self.declared[member.name].append(member)
         self._topics = {(id(c), t.name): t for c in system.containers for t in c.topics}
-        self._created: dict[tuple[int, str], Any] = {}
-        self._may_move: dict[int, list[Any]] = defaultdict(list)  # by earlier elements
-        self._moved: dict[int, Any] = {}  # by earlier statements of the running element
+        self._created: dict[tuple[int, str], Any] = {}  # first `new topic` declaration
+        self._creators: dict[tuple[int, str], list[Any]] = defaultdict(list)  # their elements
+        self._element: Any = None  # the running resolution element
+        # migrations of earlier elements, node id -> [(target, element)], and of earlier
+        # statements of the running element, node id -> target
+        self._may_move: dict[int, list[tuple[Any, Any]]] = defaultdict(list)
+        self._moved: dict[int, Any] = {}
 
     # -- the model as statements leave it ------------------------------------------------
-    def begin_element(self) -> None:
+    def begin_element(self, element: Any = None) -> None:
         """The next resolution element starts: the migrations of the one before become
         possible (its feature may be off), no longer certain."""
         for node_id, target in self._moved.items():
-            if target not in self._may_move[node_id]:
-                self._may_move[node_id].append(target)
+            self._may_move[node_id].append((target, self._element))
         self._moved = {}
+        self._element = element
 
     def places(self, node: Any) -> list[Any]:
         """The containers ``node`` can be in at the running statement, declaring one first.
@@ -82,19 +86,42 @@ class Names:
         the statement runs); migrations of earlier elements only may have happened."""
         if id(node) in self._moved:
             return [self._moved[id(node)]]
-        return [node.eContainer(), *self._may_move.get(id(node), ())]
+        found = [node.eContainer()]
+        for target, _ in self._may_move.get(id(node), ()):
+            if all(target is not c for c in found):
+                found.append(target)
+        return found
 
-    def migrate(self, node: Any, target: Any) -> None:
-        self._moved[id(node)] = target
+    def migrated_here(self, node: Any) -> bool:
+        """Whether a statement of the running element migrated ``node`` already."""
+        return id(node) in self._moved
+
+    def migrations(self, node: Any) -> list[tuple[Any, Any]]:
+        """(target, element) of every migration of ``node`` in an earlier element."""
+        return list(self._may_move.get(id(node), ()))
+
+    def apply(self, transformation: Any) -> None:
+        """What a statement of the running element changes for the statements after it."""
+        kind = transformation.eClass.name
+        if kind == "NodeMigration":
+            self._moved[id(transformation.node)] = transformation.target
+        elif kind == "ConnectToNewTopic":
+            for container in self.places(transformation.interface.eContainer()):
+                key = (id(container), transformation.topic.name)
+                self._created.setdefault(key, transformation.topic)
+                self._creators[key].append(self._element)
 
     def topic(self, container: Any, name: str) -> Any:
         """Topic ``name`` of ``container`` (the .tsm's or an earlier `new topic`'s), or None."""
         key = (id(container), name)
         return self._topics.get(key) or self._created.get(key)
 
-    def create_topic(self, container: Any, declaration: Any) -> None:
-        """A `new topic` may create ``declaration`` in ``container`` from here on."""
-        self._created.setdefault((id(container), declaration.name), declaration)
+    def declared_topic(self, container: Any, name: str) -> bool:
+        return (id(container), name) in self._topics
+
+    def creators(self, container: Any, name: str) -> list[Any]:
+        """The elements whose `new topic` statements so far may create ``name`` there."""
+        return list(self._creators.get((id(container), name), ()))
 
     def is_created(self, topic: Any) -> bool:
         return not isinstance(topic.eContainer(), self.T.Container)

@@ -275,7 +275,7 @@ def decisions(element: Any, names: Names) -> Iterator[tuple[tuple[str, int], Dec
     """Every decision an element takes when active, keyed like the engine's registry
     (kind, decided template element). ``names`` follows the elements in file order (a
     topic named without its container is where the node can be at that statement)."""
-    names.begin_element()
+    names.begin_element(element)
     for t in element.transformations:
         where = location_of(t)
         kind = t.eClass.name
@@ -286,7 +286,6 @@ def decisions(element: Any, names: Names) -> Iterator[tuple[tuple[str, int], Dec
                 Decision("implementation", t.node.name, value, element, where),
             )
         elif kind == "NodeMigration":
-            names.migrate(t.node, t.target)
             yield (
                 ("migration target", id(t.node)),
                 Decision("migration target", t.node.name, t.target.name, element, where),
@@ -336,6 +335,7 @@ def decisions(element: Any, names: Names) -> Iterator[tuple[tuple[str, int], Dec
                 ("server", id(t.client)),
                 Decision("server", qualified(t.client), value, element, where),
             )
+        names.apply(t)
     sharing = element.feature.sharing
     if sharing is not None:
         node_class = tsm().Node
