@@ -517,3 +517,100 @@ def test_line_conflicts_compare_topics_by_container_and_name(tmp_path):
         )
         for feature, at in (("OnBoard selected", 7), ("Thumbs selected", 4))
     ]
+
+
+def findings(tmp_path: Path, body: str, code: str = "SPL016") -> list[str]:
+    line = load_product_line(farm(tmp_path, body))
+    return [
+        str(d).replace(f"{tmp_path}/", "")
+        for d in check_product_line(line, products=False)
+        if d.code == code
+    ]
+
+
+def test_line_check_finds_a_topic_missing_in_some_products(tmp_path):
+    """C3 (SPL016): the lookup of test_migration_of_an_earlier_element_moves_the_lookup,
+    found by `spl check` with the product that fails; no finding once the feature model
+    makes the migration come with the statement."""
+    body = """\
+    when LocalPlanning selected {
+        migrate Planner to Tractor
+    }
+    when Planning selected {
+        connect Planner.route to topic Route
+    }
+    """
+    assert findings(tmp_path, body) == [
+        "farm.rm:8:5: error: unknown topic Route in container Cloud, where Planner is at this "
+        "point, in the product Farm, Planning [SPL016]"
+    ]
+    assert (
+        findings(
+            tmp_path,
+            body.replace(
+                "Planning selected {\n        connect", "LocalPlanning selected {\n        connect"
+            ),
+        )
+        == []
+    )
+
+
+def test_line_check_finds_a_topic_created_by_an_element_that_may_be_off(tmp_path):
+    """C3 (SPL016): a topic another element creates, by name and in a bridge."""
+    body = """\
+    when OnBoard selected {
+        connect Detector.thumbs to new topic Thumbs : sensor_msgs/Image name "/thumbs"
+        connect Tractor.Camera.thumbs to new topic Thumbs : sensor_msgs/Image name "/thumbs"
+    }
+    when Planning selected {
+        connect Detector.thumbs to topic Thumbs
+        connect bridge Tractor.Thumbs -> Cloud.Thumbs
+    }
+    """
+    assert findings(tmp_path, body) == [
+        "farm.rm:9:5: error: unknown topic Thumbs in container Cloud, where Detector is at this "
+        "point, in the product Farm, Planning [SPL016]",
+        "farm.rm:10:5: error: unknown topic Thumbs in container Tractor, in the product Farm, "
+        "Planning [SPL016]",
+    ]
+    assert resolution_errors(tmp_path, body, "Planning")[0] == (
+        "farm.rm:9:5: error: unknown topic Thumbs in container Cloud, where Detector is at this "
+        "point"
+    )
+    together = body.replace("OnBoard selected", "Farm selected")  # the root: always active
+    assert findings(tmp_path, together) == []
+
+
+def test_line_check_finds_services_apart_or_together_in_some_products(tmp_path):
+    """C3 (SPL016) for S1, S2 and N5."""
+    body = """\
+    when LocalPlanning selected {
+        migrate Planner to Tractor
+    }
+    when Planning selected {
+        connect Navigator.plan to server Planner.plan
+    }
+    when Thumbs selected {
+        connect bridge Navigator.plan -> Planner.plan
+    }
+    when OnBoard selected {
+        migrate Tractor.Camera to Cloud
+    }
+    when Thumbs selected {
+        migrate Drone.Camera to Cloud
+    }
+    """
+    assert findings(tmp_path, body) == [
+        "farm.rm:8:5: error: Planner.plan is served in container Cloud, not in Tractor: use "
+        "'connect bridge Tractor.Navigator.plan -> Cloud.Planner.plan' (containers at this "
+        "point), in the product Farm, Planning [SPL016]",
+        "farm.rm:11:5: error: a bridge connects two different containers: Navigator.plan and "
+        "Planner.plan are both in Tractor at this point (connect them with 'to server'), in "
+        "the product Farm, LocalPlanning, Planning, Thumbs [SPL016]",
+        "farm.rm:17:5: error: cannot migrate Camera to Cloud: container Cloud already has a "
+        "node Camera (farm.tsm:14:10), in the product Farm, OnBoard, Thumbs [SPL016]",
+    ]
+    assert resolution_errors(tmp_path, body, "OnBoard,Thumbs") == [
+        "farm.rm:17:5: error: cannot migrate Camera to Cloud: container Cloud already has a "
+        "node Camera (farm.tsm:14:10)"
+    ]
