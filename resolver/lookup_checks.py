@@ -17,6 +17,8 @@ report is never made for a product in which the statement would succeed.
 
 from __future__ import annotations
 
+from collections.abc import Callable, Iterator
+from functools import partial
 from typing import Any, NamedTuple
 
 from spl.diagnostics import Diagnostic, location_of
@@ -89,7 +91,8 @@ class _Statement:
                 variable = self.solver.fresh()
                 self.clauses += condition.implied_by(variable)
                 options.append(variable)
-        self.clauses.append(options)
+        if options:
+            self.clauses.append(options)
         return bool(options)
 
     def both(self, first: Condition, second: Condition) -> int | None:
@@ -111,8 +114,8 @@ def product_dependent_statements(line: ProductLine, solver: ActivationSolver) ->
     for element in line.rm.elements:
         names.begin_element(element)
         for transformation in element.transformations:
-            problem = _failing(transformation, _Statement(solver, names, element))
-            if problem is not None:
+            asked = partial(_Statement, solver, names, element)
+            for problem in _failing(transformation, asked):
                 found.append(
                     Diagnostic(location_of(transformation), problem, "error", PRODUCT_DEPENDENT)
                 )
@@ -120,22 +123,23 @@ def product_dependent_statements(line: ProductLine, solver: ActivationSolver) ->
     return found
 
 
-def _failing(t: Any, statement: _Statement) -> str | None:
-    """The message for a product in which transformation ``t`` fails, or None."""
+def _failing(t: Any, statement: Callable[[], _Statement]) -> Iterator[str]:
+    """The message for a product in which transformation ``t`` fails, one per question
+    (a topic bridge asks about each of its two ends)."""
     kind = t.eClass.name
     if kind == "ConnectToTopic":
-        return _topic_lookup(statement, t.interface.eContainer(), t.topic)
-    if kind == "ConnectBridge" and t.sourceTopic is not None:
-        return _topic_lookup(statement, None, t.sourceTopic) or _topic_lookup(
-            statement, None, t.targetTopic
-        )
-    if kind == "ConnectService":
-        return _apart(statement, t.client, t.server)
-    if kind == "ConnectBridge":
-        return _together(statement, t.client, t.server)
-    if kind == "NodeMigration":
-        return _onto_a_name(statement, t.node, t.target)
-    return None
+        found = [_topic_lookup(statement(), t.interface.eContainer(), t.topic)]
+    elif kind == "ConnectBridge" and t.sourceTopic is not None:
+        found = [_topic_lookup(statement(), None, end) for end in (t.sourceTopic, t.targetTopic)]
+    elif kind == "ConnectService":
+        found = [_apart(statement(), t.client, t.server)]
+    elif kind == "ConnectBridge":
+        found = [_together(statement(), t.client, t.server)]
+    elif kind == "NodeMigration":
+        found = [_onto_a_name(statement(), t.node, t.target)]
+    else:
+        found = []
+    yield from (problem for problem in found if problem is not None)
 
 
 def _topic_lookup(statement: _Statement, node: Any, reference: Any) -> str | None:

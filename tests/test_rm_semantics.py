@@ -565,12 +565,18 @@ def test_line_check_finds_a_topic_created_by_an_element_that_may_be_off(tmp_path
     when Planning selected {
         connect Detector.thumbs to topic Thumbs
         connect bridge Tractor.Thumbs -> Cloud.Thumbs
+        connect bridge Drone.Images -> Cloud.Thumbs
     }
     """
     assert findings(tmp_path, body) == [
         "farm.rm:9:5: error: unknown topic Thumbs in container Cloud, where Detector is at this "
         "point, in the product Farm, Planning [SPL016]",
+        "farm.rm:10:5: error: unknown topic Thumbs in container Cloud, in the product Farm, "
+        "Planning [SPL016]",
         "farm.rm:10:5: error: unknown topic Thumbs in container Tractor, in the product Farm, "
+        "Planning [SPL016]",
+        # one end always there, the other not: each end is its own question
+        "farm.rm:11:5: error: unknown topic Thumbs in container Cloud, in the product Farm, "
         "Planning [SPL016]",
     ]
     assert resolution_errors(tmp_path, body, "Planning")[0] == (
