@@ -40,6 +40,36 @@ class BridgeEnd(NamedTuple):
     interface: Any  # None for a topic
 
 
+class Placement(NamedTuple):
+    """Where a node can be at one statement of a resolution model (docs/semantics.md C1)."""
+
+    node: Any
+    certain: Any  # the target of a migration earlier in the same element, or None
+    moves: tuple[tuple[Any, Any], ...]  # (target, element) of migrations in earlier elements
+
+    @property
+    def places(self) -> list[Any]:
+        """The containers the node can be in, the declaring one first.
+
+        A migration earlier in the same element decides it (the element is active when
+        the statement runs); migrations of earlier elements only may have happened."""
+        if self.certain is not None:
+            return [self.certain]
+        found = [self.node.eContainer()]
+        for target, _ in self.moves:
+            if all(target is not c for c in found):
+                found.append(target)
+        return found
+
+
+class Creation(NamedTuple):
+    """A `new topic` statement that may create a topic: its element, and where its node
+    could be (it creates the topic in the container the node is in)."""
+
+    element: Any
+    placement: Placement
+
+
 def at(element: Any) -> str:
     """Where a model element is declared, as messages cite it (``file:line:col``)."""
     return str(location_of(element))
@@ -63,7 +93,7 @@ class Names:
                 self.declared[member.name].append(member)
         self._topics = {(id(c), t.name): t for c in system.containers for t in c.topics}
         self._created: dict[tuple[int, str], Any] = {}  # first `new topic` declaration
-        self._creators: dict[tuple[int, str], list[Any]] = defaultdict(list)  # their elements
+        self._creators: dict[tuple[int, str], list[Creation]] = defaultdict(list)
         self._element: Any = None  # the running resolution element
         # migrations of earlier elements, node id -> [(target, element)], and of earlier
         # statements of the running element, node id -> target
@@ -79,26 +109,12 @@ class Names:
         self._moved = {}
         self._element = element
 
+    def placement(self, node: Any) -> Placement:
+        """Where ``node`` can be at the running statement."""
+        return Placement(node, self._moved.get(id(node)), tuple(self._may_move.get(id(node), ())))
+
     def places(self, node: Any) -> list[Any]:
-        """The containers ``node`` can be in at the running statement, declaring one first.
-
-        A migration earlier in the same element decides it (the element is active when
-        the statement runs); migrations of earlier elements only may have happened."""
-        if id(node) in self._moved:
-            return [self._moved[id(node)]]
-        found = [node.eContainer()]
-        for target, _ in self._may_move.get(id(node), ()):
-            if all(target is not c for c in found):
-                found.append(target)
-        return found
-
-    def migrated_here(self, node: Any) -> bool:
-        """Whether a statement of the running element migrated ``node`` already."""
-        return id(node) in self._moved
-
-    def migrations(self, node: Any) -> list[tuple[Any, Any]]:
-        """(target, element) of every migration of ``node`` in an earlier element."""
-        return list(self._may_move.get(id(node), ()))
+        return self.placement(node).places
 
     def apply(self, transformation: Any) -> None:
         """What a statement of the running element changes for the statements after it."""
@@ -106,10 +122,11 @@ class Names:
         if kind == "NodeMigration":
             self._moved[id(transformation.node)] = transformation.target
         elif kind == "ConnectToNewTopic":
-            for container in self.places(transformation.interface.eContainer()):
+            placement = self.placement(transformation.interface.eContainer())
+            for container in placement.places:
                 key = (id(container), transformation.topic.name)
                 self._created.setdefault(key, transformation.topic)
-                self._creators[key].append(self._element)
+                self._creators[key].append(Creation(self._element, placement))
 
     def topic(self, container: Any, name: str) -> Any:
         """Topic ``name`` of ``container`` (the .tsm's or an earlier `new topic`'s), or None."""
@@ -119,8 +136,8 @@ class Names:
     def declared_topic(self, container: Any, name: str) -> bool:
         return (id(container), name) in self._topics
 
-    def creators(self, container: Any, name: str) -> list[Any]:
-        """The elements whose `new topic` statements so far may create ``name`` there."""
+    def creations(self, container: Any, name: str) -> list[Creation]:
+        """The `new topic` statements so far that may create ``name`` in ``container``."""
         return list(self._creators.get((id(container), name), ()))
 
     def is_created(self, topic: Any) -> bool:

@@ -22,7 +22,13 @@ from functools import partial
 from typing import Any, NamedTuple
 
 from spl.diagnostics import Diagnostic, location_of
-from spl.dsl.rm_names import Names, name_taken, not_served_here, same_container_bridge
+from spl.dsl.rm_names import (
+    Names,
+    Placement,
+    name_taken,
+    not_served_here,
+    same_container_bridge,
+)
 from spl.resolver.activation import ActivationSolver
 from spl.resolver.product_line import ProductLine
 
@@ -63,37 +69,59 @@ class _Statement:
         self.solver, self.names, self.element = solver, names, element
         self.clauses: list[list[int]] = []
 
-    def at(self, node: Any, place: Any) -> Condition:
-        """``node`` is in ``place`` when the statement runs."""
-        if self.names.migrated_here(node):
-            return ALWAYS if place is self.names.places(node)[0] else NEVER
-        moves = self.names.migrations(node)
-        if place is node.eContainer():
-            return Condition("all", tuple(-self.solver.literal(e) for _, e in moves))
-        return Condition("any", tuple(self.solver.literal(e) for t, e in moves if t is place))
+    def at(self, placement: Placement, place: Any) -> Condition:
+        """The node of ``placement`` is in ``place`` at that statement."""
+        if placement.certain is not None:
+            return ALWAYS if place is placement.certain else NEVER
+        literal = self.solver.literal
+        if place is placement.node.eContainer():
+            return Condition("all", tuple(-literal(e) for _, e in placement.moves))
+        return Condition("any", tuple(literal(e) for t, e in placement.moves if t is place))
 
-    def exists(self, container: Any, name: str) -> Condition:
-        """Topic ``name`` exists in ``container`` when the statement runs (or may)."""
+    def variable(self, condition: Condition) -> int:
+        """A new variable implying ``condition``."""
+        variable = self.solver.fresh()
+        self.clauses += condition.implied_by(variable)
+        return variable
+
+    def missing(self, container: Any, name: str) -> Condition | int:
+        """Topic ``name`` is missing from ``container`` when the statement runs: a constant,
+        or a variable implying it. A `new topic` before created it when its element was
+        active and its node was in ``container`` then."""
         if self.names.declared_topic(container, name):
+            return NEVER
+        not_created = []  # per creation: its element off, or its node elsewhere
+        for creation in self.names.creations(container, name):
+            elsewhere = self.at(creation.placement, container).negated()
+            if elsewhere.constant is True:
+                continue
+            clause = (
+                [] if creation.element is self.element else [-self.solver.literal(creation.element)]
+            )
+            if elsewhere.constant is None:
+                clause.append(self.variable(elsewhere))
+            if not clause:
+                return NEVER  # created by an earlier statement of this element, certainly
+            not_created.append(clause)
+        if not not_created:
             return ALWAYS
-        creators = self.names.creators(container, name)
-        if any(e is self.element for e in creators):
-            return ALWAYS
-        return Condition("any", tuple(self.solver.literal(e) for e in creators))
+        variable = self.solver.fresh()
+        self.clauses += [[-variable, *clause] for clause in not_created]
+        return variable
 
-    def one_of(self, conditions: list[Condition]) -> bool:
-        """Require that one of ``conditions`` holds; False when none can."""
-        options = []
-        for condition in conditions:
-            if condition.constant is True:
+    def one_of(self, options: list[Condition | int]) -> bool:
+        """Require that one of ``options`` holds; False when none can."""
+        variables = []
+        for option in options:
+            if isinstance(option, int):
+                variables.append(option)
+            elif option.constant is True:
                 return True
-            if condition.constant is None:
-                variable = self.solver.fresh()
-                self.clauses += condition.implied_by(variable)
-                options.append(variable)
-        if options:
-            self.clauses.append(options)
-        return bool(options)
+            elif option.constant is None:
+                variables.append(self.variable(option))
+        if variables:
+            self.clauses.append(variables)
+        return bool(variables)
 
     def both(self, first: Condition, second: Condition) -> int | None:
         """A variable implying both conditions, or None when they never hold together."""
@@ -144,94 +172,92 @@ def _failing(t: Any, statement: Callable[[], _Statement]) -> Iterator[str]:
 
 def _topic_lookup(statement: _Statement, node: Any, reference: Any) -> str | None:
     """O1/T1/T2/T4: the topic named is missing where it is looked up."""
-    places = [reference.container] if reference.container is not None else None
-    for place in places or statement.names.places(node):
-        missing = statement.exists(place, reference.name).negated()
-        elsewhere = NEVER if places else statement.at(node, place).negated()
-        if not statement.one_of([elsewhere, missing]):
+    placement = statement.names.placement(node) if reference.container is None else None
+    places = placement.places if placement is not None else [reference.container]
+    for place in places:
+        elsewhere = statement.at(placement, place).negated() if placement else NEVER
+        if not statement.one_of([elsewhere, statement.missing(place, reference.name)]):
             return None  # found there in every product
     witness = statement.witness()
     if witness is None:
         return None
-    if places:
+    if placement is None:
         problem = f"unknown topic {reference.name} in container {reference.container.name}"
     else:
-        place = _place(statement, node, witness)
         problem = (
-            f"unknown topic {reference.name} in container {place.name}, where {node.name} "
-            "is at this point"
+            f"unknown topic {reference.name} in container {_place(placement, witness).name}, "
+            f"where {node.name} is at this point"
         )
     return _in_product(problem, witness)
 
 
+def _common_places(statement: _Statement, client: Any, server: Any):
+    """The placements of two interfaces' nodes and the containers both can be in."""
+    placements = [statement.names.placement(i.eContainer()) for i in (client, server)]
+    common = [p for p in placements[0].places if any(p is q for q in placements[1].places)]
+    return placements, common
+
+
 def _apart(statement: _Statement, client: Any, server: Any) -> str | None:
     """S1: `to server` whose two nodes are in different containers."""
-    client_node, server_node = client.eContainer(), server.eContainer()
-    for place in statement.names.places(client_node):
-        if any(place is p for p in statement.names.places(server_node)):
-            conditions = [statement.at(client_node, place), statement.at(server_node, place)]
-            if not statement.one_of([c.negated() for c in conditions]):
-                return None
+    placements, common = _common_places(statement, client, server)
+    for place in common:
+        conditions = [statement.at(p, place).negated() for p in placements]
+        if not statement.one_of(conditions):
+            return None
     witness = statement.witness()
     if witness is None:
         return None
-    client_place = _place(statement, client_node, witness)
-    server_place = _place(statement, server_node, witness)
+    client_place, server_place = (_place(p, witness) for p in placements)
     problem = not_served_here(client, server, [server_place], [client_place])
     return _in_product(f"{problem} (containers at this point)", witness)
 
 
 def _together(statement: _Statement, client: Any, server: Any) -> str | None:
     """S2: a service bridge whose two nodes are in one container."""
-    client_node, server_node = client.eContainer(), server.eContainer()
-    options = []
-    for place in statement.names.places(client_node):
-        if any(place is p for p in statement.names.places(server_node)):
-            variable = statement.both(
-                statement.at(client_node, place), statement.at(server_node, place)
-            )
-            if variable is not None:
-                options.append(variable)
+    placements, common = _common_places(statement, client, server)
+    options = [statement.both(*(statement.at(p, place) for p in placements)) for place in common]
+    options = [v for v in options if v is not None]
     if not options:
         return None
     statement.clauses.append(options)
     witness = statement.witness()
     if witness is None:
         return None
-    place = _place(statement, client_node, witness)
+    place = _place(placements[0], witness)
     return _in_product(same_container_bridge(client, server, place), witness)
 
 
 def _onto_a_name(statement: _Statement, node: Any, target: Any) -> str | None:
     """N5: a migration into a container holding a node of the same name at that point."""
-    options, residents = [], []
-    for resident in statement.names.declared.get(node.name, ()):
-        if resident is node or not any(target is p for p in statement.names.places(resident)):
-            continue
-        variable = statement.both(statement.at(resident, target), ALWAYS)
-        if variable is not None:
-            options.append(variable)
-            residents.append(resident)
+    residents = [
+        statement.names.placement(r)
+        for r in statement.names.declared.get(node.name, ())
+        if r is not node
+    ]
+    residents = [p for p in residents if any(target is c for c in p.places)]
+    options = [statement.variable(statement.at(p, target)) for p in residents]
     if not options:
         return None
     statement.clauses.append(options)
     witness = statement.witness()
     if witness is None:
         return None
-    resident = next(r for r in residents if _place(statement, r, witness) is target)
+    resident = next(p.node for p in residents if _place(p, witness) is target)
     return _in_product(name_taken(node, target, resident), witness)
 
 
-def _place(statement: _Statement, node: Any, witness: tuple[str, ...]) -> Any:
-    """Where ``node`` is at the statement in the product ``witness``."""
-    if statement.names.migrated_here(node):
-        return statement.names.places(node)[0]
+def _place(placement: Placement, witness: tuple[str, ...]) -> Any:
+    """Where the node of ``placement`` is in the product ``witness``: moved by the first
+    active migration before the statement (a later one elsewhere is a conflict, SPL012,
+    and is not applied)."""
+    if placement.certain is not None:
+        return placement.certain
     selected = set(witness)
-    place = node.eContainer()
-    for target, element in statement.names.migrations(node):
+    for target, element in placement.moves:
         if (element.feature.name in selected) == element.activeIfSelected:
-            place = target
-    return place
+            return target
+    return placement.node.eContainer()
 
 
 def _in_product(problem: str, witness: tuple[str, ...]) -> str:

@@ -22,11 +22,11 @@ def apply(transformation: Any, ctx: ResolutionContext) -> None:
     target = ctx.copy_of(transformation.target)
     where = location_of(transformation)
     ctx.keep(node, f"it is migrated by {ctx.by()}", where)
-    if not ctx.decide("migration target", node, target.name, where):
-        return
-    resident = next((n for n in target.nodes if n.name == node.name), None)
+    resident = next((n for n in target.nodes if n.name == node.name and n is not node), None)
     if resident is not None:  # a container's nodes have distinct names (one ROS graph)
         ctx.sink.error(where, name_taken(node, target, resident))
+        return
+    if not ctx.decide("migration target", node, target.name, where):
         return
     source = node.eContainer()
     target.nodes.append(node)
