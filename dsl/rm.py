@@ -20,6 +20,17 @@ from textx import TextXSyntaxError, get_location, metamodel_from_file
 
 from spl.diagnostics import Diagnostic, DiagnosticSink, Location, ModelError, counted
 from spl.dsl import rosnames
+from spl.dsl.rm_names import (
+    BRIDGE_FORMS,
+    NameProblem,
+    Names,
+    agree,
+    name_taken,
+    new_topic_clash,
+    not_served_here,
+    same_container_bridge,
+    same_topic,
+)
 from spl.metamodels import rm as rm_metamodel
 from spl.metamodels import tsm as tsm_metamodel
 
@@ -125,24 +136,19 @@ def _load_feature_model(path: Path, tree: Any, filename: str, sink: DiagnosticSi
 
 
 class _Builder:
-    """Turns the textX tree into an rm.ResolutionModel with references into the models."""
+    """Turns the textX tree into an rm.ResolutionModel with references into the models.
+
+    Statements are read in file order through :class:`~spl.dsl.rm_names.Names`, which
+    follows the model as the statements before leave it; what cannot be known before a
+    product is chosen is checked again by the Resolution Engine (docs/semantics.md)."""
 
     def __init__(self, filename: str, system: Any, feature_model: Any, sink: DiagnosticSink):
         self.filename = filename
         self.sink = sink
         self.R = rm_metamodel()
         self.T = tsm_metamodel()
-        self.containers = {c.name: c for c in system.containers}
+        self.names = Names(system)
         self.features = {f.name: f for f in _all_features(feature_model.root)}
-        self.nodes: dict[str, list[Any]] = {}
-        self.stores: dict[str, list[Any]] = {}
-        for container in system.containers:
-            for node in container.nodes:
-                self.nodes.setdefault(node.name, []).append(node)
-            for store in container.stores:
-                self.stores.setdefault(store.name, []).append(store)
-        # topics created by `connect ... to new topic`, per container, visible to every element
-        self.new_topics: dict[tuple[str, str], Any] = {}
 
     # -- locations -------------------------------------------------------------------
     def loc(self, node: Any) -> Location:
@@ -159,45 +165,11 @@ class _Builder:
     # -- building -------------------------------------------------------------------
     def build(self, tree: Any) -> Any:
         model = self.locate(self.R.ResolutionModel(name=tree.name), tree)
-        self._declare_new_topics(tree)
         for element_tree in tree.elements:
             element = self._element(element_tree)
             if element is not None:
                 model.elements.append(element)
         return model
-
-    def _declare_new_topics(self, tree: Any) -> None:
-        for element_tree in tree.elements:
-            for stmt in element_tree.statements:
-                if type(stmt).__name__ != "ConnectNewTopicStmt":
-                    continue
-                interface = self._interface(stmt, stmt.interface)
-                if interface is None:
-                    continue
-                container = interface.eContainer().eContainer()
-                ros_name = stmt.rosName or f"/{stmt.name}"
-                problem = rosnames.problem_graph_name(ros_name)
-                if problem:
-                    self.error(stmt, f"new topic {stmt.name}: {problem}")
-                key = (container.name, stmt.name)
-                if any(t.name == stmt.name for t in container.topics):
-                    self.error(
-                        stmt,
-                        f"new topic {stmt.name}: container {container.name} already has a topic "
-                        f"named {stmt.name} (connect to it with 'to topic {stmt.name}')",
-                    )
-                    continue
-                earlier = self.new_topics.get(key)
-                if earlier is not None:
-                    if (earlier.type, earlier.rosName) != (stmt.type, ros_name):
-                        self.error(
-                            stmt,
-                            f"new topic {stmt.name} in {container.name} is declared again "
-                            f"with another type or ROS name (first at line {earlier.srcLine})",
-                        )
-                    continue
-                topic = self.T.Topic(name=stmt.name, type=stmt.type, rosName=ros_name)
-                self.new_topics[key] = self.locate(topic, stmt)
 
     def _element(self, tree: Any) -> Any:
         feature = self.features.get(tree.feature)
@@ -205,76 +177,25 @@ class _Builder:
             self.error(tree, f"unknown feature {tree.feature}")
         element = self.locate(self.R.ResolutionElement(activeIfSelected=not tree.negated), tree)
         element.feature = feature
+        self.names.begin_element(element)
         for stmt in tree.statements:
             kind = type(stmt).__name__
             if kind == "Require":
                 for ref in stmt.refs:
-                    target = self._required(stmt, ref)
-                    if target is not None:
-                        element.required.append(target)
+                    try:
+                        element.required.append(self.names.element(ref, "node or store"))
+                    except NameProblem as problem:
+                        self.error(stmt, str(problem))
                 continue
-            transformation = getattr(self, f"_{kind}")(stmt)
+            try:
+                transformation = getattr(self, f"_{kind}")(stmt)
+            except NameProblem as problem:
+                self.error(stmt, str(problem))
+                continue
             if transformation is not None:
                 element.transformations.append(self.locate(transformation, stmt))
+                self.names.apply(transformation)
         return element if feature is not None else None
-
-    # -- name resolution ------------------------------------------------------------
-    def _by_qualified(self, stmt, ref: str, index: dict[str, list[Any]], what: str):
-        parts = ref.split(".")
-        if len(parts) == 2:
-            container = self.containers.get(parts[0])
-            if container is None:
-                self.error(stmt, f"unknown container {parts[0]}")
-                return None
-            found = [x for x in index.get(parts[1], []) if x.eContainer() is container]
-            name = parts[1]
-        elif len(parts) == 1:
-            found = index.get(parts[0], [])
-            name = parts[0]
-        else:
-            self.error(stmt, f"{ref}: expected {what} or CONTAINER.{what}")
-            return None
-        if not found:
-            self.error(stmt, f"unknown {what} {ref}")
-            return None
-        if len(found) > 1:
-            options = ", ".join(f"{x.eContainer().name}.{name}" for x in found)
-            self.error(stmt, f"{what} {ref} is ambiguous: write one of {options}")
-            return None
-        return found[0]
-
-    def _node(self, stmt, ref: str):
-        return self._by_qualified(stmt, ref, self.nodes, "node")
-
-    def _required(self, stmt, ref: str):
-        parts = ref.split(".")
-        name = parts[-1]
-        index = self.stores if name in self.stores and name not in self.nodes else self.nodes
-        return self._by_qualified(stmt, ref, index, "store" if index is self.stores else "node")
-
-    def _member(self, stmt, ref: str, attr: str, what: str):
-        parts = ref.split(".")
-        if len(parts) < 2:
-            self.error(stmt, f"{ref}: expected NODE.{what}")
-            return None
-        node = self._node(stmt, ".".join(parts[:-1]))
-        if node is None:
-            return None
-        member = next((x for x in getattr(node, attr) if x.name == parts[-1]), None)
-        if member is None:
-            self.error(stmt, f"node {node.name} has no {what} {parts[-1]}")
-        return member
-
-    def _interface(self, stmt, ref: str):
-        return self._member(stmt, ref, "interfaces", "interface")
-
-    def _topic_in(self, stmt, container, name: str):
-        topic = next((t for t in container.topics if t.name == name), None)
-        if topic is None:
-            topic = self.new_topics.get((container.name, name))
-        if topic is None:
-            self.error(stmt, f"unknown topic {name} in container {container.name}")
-        return topic
 
     def _typed(self, stmt, interface, kinds: tuple[str, ...], role: str) -> bool:
         if interface.eClass.name not in kinds:
@@ -286,11 +207,13 @@ class _Builder:
             return False
         return True
 
+    def _topic_reference(self, container: Any, name: str, stmt: Any) -> Any:
+        reference = self.R.TopicReference(container=container, name=name)
+        return self.locate(reference, stmt)
+
     # -- transformations ------------------------------------------------------------
     def _ImplementationStmt(self, stmt):
-        node = self._node(stmt, stmt.node)
-        if node is None:
-            return None
+        node = self.names.element(stmt.node)
         package, executable = stmt.implementation.split("/", 1)
         problem = rosnames.problem_implementation(stmt.implementation)
         if problem:
@@ -299,106 +222,100 @@ class _Builder:
         return self.R.Implementation(node=node, package=package, executable=executable)
 
     def _ConnectTopicStmt(self, stmt):
-        interface = self._interface(stmt, stmt.interface)
-        if interface is None or not self._typed(
-            stmt, interface, ("Publisher", "Subscriber"), "publisher or subscriber"
-        ):
+        interface = self.names.interface(stmt.interface)
+        if not self._typed(stmt, interface, ("Publisher", "Subscriber"), "publisher or subscriber"):
             return None
-        topic = self._topic_in(stmt, interface.eContainer().eContainer(), stmt.topic)
-        if topic is None or not self._same_type(stmt, interface, topic):
+        container, topics = self.names.topic_reference(stmt.topic, interface.eContainer())
+        if not any(agree(interface, topic) for topic in topics):
+            self._same_type(stmt, interface, topics[0])
             return None
+        topic = self._topic_reference(container, stmt.topic.split(".")[-1], stmt)
         return self.R.ConnectToTopic(interface=interface, topic=topic)
 
     def _ConnectNewTopicStmt(self, stmt):
-        interface = self._interface(stmt, stmt.interface)
-        if interface is None or not self._typed(
-            stmt, interface, ("Publisher", "Subscriber"), "publisher or subscriber"
-        ):
+        interface = self.names.interface(stmt.interface)
+        if not self._typed(stmt, interface, ("Publisher", "Subscriber"), "publisher or subscriber"):
             return None
-        container = interface.eContainer().eContainer()
-        declared = self.new_topics.get((container.name, stmt.name))
-        if declared is None or not self._same_type(stmt, interface, declared):
+        ros_name = stmt.rosName or f"/{stmt.name}"
+        problem = rosnames.problem_graph_name(ros_name)
+        if problem:
+            self.error(stmt, f"new topic {stmt.name}: {problem}")
             return None
-        topic = self.T.Topic(name=declared.name, type=declared.type, rosName=declared.rosName)
-        return self.R.ConnectToNewTopic(interface=interface, topic=self.locate(topic, stmt))
+        topic = self.locate(self.T.Topic(name=stmt.name, type=stmt.type, rosName=ros_name), stmt)
+        if not self._same_type(stmt, interface, topic):
+            return None
+        places = self.names.places(interface.eContainer())
+        clashes = [
+            (container, existing)
+            for container in places
+            if (existing := self.names.topic(container, stmt.name)) is not None
+            and not self._same_new_topic(existing, topic)
+        ]
+        if len(clashes) == len(places):  # refused wherever the node can be
+            container, existing = clashes[0]
+            created = self.names.is_created(existing)
+            self.error(stmt, new_topic_clash(stmt.name, container, existing, created))
+            return None
+        return self.R.ConnectToNewTopic(interface=interface, topic=topic)
 
-    def _service_pair(self, stmt, client_name: str, server_name: str):
-        """The client and server interfaces a statement names, or None (error reported)."""
-        client = self._interface(stmt, client_name)
-        server = self._interface(stmt, server_name)
-        if client is None or server is None:
-            return None
+    def _same_new_topic(self, existing: Any, topic: Any) -> bool:
+        """Two `new topic` statements creating one topic (same type and ROS name) agree."""
+        return self.names.is_created(existing) and same_topic(existing, topic)
+
+    def _service_pair(self, stmt, client: Any, server: Any):
+        """The client and server of a statement when their kinds and types agree, else None."""
         if not (
             self._typed(stmt, client, ("ServiceClient",), "service client")
             and self._typed(stmt, server, ("ServiceServer",), "service server")
+            and self._same_type(stmt, client, server)
         ):
             return None
         return client, server
 
     def _ConnectServerStmt(self, stmt):
-        pair = self._service_pair(stmt, stmt.client, stmt.server)
-        if pair is None:
+        client = self.names.interface(stmt.client)
+        server = self.names.interface(stmt.server)
+        if self._service_pair(stmt, client, server) is None:
             return None
-        client, server = pair
-        client_container = client.eContainer().eContainer()
-        server_container = server.eContainer().eContainer()
-        if client_container is not server_container:
-            self.error(
-                stmt,
-                f"{stmt.server} is served in container {server_container.name}, not in "
-                f"{client_container.name}: use 'connect bridge {client_container.name}."
-                f"{stmt.client} -> {server_container.name}.{stmt.server}'",
-            )
-            return None
-        if not self._same_type(stmt, client, server):
+        client_places = self.names.places(client.eContainer())
+        server_places = self.names.places(server.eContainer())
+        if not {id(c) for c in client_places} & {id(c) for c in server_places}:
+            self.error(stmt, not_served_here(client, server, server_places, client_places))
             return None
         return self.R.ConnectService(client=client, server=server)
 
     def _ConnectBridgeStmt(self, stmt):
-        source, target = stmt.source.split("."), stmt.target.split(".")
-        if len(source) == len(target) == 2:
-            containers = [self.containers.get(source[0]), self.containers.get(target[0])]
-            for name, container in zip((source[0], target[0]), containers, strict=True):
-                if container is None:
-                    self.error(stmt, f"unknown container {name}")
-            if None in containers:
-                return None
-            if containers[0] is containers[1]:
+        source = self.names.bridge_end(stmt.source)
+        target = self.names.bridge_end(stmt.target)
+        if source.topic is not None and target.topic is not None:
+            if source.container is target.container:
                 self.error(stmt, "a bridge connects two different containers")
                 return None
-            topics = [
-                self._topic_in(stmt, containers[0], source[1]),
-                self._topic_in(stmt, containers[1], target[1]),
-            ]
-            if None in topics or not self._same_type(stmt, *topics):
+            if not self._same_type(stmt, source.topic, target.topic):
                 return None
-            return self.R.ConnectBridge(sourceTopic=topics[0], targetTopic=topics[1])
-        if len(source) == len(target) == 3:
-            pair = self._service_pair(stmt, stmt.source, stmt.target)
+            return self.R.ConnectBridge(
+                sourceTopic=self._topic_reference(source.container, source.topic.name, stmt),
+                targetTopic=self._topic_reference(target.container, target.topic.name, stmt),
+            )
+        if source.interface is not None and target.interface is not None:
+            pair = self._service_pair(stmt, source.interface, target.interface)
             if pair is None:
                 return None
             client, server = pair
-            if client.eContainer().eContainer() is server.eContainer().eContainer():
-                self.error(stmt, "a bridge connects two different containers")
-                return None
-            if not self._same_type(stmt, client, server):
+            client_places = self.names.places(client.eContainer())
+            server_places = self.names.places(server.eContainer())
+            if len(client_places) == len(server_places) == 1 and client_places == server_places:
+                self.error(stmt, same_container_bridge(client, server, client_places[0]))
                 return None
             return self.R.ConnectBridge(client=client, server=server)
-        self.error(
-            stmt,
-            "a bridge is CONTAINER.TOPIC -> CONTAINER.TOPIC or "
-            "CONTAINER.NODE.CLIENT -> CONTAINER.NODE.SERVER",
-        )
+        self.error(stmt, BRIDGE_FORMS)
         return None
 
     def _ParameterStmt(self, stmt):
-        refinement = self._refinement(stmt, stmt.parameter)
+        parameter, refinement = self.names.parameter(stmt.parameter)
         if refinement is not None:
-            parameter, ptype, what = None, "double", f"{stmt.parameter}"
+            ptype, what = "double", f"{stmt.parameter}"
         else:
-            parameter = self._member(stmt, stmt.parameter, "parameters", "parameter")
-            if parameter is None:
-                return None
             ptype, what = parameter.type.name, f"parameter {parameter.name}"
         value = stmt.value
         if type(value).__name__ == "FeatureAttributeValue":
@@ -429,35 +346,26 @@ class _Builder:
             return None
         return self.R.ParameterValue(parameter=parameter, refinement=refinement, value=text)
 
-    def _refinement(self, stmt, ref: str):
-        """``[CONTAINER.]STORE.REFINED_TYPE.period``: the period of a store's transformer."""
-        parts = ref.split(".")
-        if len(parts) < 3 or parts[-1] != "period" or parts[-3] not in self.stores:
-            return None
-        store = self._by_qualified(stmt, ".".join(parts[:-2]), self.stores, "store")
-        if store is None:
-            return None
-        refinement = next((r for r in store.refinements if r.output.name == parts[-2]), None)
-        if refinement is None:
-            self.error(stmt, f"store {store.name} has no refinement into {parts[-2]}")
-        return refinement
-
     def _MigrateStmt(self, stmt):
-        node = self._node(stmt, stmt.node)
-        target = self.containers.get(stmt.container)
+        target = self.names.containers.get(stmt.container)
         if target is None:
             self.error(stmt, f"unknown container {stmt.container}", MIGRATION_TARGET)
-        if node is None or target is None:
+        node = self.names.element(stmt.node)
+        if target is None:
             return None
         if node.eContainer() is target:
             self.error(
                 stmt, f"node {node.name} is already in container {target.name}", MIGRATION_TARGET
             )
             return None
+        resident = next((n for n in target.nodes if n.name == node.name), None)
+        if resident is not None and self.names.places(resident) == [target]:
+            self.error(stmt, name_taken(node, target, resident))
+            return None
         return self.R.NodeMigration(node=node, target=target)
 
     def _same_type(self, stmt, a, b) -> bool:
-        if a.type and b.type and a.type != b.type:
+        if not agree(a, b):
             self.error(stmt, f"type mismatch: {a.name} is {a.type}, {b.name} is {b.type}")
             return False
         return True

@@ -53,8 +53,9 @@ class ResolutionContext:
     kept: set[int] = field(default_factory=set)
     migrations: list[NodeMigration] = field(default_factory=list)
     decisions: dict[tuple[str, int], Decision] = field(default_factory=dict)
-    created_topics: dict[tuple[str, str], Any] = field(default_factory=dict)
+    created_topics: set[int] = field(default_factory=set)  # ids of topics `new topic` made
     element: Any = None  # the active resolution element whose transformations run
+    _topics: dict[int, dict[str, Any]] = field(default_factory=dict)  # container id -> by name
 
     @cached_property
     def wiring(self) -> EndpointWiring:
@@ -87,26 +88,33 @@ class ResolutionContext:
             )
         return False
 
-    def topic_for(self, container: Any, template_topic: Any) -> Any:
-        """The product's copy of a template topic, or the topic a `new topic` created."""
-        copy = self.copies.get(id(template_topic))
-        if copy is not None:
-            return copy
-        key = (container.name, template_topic.name)
-        topic = self.created_topics.get(key)
-        if topic is None:
-            T = tsm()
-            topic = T.Topic(
-                name=template_topic.name, type=template_topic.type, rosName=template_topic.rosName
-            )
-            topic.srcFile = template_topic.srcFile
-            topic.srcLine, topic.srcCol = template_topic.srcLine, template_topic.srcCol
-            container.topics.append(topic)
-            self.created_topics[key] = topic
-            self.trace.record(
-                qualified(topic),
-                "created",
-                f"new topic created by {self.by()}",
-                location_of(template_topic),
-            )
+    def topic_named(self, container: Any, name: str) -> Any:
+        """Topic ``name`` of ``container`` as the product stands now: the template's copy or
+        one an earlier `new topic` created (docs/semantics.md), else None."""
+        return self._topic_index(container).get(name)
+
+    def _topic_index(self, container: Any) -> dict[str, Any]:
+        index = self._topics.get(id(container))
+        if index is None:
+            index = self._topics[id(container)] = {t.name: t for t in container.topics}
+        return index
+
+    def is_created(self, topic: Any) -> bool:
+        return id(topic) in self.created_topics
+
+    def create_topic(self, container: Any, declaration: Any) -> Any:
+        """The topic a `new topic` statement declares, created in ``container``."""
+        name, kind, ros_name = declaration.name, declaration.type, declaration.rosName
+        topic = tsm().Topic(name=name, type=kind, rosName=ros_name)
+        topic.srcFile = declaration.srcFile
+        topic.srcLine, topic.srcCol = declaration.srcLine, declaration.srcCol
+        self._topic_index(container)[topic.name] = topic
+        container.topics.append(topic)
+        self.created_topics.add(id(topic))
+        self.trace.record(
+            qualified(topic),
+            "created",
+            f"new topic created by {self.by()}",
+            location_of(declaration),
+        )
         return topic

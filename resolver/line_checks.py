@@ -25,6 +25,10 @@ SPL014    info      a concrete leaf feature with no effect: no resolution elemen
                     attribute, sharing mode or constraint mentions it
 SPL015    warning   a listed product (``products/*.yaml``) that is not a valid, complete
                     selection
+SPL016    error     a statement that fails in some product activating its element: a
+                    topic missing where the node is at that point, a client and server
+                    apart, ... (:mod:`spl.resolver.lookup_checks`, docs/semantics.md C3);
+                    the message names a witness product
 ========  ========  ==================================================================
 
 Conflict candidates are found through an index from the decided thing (a node, a
@@ -41,11 +45,12 @@ from dataclasses import dataclass
 from itertools import combinations
 from typing import Any
 
-from pysat.solvers import Solver
-
 from spl.diagnostics import Diagnostic, Location, ModelError, location_of
+from spl.dsl.rm_names import Names
 from spl.metamodels import tsm
+from spl.resolver.activation import ActivationSolver
 from spl.resolver.context import describe, qualified
+from spl.resolver.lookup_checks import product_dependent_statements
 from spl.resolver.product_line import ProductLine
 from spl.resolver.selection import check_selection
 
@@ -54,112 +59,6 @@ UNREACHABLE_OPTIONAL = "SPL011"
 CONFLICT = "SPL012"
 NO_EFFECT = "SPL014"
 UNRESOLVABLE_PRODUCT = "SPL015"
-
-
-# how many models found are kept to answer later queries without the solver
-MODELS_KEPT = 32
-
-
-class ActivationSolver:
-    """One solver over the feature model's clauses, asked which elements can be active.
-
-    It is a solver of its own (not the line's shared one), so the same line always gives
-    the same answers and witnesses whatever was asked of the shared solver before.
-    Queries are made cheap three ways, since on a big line each full solve costs time
-    linear in the number of features: every model found is kept for a while and
-    answers later queries it satisfies; a pair the feature model forbids outright
-    (alternatives, ``excludes``, ``requires``) fails by unit propagation alone; and
-    :meth:`decide` settles all single elements with a few models, each found with the
-    literals still open as preferred phases.
-    """
-
-    def __init__(self, line: ProductLine) -> None:
-        formula = line.formula
-        self.cnf = formula.cnf
-        self.solver = Solver(name=formula.solver_name, bootstrap_with=list(self.cnf.clauses))
-        # witnesses prefer features off (small products); the solver saves the phases of
-        # its last model, so they are reset before every witness is read
-        self._phases = [-v for v in range(1, self.cnf.num_features + 1)]
-        self._answers: dict[frozenset[int], bool] = {}
-        self._models: list[list[int]] = []  # recent models, feature variables only
-
-    def close(self) -> None:
-        self.solver.delete()
-
-    def __enter__(self) -> ActivationSolver:
-        return self
-
-    def __exit__(self, *exc: object) -> None:
-        self.close()
-
-    def literal(self, element: Any) -> int:
-        variable = self.cnf.var[element.feature.name]
-        return variable if element.activeIfSelected else -variable
-
-    def _remember(self) -> list[int]:
-        model = self.solver.get_model()[: self.cnf.num_features]
-        self._models.append(model)
-        del self._models[:-MODELS_KEPT]
-        return model
-
-    def decide(self, elements: list[Any]) -> None:
-        """Settle whether each element can be active, with as few solver calls as the
-        feature model allows (one per model that makes a new activation literal true)."""
-        pending = {self.literal(e) for e in elements} - {
-            lit for key in self._answers if len(key) == 1 for lit in key
-        }
-        while pending:
-            literal = min(pending, key=lambda lit: (abs(lit), lit))
-            pending.discard(literal)
-            # every feature off unless it is an open literal: a decision on a sibling
-            # then never comes first and blocks the literal the model could also cover
-            phases = list(self._phases)
-            for lit in pending:
-                phases[abs(lit) - 1] = lit
-            self.solver.set_phases(phases)
-            if not self.solver.solve(assumptions=[literal]):
-                self._answers[frozenset((literal,))] = False
-                continue
-            self._answers[frozenset((literal,))] = True
-            model = self._remember()
-            for lit in [lit for lit in pending if model[abs(lit) - 1] == lit]:
-                self._answers[frozenset((lit,))] = True
-                pending.discard(lit)
-
-    def possible(self, *elements: Any) -> bool:
-        """Whether one product activates all ``elements`` (asked once per literal set)."""
-        assumptions = frozenset(self.literal(e) for e in elements)
-        answer = self._answers.get(assumptions)
-        if answer is None:
-            answer = self._possible(sorted(assumptions))
-            self._answers[assumptions] = answer
-        return answer
-
-    def _possible(self, literals: list[int]) -> bool:
-        if any(-lit in literals for lit in literals):
-            return False
-        for model in reversed(self._models):
-            if all(model[abs(lit) - 1] == lit for lit in literals):
-                return True
-        if not self.solver.propagate(assumptions=literals)[0]:
-            return False
-        if not self.solver.solve(assumptions=literals):
-            return False
-        self._remember()
-        return True
-
-    def witness(self, *elements: Any) -> tuple[str, ...] | None:
-        """A product (feature names, sorted) in which all ``elements`` are active, or None.
-
-        Only asked for what is reported: reading a whole model costs time linear in the
-        number of features, which on big lines dominates the yes/no queries.
-        """
-        if not self.possible(*elements):
-            return None
-        self.solver.set_phases(self._phases)
-        self.solver.solve(assumptions=sorted({self.literal(e) for e in elements}))
-        model = self.solver.get_model()[: self.cnf.num_features]
-        return tuple(sorted(self.cnf.names[lit - 1] for lit in model if lit > 0))
 
 
 # --- SPL010 --------------------------------------------------------------------------
@@ -256,11 +155,25 @@ class Decision:
     value: str
     element: Any  # the resolution element deciding
     location: Location | None
+    # a topic decision: (container name, topic name); the container is None when it is
+    # only known in a product (an unqualified name, a node some migration may move)
+    topic: tuple[str | None, str] | None = None
+
+    def differs(self, other: Decision) -> bool:
+        """Whether the two decide differently in every product where both are taken."""
+        if self.topic is None or other.topic is None:
+            return self.value != other.value
+        (container, name), (other_container, other_name) = self.topic, other.topic
+        if name != other_name:
+            return True
+        return None not in (container, other_container) and container != other_container
 
 
-def decisions(element: Any) -> Iterator[tuple[tuple[str, int], Decision]]:
+def decisions(element: Any, names: Names) -> Iterator[tuple[tuple[str, int], Decision]]:
     """Every decision an element takes when active, keyed like the engine's registry
-    (kind, decided template element)."""
+    (kind, decided template element). ``names`` follows the elements in file order (a
+    topic named without its container is where the node can be at that statement)."""
+    names.begin_element(element)
     for t in element.transformations:
         where = location_of(t)
         kind = t.eClass.name
@@ -295,16 +208,22 @@ def decisions(element: Any) -> Iterator[tuple[tuple[str, int], Decision]]:
                 )
         elif kind in ("ConnectToTopic", "ConnectToNewTopic"):
             # a topic is identified by its container and name (a `new topic` declared by
-            # two elements is one topic); the .rm builder put it in the interface's container
-            container = t.interface.eContainer().eContainer()
+            # two elements is one topic)
+            container = getattr(t.topic, "container", None)
+            places = names.places(t.interface.eContainer())
+            if container is None and len(places) == 1:
+                container = places[0]
+            name = t.topic.name
+            topic = (container.name if container is not None else None, name)
             yield (
                 ("topic", id(t.interface)),
                 Decision(
                     "topic",
                     qualified(t.interface),
-                    f"{container.name}.{t.topic.name}",
+                    f"{container.name}.{name}" if container is not None else name,
                     element,
                     where,
+                    topic,
                 ),
             )
         elif kind == "ConnectService" or (kind == "ConnectBridge" and t.client is not None):
@@ -314,6 +233,7 @@ def decisions(element: Any) -> Iterator[tuple[tuple[str, int], Decision]]:
                 ("server", id(t.client)),
                 Decision("server", qualified(t.client), value, element, where),
             )
+        names.apply(t)
     sharing = element.feature.sharing
     if sharing is not None:
         node_class = tsm().Node
@@ -339,15 +259,16 @@ def decisions(element: Any) -> Iterator[tuple[tuple[str, int], Decision]]:
 def reachable_conflicts(line: ProductLine, solver: ActivationSolver) -> list[Diagnostic]:
     """Pairs of decisions that disagree and whose elements are active in one product."""
     index: dict[tuple[str, int], list[Decision]] = defaultdict(list)
+    names = Names(line.tsm)
     for element in line.rm.elements:
-        for key, decision in decisions(element):
+        for key, decision in decisions(element, names):
             index[key].append(decision)
     found = []
     for key, taken in index.items():
         if len({d.value for d in taken}) < 2:
             continue
         for first, second in combinations(taken, 2):
-            if first.value == second.value:
+            if not first.differs(second):
                 continue
             if not solver.possible(first.element, second.element):
                 continue
@@ -487,6 +408,7 @@ def check_product_line(line: ProductLine, products: bool = True) -> list[Diagnos
         found = never_active_elements(line, solver)
         found += unreachable_optional_elements(line, solver)
         found += reachable_conflicts(line, solver)
+        found += product_dependent_statements(line, solver)
     found += features_without_effect(line)
     if products:
         found += unresolvable_products(line)

@@ -12,6 +12,7 @@ from __future__ import annotations
 from typing import Any
 
 from spl.diagnostics import location_of
+from spl.dsl.rm_names import name_taken
 from spl.resolver.context import ResolutionContext
 from spl.resolver.product import NodeMigration
 
@@ -21,6 +22,10 @@ def apply(transformation: Any, ctx: ResolutionContext) -> None:
     target = ctx.copy_of(transformation.target)
     where = location_of(transformation)
     ctx.keep(node, f"it is migrated by {ctx.by()}", where)
+    resident = next((n for n in target.nodes if n.name == node.name and n is not node), None)
+    if resident is not None:  # a container's nodes have distinct names (one ROS graph)
+        ctx.sink.error(where, name_taken(node, target, resident))
+        return
     if not ctx.decide("migration target", node, target.name, where):
         return
     source = node.eContainer()

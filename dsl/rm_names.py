@@ -1,0 +1,358 @@
+"""What the names of a resolution model mean (docs/semantics.md), decided in one place.
+
+The .rm builder (:mod:`spl.dsl.rm`) reads every reference through :class:`Names`, and
+the product-line checks walk the parsed model with the same class, so a name means one
+thing everywhere.
+
+Statements run in file order, each seeing the model the statements before it left
+(SPEC 5.1 step 4). Before a product is chosen it is not known which elements are
+active, so :class:`Names` follows the model as far as it is known statically: the
+containers a node can be in at a statement (the one declaring it in the .tsm, or one an
+earlier migration may have moved it to) and the topics that can exist there (the
+.tsm's, and those an earlier ``new topic`` may have created). A statement is refused at
+parse time when it fails wherever its node can be; the Resolution Engine checks it
+again against the product it derives (:mod:`spl.resolver.transformations`).
+"""
+
+from __future__ import annotations
+
+from collections import defaultdict
+from typing import Any, NamedTuple
+
+from spl.diagnostics import location_of
+from spl.metamodels import tsm
+
+BRIDGE_FORMS = (
+    "a bridge is CONTAINER.TOPIC -> CONTAINER.TOPIC or "
+    "[CONTAINER.]NODE.CLIENT -> [CONTAINER.]NODE.SERVER"
+)
+
+
+class NameProblem(Exception):
+    """A reference that names nothing, or more than one thing; the message says which."""
+
+
+class BridgeEnd(NamedTuple):
+    """One end of ``connect bridge``: a topic of a container, or a service interface."""
+
+    container: Any  # the topic's container; None for an interface
+    topic: Any  # the .tsm topic or the `new topic` declaration; None for an interface
+    interface: Any  # None for a topic
+
+
+class Placement(NamedTuple):
+    """Where a node can be at one statement of a resolution model (docs/semantics.md C1)."""
+
+    node: Any
+    certain: Any  # the target of a migration earlier in the same element, or None
+    moves: tuple[tuple[Any, Any], ...]  # (target, element) of migrations in earlier elements
+
+    @property
+    def places(self) -> list[Any]:
+        """The containers the node can be in, the declaring one first.
+
+        A migration earlier in the same element decides it (the element is active when
+        the statement runs); migrations of earlier elements only may have happened."""
+        if self.certain is not None:
+            return [self.certain]
+        found = [self.node.eContainer()]
+        for target, _ in self.moves:
+            if all(target is not c for c in found):
+                found.append(target)
+        return found
+
+
+class Creation(NamedTuple):
+    """A `new topic` statement that may create a topic: its element, and where its node
+    could be (it creates the topic in the container the node is in)."""
+
+    element: Any
+    placement: Placement
+
+
+def at(element: Any) -> str:
+    """Where a model element is declared, as messages cite it (``file:line:col``)."""
+    return str(location_of(element))
+
+
+def candidates(found: list[tuple[str, Any]]) -> str:
+    """``Alpha.Camera (t.tsm:11:10) or Beta.Camera (t.tsm:28:10)``: every candidate of an
+    ambiguous reference with its location."""
+    return " or ".join(f"{label} ({at(element)})" for label, element in found)
+
+
+class Names:
+    """Resolves .rm references against a .tsm, following the model in file order."""
+
+    def __init__(self, system: Any) -> None:
+        self.T = tsm()
+        self.containers = {c.name: c for c in system.containers}
+        self.declared: dict[str, list[Any]] = defaultdict(list)  # node and store names
+        for container in system.containers:
+            for member in [*container.nodes, *container.stores]:
+                self.declared[member.name].append(member)
+        self._topics = {(id(c), t.name): t for c in system.containers for t in c.topics}
+        self._created: dict[tuple[int, str], Any] = {}  # first `new topic` declaration
+        self._creators: dict[tuple[int, str], list[Creation]] = defaultdict(list)
+        self._element: Any = None  # the running resolution element
+        # migrations of earlier elements, node id -> [(target, element)], and of earlier
+        # statements of the running element, node id -> target
+        self._may_move: dict[int, list[tuple[Any, Any]]] = defaultdict(list)
+        self._moved: dict[int, Any] = {}
+
+    # -- the model as statements leave it ------------------------------------------------
+    def begin_element(self, element: Any = None) -> None:
+        """The next resolution element starts: the migrations of the one before become
+        possible (its feature may be off), no longer certain."""
+        for node_id, target in self._moved.items():
+            self._may_move[node_id].append((target, self._element))
+        self._moved = {}
+        self._element = element
+
+    def placement(self, node: Any) -> Placement:
+        """Where ``node`` can be at the running statement."""
+        return Placement(node, self._moved.get(id(node)), tuple(self._may_move.get(id(node), ())))
+
+    def places(self, node: Any) -> list[Any]:
+        return self.placement(node).places
+
+    def apply(self, transformation: Any) -> None:
+        """What a statement of the running element changes for the statements after it."""
+        kind = transformation.eClass.name
+        if kind == "NodeMigration":
+            self._moved[id(transformation.node)] = transformation.target
+        elif kind == "ConnectToNewTopic":
+            placement = self.placement(transformation.interface.eContainer())
+            for container in placement.places:
+                key = (id(container), transformation.topic.name)
+                self._created.setdefault(key, transformation.topic)
+                self._creators[key].append(Creation(self._element, placement))
+
+    def topic(self, container: Any, name: str) -> Any:
+        """Topic ``name`` of ``container`` (the .tsm's or an earlier `new topic`'s), or None."""
+        key = (id(container), name)
+        return self._topics.get(key) or self._created.get(key)
+
+    def declared_topic(self, container: Any, name: str) -> bool:
+        return (id(container), name) in self._topics
+
+    def creations(self, container: Any, name: str) -> list[Creation]:
+        """The `new topic` statements so far that may create ``name`` in ``container``."""
+        return list(self._creators.get((id(container), name), ()))
+
+    def is_created(self, topic: Any) -> bool:
+        return not isinstance(topic.eContainer(), self.T.Container)
+
+    # -- references -----------------------------------------------------------------------
+    def container(self, name: str) -> Any:
+        found = self.containers.get(name)
+        if found is None:
+            raise NameProblem(f"unknown container {name}")
+        return found
+
+    def element(self, ref: str, what: str = "node") -> Any:
+        """``NAME`` or ``CONTAINER.NAME``: a node, a store, or either ("node or store").
+
+        The container is the one declaring the element in the .tsm; an unqualified name
+        declared in more than one container is ambiguous."""
+        parts = ref.split(".")
+        if len(parts) > 2:
+            raise NameProblem(f"{ref}: expected {what} NAME or CONTAINER.NAME")
+        name = parts[-1]
+        found = [m for m in self.declared.get(name, ()) if self._is(m, what)]
+        if len(parts) == 2:
+            container = self.container(parts[0])
+            here = [m for m in found if m.eContainer() is container]
+            if here:
+                return here[0]
+            if found:
+                homes = " and ".join(m.eContainer().name for m in found)
+                raise NameProblem(
+                    f"no {what} {name} is declared in container {container.name} "
+                    f"({name} is declared in {homes}; a node is qualified by the container "
+                    "that declares it, wherever migrations move it)"
+                )
+            raise NameProblem(f"unknown {what} {ref}")
+        if not found:
+            raise NameProblem(f"unknown {what} {name}")
+        if len(found) > 1:
+            listed = candidates(
+                [(f"{self._kind(m)} {m.eContainer().name}.{name}", m) for m in found]
+            )
+            raise NameProblem(f"{name} is ambiguous: {listed}; qualify it with its container")
+        return found[0]
+
+    def _kind(self, member: Any) -> str:
+        return "store" if isinstance(member, self.T.Store) else "node"
+
+    def _is(self, member: Any, what: str) -> bool:
+        if what == "node":
+            return isinstance(member, self.T.Node)
+        if what == "store":
+            return isinstance(member, self.T.Store)
+        return True
+
+    def member(self, ref: str, attr: str, what: str) -> Any:
+        """``[CONTAINER.]NODE.NAME``: an interface or parameter of a node."""
+        parts = ref.split(".")
+        if not 2 <= len(parts) <= 3:
+            raise NameProblem(f"{ref}: expected NODE.{what} or CONTAINER.NODE.{what}")
+        node = self.element(".".join(parts[:-1]))
+        found = next((x for x in getattr(node, attr) if x.name == parts[-1]), None)
+        if found is None:
+            raise NameProblem(f"node {node.name} has no {what} {parts[-1]}")
+        return found
+
+    def interface(self, ref: str) -> Any:
+        return self.member(ref, "interfaces", "interface")
+
+    def topic_reference(self, ref: str, node: Any) -> tuple[Any, list[Any]]:
+        """What ``to topic REF`` names for an interface of ``node``: the container written
+        (None when unqualified) and the topics it can be at this statement, never empty.
+
+        ``CONTAINER.TOPIC`` is that container's topic. ``TOPIC`` is looked up where the
+        node is when the statement runs; statically, wherever it can be."""
+        parts = ref.split(".")
+        if len(parts) > 2:
+            raise NameProblem(f"{ref}: expected TOPIC or CONTAINER.TOPIC")
+        if len(parts) == 2:
+            container = self.container(parts[0])
+            topic = self.topic(container, parts[1])
+            if topic is None:
+                raise NameProblem(f"unknown topic {parts[1]} in container {container.name}")
+            return container, [topic]
+        places = self.places(node)
+        found = [t for c in places if (t := self.topic(c, ref)) is not None]
+        if not found:
+            raise NameProblem(missing_topic(ref, node, places))
+        return None, found
+
+    def bridge_end(self, ref: str) -> BridgeEnd:
+        """One end of ``connect bridge``. ``X.Y`` is topic Y of container X or interface Y
+        of node X, decided by the model: when both exist the reference is ambiguous."""
+        parts = ref.split(".")
+        if len(parts) == 3:
+            return BridgeEnd(None, None, self.interface(ref))
+        if len(parts) != 2:
+            raise NameProblem(BRIDGE_FORMS)
+        readings: list[tuple[str, Any, BridgeEnd]] = []
+        problems: list[str] = []
+        container = self.containers.get(parts[0])
+        if container is not None:
+            topic = self.topic(container, parts[1])
+            if topic is not None:
+                label = f"topic {parts[1]} of container {parts[0]}"
+                readings.append((label, topic, BridgeEnd(container, topic, None)))
+            else:
+                problems.append(f"unknown topic {parts[1]} in container {parts[0]}")
+        if parts[0] in self.declared:
+            try:
+                interface = self.interface(ref)
+                label = f"interface {parts[1]} of node {parts[0]}"
+                readings.append((label, interface, BridgeEnd(None, None, interface)))
+            except NameProblem as problem:
+                problems.append(str(problem))
+        if len(readings) > 1:
+            listed = candidates([(label, element) for label, element, _ in readings])
+            raise NameProblem(f"{ref} is ambiguous: {listed}")
+        if not readings:
+            raise NameProblem(problems[0] if problems else f"unknown container or node {parts[0]}")
+        return readings[0][2]
+
+    def parameter(self, ref: str) -> tuple[Any, Any]:
+        """(parameter, refinement), one of them None: ``[CONTAINER.]NODE.PARAMETER`` or
+        ``[CONTAINER.]STORE.REFINED_TYPE.period`` (a store's transformer period); when
+        both readings exist the reference is ambiguous."""
+        parts = ref.split(".")
+        readings: list[tuple[str, Any, tuple[Any, Any]]] = []
+        problems: list[str] = []
+        named_store = len(parts) >= 3 and any(
+            self._is(m, "store") for m in self.declared.get(parts[-3], ())
+        )
+        if len(parts) in (3, 4) and parts[-1] == "period" and named_store:
+            try:
+                store = self.element(".".join(parts[:-2]), "store")
+                refinement = next(
+                    (r for r in store.refinements if r.output.name == parts[-2]), None
+                )
+                if refinement is None:
+                    raise NameProblem(f"store {store.name} has no refinement into {parts[-2]}")
+                label = f"the period of store {store.name}'s refinement into {parts[-2]}"
+                readings.append((label, refinement, (None, refinement)))
+            except NameProblem as problem:
+                problems.append(str(problem))
+        if len(parts) in (2, 3):
+            try:
+                parameter = self.member(ref, "parameters", "parameter")
+                label = f"parameter {parameter.name} of node {parameter.eContainer().name}"
+                readings.append((label, parameter, (parameter, None)))
+            except NameProblem as problem:
+                problems.append(str(problem))
+        if len(readings) > 1:
+            listed = candidates([(label, element) for label, element, _ in readings])
+            raise NameProblem(f"{ref} is ambiguous: {listed}")
+        if not readings:
+            raise NameProblem(problems[0] if problems else f"{ref}: expected NODE.PARAMETER")
+        return readings[0][2]
+
+
+def missing_topic(name: str, node: Any, places: list[Any]) -> str:
+    """The message for topic ``name`` found in none of the containers ``node`` can be in."""
+    if len(places) == 1:
+        return f"unknown topic {name} in container {places[0].name}"
+    where = " or ".join(c.name for c in places)
+    return f"unknown topic {name} in container {where} (where {node.name} can be at this point)"
+
+
+# -- messages the .rm builder and the Resolution Engine share ------------------------------
+def agree(a: Any, b: Any) -> bool:
+    """Two typed elements (interface, topic, server) agree unless both have different types."""
+    return not (a.type and b.type and a.type != b.type)
+
+
+def same_topic(a: Any, b: Any) -> bool:
+    """Two `new topic` declarations create one topic when type and ROS name agree."""
+    return (a.type, a.rosName) == (b.type, b.rosName)
+
+
+def new_topic_clash(name: str, container: Any, existing: Any, created: bool) -> str:
+    if created:
+        return (
+            f"new topic {name} in {container.name} is declared again with another type or "
+            f"ROS name (first at {at(existing)})"
+        )
+    return (
+        f"new topic {name}: container {container.name} already has a topic named {name} "
+        f"({at(existing)}; connect to it with 'to topic {name}')"
+    )
+
+
+def declared_name(interface: Any) -> str:
+    """``CONTAINER.NODE.INTERFACE`` of a .tsm interface, qualified by the declaring container."""
+    node = interface.eContainer()
+    return f"{node.eContainer().name}.{node.name}.{interface.name}"
+
+
+def not_served_here(client: Any, server: Any, server_places: list, client_places: list) -> str:
+    """``connect CLIENT to server SERVER`` whose two nodes are in different containers."""
+    served = " or ".join(c.name for c in server_places)
+    calling = " or ".join(c.name for c in client_places)
+    return (
+        f"{server.eContainer().name}.{server.name} is served in container {served}, not in "
+        f"{calling}: use 'connect bridge {declared_name(client)} -> {declared_name(server)}'"
+    )
+
+
+def same_container_bridge(client: Any, server: Any, container: Any) -> str:
+    return (
+        f"a bridge connects two different containers: {client.eContainer().name}."
+        f"{client.name} and {server.eContainer().name}.{server.name} are both in "
+        f"{container.name} at this point (connect them with 'to server')"
+    )
+
+
+def name_taken(node: Any, target: Any, resident: Any) -> str:
+    return (
+        f"cannot migrate {node.name} to {target.name}: container {target.name} already has a "
+        f"node {resident.name} ({at(resident)})"
+    )

@@ -1,0 +1,264 @@
+"""SPL016: statements that resolve in some products of a line and fail in others.
+
+A statement sees the product as the statements before it left it (docs/semantics.md
+O1), so what it names can depend on which elements are active: a topic that exists
+only where another element's migration moves the node, or only once another element's
+`new topic` created it; a client and server that share a container only after some
+migration. The .rm builder refuses a statement that fails in every case (C1); the ones
+that fail in some products only are found here, each with a witness product, so
+``spl check`` reports what ``spl validate --all`` would find product by product.
+
+Each question is one SAT call: "a product activating the statement's element in which
+the statement fails". Where a node is and whether a topic exists are written as
+formulas over activation literals (``at`` and ``exists``). A topic that a `new topic`
+may have created counts as existing whenever its creating element is active, so a
+report is never made for a product in which the statement would succeed.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterator
+from functools import partial
+from typing import Any, NamedTuple
+
+from spl.diagnostics import Diagnostic, location_of
+from spl.dsl.rm_names import (
+    Names,
+    Placement,
+    name_taken,
+    not_served_here,
+    same_container_bridge,
+)
+from spl.resolver.activation import ActivationSolver
+from spl.resolver.product_line import ProductLine
+
+PRODUCT_DEPENDENT = "SPL016"
+
+
+class Condition(NamedTuple):
+    """A formula over activation literals: a disjunction ("any") or a conjunction ("all")."""
+
+    kind: str
+    literals: tuple[int, ...]
+
+    def negated(self) -> Condition:
+        return Condition("all" if self.kind == "any" else "any", tuple(-x for x in self.literals))
+
+    @property
+    def constant(self) -> bool | None:
+        """True or False when the condition holds in every product or in none."""
+        if self.literals:
+            return None
+        return self.kind == "all"
+
+    def implied_by(self, variable: int) -> list[list[int]]:
+        """Clauses for ``variable -> self``."""
+        if self.kind == "any":
+            return [[-variable, *self.literals]]
+        return [[-variable, x] for x in self.literals]
+
+
+ALWAYS = Condition("all", ())
+NEVER = Condition("any", ())
+
+
+class _Statement:
+    """One statement's questions, asked with the model as the statements before it left it."""
+
+    def __init__(self, solver: ActivationSolver, names: Names, element: Any) -> None:
+        self.solver, self.names, self.element = solver, names, element
+        self.clauses: list[list[int]] = []
+
+    def at(self, placement: Placement, place: Any) -> Condition:
+        """The node of ``placement`` is in ``place`` at that statement."""
+        if placement.certain is not None:
+            return ALWAYS if place is placement.certain else NEVER
+        literal = self.solver.literal
+        if place is placement.node.eContainer():
+            return Condition("all", tuple(-literal(e) for _, e in placement.moves))
+        return Condition("any", tuple(literal(e) for t, e in placement.moves if t is place))
+
+    def variable(self, condition: Condition) -> int:
+        """A new variable implying ``condition``."""
+        variable = self.solver.fresh()
+        self.clauses += condition.implied_by(variable)
+        return variable
+
+    def missing(self, container: Any, name: str) -> Condition | int:
+        """Topic ``name`` is missing from ``container`` when the statement runs: a constant,
+        or a variable implying it. A `new topic` before created it when its element was
+        active and its node was in ``container`` then."""
+        if self.names.declared_topic(container, name):
+            return NEVER
+        not_created = []  # per creation: its element off, or its node elsewhere
+        for creation in self.names.creations(container, name):
+            elsewhere = self.at(creation.placement, container).negated()
+            if elsewhere.constant is True:
+                continue
+            clause = (
+                [] if creation.element is self.element else [-self.solver.literal(creation.element)]
+            )
+            if elsewhere.constant is None:
+                clause.append(self.variable(elsewhere))
+            if not clause:
+                return NEVER  # created by an earlier statement of this element, certainly
+            not_created.append(clause)
+        if not not_created:
+            return ALWAYS
+        variable = self.solver.fresh()
+        self.clauses += [[-variable, *clause] for clause in not_created]
+        return variable
+
+    def one_of(self, options: list[Condition | int]) -> bool:
+        """Require that one of ``options`` holds; False when none can."""
+        variables = []
+        for option in options:
+            if isinstance(option, int):
+                variables.append(option)
+            elif option.constant is True:
+                return True
+            elif option.constant is None:
+                variables.append(self.variable(option))
+        if variables:
+            self.clauses.append(variables)
+        return bool(variables)
+
+    def both(self, first: Condition, second: Condition) -> int | None:
+        """A variable implying both conditions, or None when they never hold together."""
+        if NEVER in (first, second):
+            return None
+        variable = self.solver.fresh()
+        self.clauses += first.implied_by(variable) + second.implied_by(variable)
+        return variable
+
+    def witness(self) -> tuple[str, ...] | None:
+        return self.solver.witness_where(self.element, self.clauses)
+
+
+def product_dependent_statements(line: ProductLine, solver: ActivationSolver) -> list[Diagnostic]:
+    """Statements that fail in some product activating their element (SPL016)."""
+    names = Names(line.tsm)
+    found = []
+    for element in line.rm.elements:
+        names.begin_element(element)
+        for transformation in element.transformations:
+            asked = partial(_Statement, solver, names, element)
+            for problem in _failing(transformation, asked):
+                found.append(
+                    Diagnostic(location_of(transformation), problem, "error", PRODUCT_DEPENDENT)
+                )
+            names.apply(transformation)
+    return found
+
+
+def _failing(t: Any, statement: Callable[[], _Statement]) -> Iterator[str]:
+    """The message for a product in which transformation ``t`` fails, one per question
+    (a topic bridge asks about each of its two ends)."""
+    kind = t.eClass.name
+    if kind == "ConnectToTopic":
+        found = [_topic_lookup(statement(), t.interface.eContainer(), t.topic)]
+    elif kind == "ConnectBridge" and t.sourceTopic is not None:
+        found = [_topic_lookup(statement(), None, end) for end in (t.sourceTopic, t.targetTopic)]
+    elif kind == "ConnectService":
+        found = [_apart(statement(), t.client, t.server)]
+    elif kind == "ConnectBridge":
+        found = [_together(statement(), t.client, t.server)]
+    elif kind == "NodeMigration":
+        found = [_onto_a_name(statement(), t.node, t.target)]
+    else:
+        found = []
+    yield from (problem for problem in found if problem is not None)
+
+
+def _topic_lookup(statement: _Statement, node: Any, reference: Any) -> str | None:
+    """O1/T1/T2/T4: the topic named is missing where it is looked up."""
+    placement = statement.names.placement(node) if reference.container is None else None
+    places = placement.places if placement is not None else [reference.container]
+    for place in places:
+        elsewhere = statement.at(placement, place).negated() if placement else NEVER
+        if not statement.one_of([elsewhere, statement.missing(place, reference.name)]):
+            return None  # found there in every product
+    witness = statement.witness()
+    if witness is None:
+        return None
+    if placement is None:
+        problem = f"unknown topic {reference.name} in container {reference.container.name}"
+    else:
+        problem = (
+            f"unknown topic {reference.name} in container {_place(placement, witness).name}, "
+            f"where {node.name} is at this point"
+        )
+    return _in_product(problem, witness)
+
+
+def _common_places(statement: _Statement, client: Any, server: Any):
+    """The placements of two interfaces' nodes and the containers both can be in."""
+    placements = [statement.names.placement(i.eContainer()) for i in (client, server)]
+    common = [p for p in placements[0].places if any(p is q for q in placements[1].places)]
+    return placements, common
+
+
+def _apart(statement: _Statement, client: Any, server: Any) -> str | None:
+    """S1: `to server` whose two nodes are in different containers."""
+    placements, common = _common_places(statement, client, server)
+    for place in common:
+        conditions = [statement.at(p, place).negated() for p in placements]
+        if not statement.one_of(conditions):
+            return None
+    witness = statement.witness()
+    if witness is None:
+        return None
+    client_place, server_place = (_place(p, witness) for p in placements)
+    problem = not_served_here(client, server, [server_place], [client_place])
+    return _in_product(f"{problem} (containers at this point)", witness)
+
+
+def _together(statement: _Statement, client: Any, server: Any) -> str | None:
+    """S2: a service bridge whose two nodes are in one container."""
+    placements, common = _common_places(statement, client, server)
+    options = [statement.both(*(statement.at(p, place) for p in placements)) for place in common]
+    options = [v for v in options if v is not None]
+    if not options:
+        return None
+    statement.clauses.append(options)
+    witness = statement.witness()
+    if witness is None:
+        return None
+    place = _place(placements[0], witness)
+    return _in_product(same_container_bridge(client, server, place), witness)
+
+
+def _onto_a_name(statement: _Statement, node: Any, target: Any) -> str | None:
+    """N5: a migration into a container holding a node of the same name at that point."""
+    residents = [
+        statement.names.placement(r)
+        for r in statement.names.declared.get(node.name, ())
+        if r is not node
+    ]
+    residents = [p for p in residents if any(target is c for c in p.places)]
+    options = [statement.variable(statement.at(p, target)) for p in residents]
+    if not options:
+        return None
+    statement.clauses.append(options)
+    witness = statement.witness()
+    if witness is None:
+        return None
+    resident = next(p.node for p in residents if _place(p, witness) is target)
+    return _in_product(name_taken(node, target, resident), witness)
+
+
+def _place(placement: Placement, witness: tuple[str, ...]) -> Any:
+    """Where the node of ``placement`` is in the product ``witness``: moved by the first
+    active migration before the statement (a later one elsewhere is a conflict, SPL012,
+    and is not applied)."""
+    if placement.certain is not None:
+        return placement.certain
+    selected = set(witness)
+    for target, element in placement.moves:
+        if (element.feature.name in selected) == element.activeIfSelected:
+            return target
+    return placement.node.eContainer()
+
+
+def _in_product(problem: str, witness: tuple[str, ...]) -> str:
+    return f"{problem}, in the product {', '.join(witness)}"
