@@ -146,6 +146,7 @@ class LineEffects:
                         )
                 self.nodes[effects.key] = effects
                 self.by_node[id(node)] = effects
+        self._system, self._elements = line.tsm, list(line.rm.elements)
         for element in line.rm.elements:
             self._add(element)
 
@@ -168,7 +169,7 @@ class LineEffects:
                 )
             elif kind in ("ConnectToTopic", "ConnectToNewTopic"):
                 name = f"topic of {t.interface.name}"
-                value = topic_ros_name(t.topic)
+                value = self._topic_value(t)
                 self._effect(t.interface.eContainer(), name, element, value, where)
             elif kind == "ConnectService" or (kind == "ConnectBridge" and t.client is not None):
                 node = self.by_node.get(id(t.client.eContainer()))
@@ -188,6 +189,27 @@ class LineEffects:
             ]
             for node in dict.fromkeys(targets):
                 self._effect(node, SHARING, element, mode, location_of(element))
+
+    def _topic_value(self, connect: Any) -> str:
+        """The ROS name a connect statement binds its interface to. A `to topic` names the
+        topic by (container, name) and is looked up when it runs (docs/semantics.md); the
+        prediction reads it in the named container, else the node's own, else any topic of
+        that name the template or an earlier `new topic` declares."""
+        ref = connect.topic
+        if ref.eClass.name != "TopicReference":  # ConnectToNewTopic holds the topic itself
+            return topic_ros_name(ref)
+        home = ref.container or connect.interface.eContainer().eContainer()
+        topics = [*home.topics, *(t for c in self._system.containers for t in c.topics)]
+        created = (
+            t.topic
+            for e in self._elements
+            for t in e.transformations
+            if t.eClass.name == "ConnectToNewTopic"
+        )
+        for topic in [*topics, *created]:
+            if topic.name == ref.name:
+                return topic_ros_name(topic)
+        return f"/{ref.name}"
 
     def _effect(self, node: Any, aspect: str, element: Any, value: Any, where: Any) -> None:
         effects = self.by_node.get(id(node))

@@ -57,11 +57,11 @@ RM = """resolution model S
 tsm "s.tsm"
 fm "s.fm"
 when Shared selected { require Planner, Store }
-when Onboard selected { migrate Planner to R }
 when Alt selected {
     require Store2
     connect Planner.get to server Store2.get
 }
+when Onboard selected { migrate Planner to R }
 when Fast selected { parameter Planner.rate = feature Fast.rate }
 """
 
