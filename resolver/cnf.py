@@ -24,6 +24,7 @@ from typing import Any, NamedTuple
 from pysat.card import CardEnc, EncType
 
 from spl.diagnostics import Diagnostic, Location, ModelError, location_of
+from spl.dsl.fm_plain import FeatureModel as PlainFeatureModel
 from spl.dsl.fm_printer import format_formula
 
 Clause = tuple[int, ...]
@@ -148,6 +149,8 @@ def formula_tree(formula: Any) -> tuple:
 
     One pass over the pyecore objects; the CNF encoding and selection checking work on
     the tuples, which is several times faster than attribute access through pyecore.
+    A plain model's trees (:mod:`spl.dsl.fm_plain`) have this shape plus a trailing
+    source position per node, which everything reading trees by index ignores.
     """
     cls = type(formula).__name__
     if cls == "FeatureRef":
@@ -201,16 +204,23 @@ class _Builder:
         self.parent: dict[str, str | None] = {}
         self.groups: list[tuple[str, Any, list[Any], list[str]]] = []
         stack: list[tuple[Any, str | None]] = [(root, None)]
-        # reading an unset many-valued reference makes pyecore create an empty collection;
-        # asking first spares that for every leaf of a freshly loaded model
-        groups_ref = root.eClass.findEStructuralFeature("groups")
+        if isinstance(model, PlainFeatureModel):
+            groups_ref = None
+        else:
+            # reading an unset many-valued reference makes pyecore create an empty
+            # collection; asking first spares that for every leaf of a freshly loaded model
+            groups_ref = root.eClass.findEStructuralFeature("groups")
         while stack:
             feature, parent = stack.pop()
             name = feature.name
             self.names.append(name)
             self.parent[name] = parent
             pushed = []
-            for group in feature.groups if feature.eIsSet(groups_ref) else ():
+            if groups_ref is None:
+                groups = feature.groups
+            else:
+                groups = feature.groups if feature.eIsSet(groups_ref) else ()
+            for group in groups:
                 children = list(group.features)
                 members = [child.name for child in children]
                 self.groups.append((name, group, children, members))
@@ -340,7 +350,8 @@ class _Builder:
         return [tuple(c) for c in enc.clauses]
 
     def encode_constraint(self, constraint: Any) -> None:
-        tree = formula_tree(constraint.formula)
+        formula = constraint.formula
+        tree = formula if isinstance(formula, tuple) else formula_tree(formula)
         unknown = [name for name in formula_features(tree) if name not in self.var]
         if unknown:
             raise ModelError(
@@ -488,5 +499,7 @@ def _simplify(clauses: list[Clause]) -> list[Clause]:
 
 
 def encode(model: Any) -> FeatureModelCNF:
-    """The CNF of a feature model (``spl.metamodels.fm`` FeatureModel)."""
+    """The CNF of a feature model: an ``spl.metamodels.fm`` FeatureModel (pyecore) or the
+    same model held in plain objects (:mod:`spl.dsl.fm_plain`, formulas as tuple trees,
+    which the encoding uses as they are)."""
     return _Builder(model).build()
