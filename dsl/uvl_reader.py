@@ -34,22 +34,26 @@ from spl.dsl.fm_plain import (
 from spl.dsl.fm_vocabulary import SHARING_MODES, canonical_value, too_deep
 
 # One alternative per token of UVLLexer.g4, ordered so the first match is ANTLR's
-# longest match; comments and blanks are skipped like the lexer's SKIP_ rule.
+# longest match; blanks and comments before a token are skipped like the lexer's SKIP_
+# rule (as a prefix of the next token: half as many matches to loop over).
 _TOKEN = re.compile(
     r"""
-    (?P<nl>\n[ \t]*)
-  | (?P<skip>[ \t]+|//[^\n]*|/\*.*?\*/)
-  | (?P<card>\[(?:0|-?[1-9][0-9]*)(?:\.\.(?:0|-?[1-9][0-9]*|\*))?\])
-  | (?P<float>-?[0-9]*\.[0-9]+)
-  | (?P<int>0|-?[1-9][0-9]*)
-  | (?P<word>[a-zA-Z][a-zA-Z0-9_\#§%?\\'äüöß;]*)
-  | (?P<qid>"[^\n".]+")
-  | (?P<string>'[^\n']+')
-  | (?P<op><=>|=>|==|<=|>=|!=|[!&|<>/*+\-(){}\[\],.])
-  | (?P<bad>.)
+    (?:[ \t]|//[^\n]*|/\*.*?\*/)*
+    (?:
+      (?P<nl>\n[ \t]*)
+    | (?P<card>\[(?:0|-?[1-9][0-9]*)(?:\.\.(?:0|-?[1-9][0-9]*|\*))?\])
+    | (?P<float>-?[0-9]*\.[0-9]+)
+    | (?P<int>0|-?[1-9][0-9]*)
+    | (?P<word>[a-zA-Z][a-zA-Z0-9_\#§%?\\'äüöß;]*)
+    | (?P<qid>"[^\n".]+")
+    | (?P<string>'[^\n']+')
+    | (?P<op><=>|=>|==|<=|>=|!=|[!&|<>/*+\-(){}\[\],.])
+    | (?P<bad>[^ \t])
+    )
     """,
     re.VERBOSE | re.DOTALL,
 )
+_KIND_OF_GROUP = {index: name for name, index in _TOKEN.groupindex.items()}
 # Words the lexer makes keywords (a feature spelled like one must be quoted).
 KEYWORDS = frozenset(
     (
@@ -125,19 +129,19 @@ def tokenize(text: str) -> list[tuple[str, str, int]]:
         shift = -1
     else:
         shift = 0
+    kinds = _KIND_OF_GROUP
     for match in _TOKEN.finditer(text):
-        kind = match.lastgroup
-        if kind == "skip":
-            continue
-        value = match.group()
-        start = match.start() + shift
+        group = match.lastindex
+        value = match[group]
+        kind = kinds[group]
+        end = match.end() + shift
+        start = end - len(value)
         if kind == "word":
             kind = _WORD_KINDS.get(value, "id")
         elif kind == "op":
             kind = value
             opened += _OPENING.get(value, 0)
         elif kind == "nl":
-            end = match.end() + shift
             following = text[match.end() : match.end() + 1]
             if opened > 0 or following in ("", "\n", "/", "#"):
                 continue

@@ -161,12 +161,21 @@ def formula_tree(formula: Any) -> tuple:
 
 
 def formula_features(tree: tuple) -> tuple[str, ...]:
-    """The features a formula tree mentions, in first-use order."""
-    if tree[0] == "ref":
-        return (tree[1],)
-    if tree[0] == "not":
-        return formula_features(tree[1])
-    return tuple(dict.fromkeys(formula_features(tree[1]) + formula_features(tree[2])))
+    """The features a formula tree mentions, in first-use order (one pass: the long
+    or-chains of kernel models made the recursive concatenation quadratic)."""
+    found: dict[str, None] = {}
+    stack = [tree]
+    while stack:
+        node = stack.pop()
+        head = node[0]
+        if head == "ref":
+            found[node[1]] = None
+        elif head == "not":
+            stack.append(node[1])
+        else:
+            stack.append(node[2])
+            stack.append(node[1])
+    return tuple(found)
 
 
 def evaluate(tree: tuple, product: set[str] | frozenset[str]) -> bool:
@@ -352,7 +361,8 @@ class _Builder:
     def encode_constraint(self, constraint: Any) -> None:
         formula = constraint.formula
         tree = formula if isinstance(formula, tuple) else formula_tree(formula)
-        unknown = [name for name in formula_features(tree) if name not in self.var]
+        features = formula_features(tree)
+        unknown = [name for name in features if name not in self.var]
         if unknown:
             raise ModelError(
                 [
@@ -385,9 +395,7 @@ class _Builder:
             clauses = [(self.tseitin(nnf),)]
             clauses.extend(self.definitions)
             self.definitions = []
-        self.rule(
-            "constraint", constraint, formula_features(tree), _simplify(clauses), (0, -1), tree
-        )
+        self.rule("constraint", constraint, features, _simplify(clauses), (0, -1), tree)
 
     # --- formulas -------------------------------------------------------------------
     def nnf(self, tree: tuple, positive: bool) -> tuple:
@@ -491,10 +499,10 @@ def _simplify(clauses: list[Clause]) -> list[Clause]:
     """Drop duplicate literals and tautologies (``A or not A``), keeping literal order."""
     out: list[Clause] = []
     for clause in clauses:
-        seen = tuple(dict.fromkeys(clause))
-        if len({abs(lit) for lit in seen}) != len(seen):
+        unique = dict.fromkeys(clause)
+        if any(-lit in unique for lit in unique):
             continue  # a literal and its negation: always true
-        out.append(seen)
+        out.append(clause if len(unique) == len(clause) else tuple(unique))
     return out
 
 
