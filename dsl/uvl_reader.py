@@ -111,6 +111,10 @@ _ARITHMETIC = frozenset(
     )
 )
 _NAMES = ("id", "qid")
+_UNCLOSED = {
+    '"': "a quoted name is closed on its line and holds no '.'",
+    "'": "a string is closed on its line and is not empty",
+}
 _PLAIN_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
 
 
@@ -226,9 +230,7 @@ class UvlReader:
             if kind == "bad":
                 self.error(
                     position,
-                    "a quoted name is closed on its line and holds no '.'"
-                    if text == '"'
-                    else f"unexpected character {text!r}",
+                    _UNCLOSED.get(text, f"unexpected character {text!r}"),
                 )
                 self.sink.raise_if_errors()
         try:
@@ -250,12 +252,16 @@ class UvlReader:
                 self.expect("DEDENT", "one root feature (a model has exactly one)")
                 self.optional_newline()
                 self.name_features()
-            else:
+            elif tokens[self.index][0] == "EOF":
                 self.error(
                     tokens[self.index][2],
                     "a UVL model without a 'features' section is not supported "
                     "(spl needs a root feature)",
                 )
+            elif tokens[self.index][0] == "namespace":
+                self.fail("namespace comes first (not even a comment line before it)")
+            else:
+                self.fail("expected the 'features' section")
             if tokens[self.index][0] == "constraints":
                 self.index += 1
                 self.expect("NL", "a line break after 'constraints'")
