@@ -230,6 +230,8 @@ class FeatureModelFormula:
         None: no time bound, only the memory one)."""
         if not self.satisfiable():
             return ProductCount(0)
+        if seconds is not None and seconds <= 0:  # asked not to count: not even set up
+            return ProductCount(None, f"count skipped after {seconds:g} s")
         core, dead = self.backbone()
         cnf = self.cnf
         units = [(cnf.var[name],) for name in core] + [(-cnf.var[name],) for name in dead]

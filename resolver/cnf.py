@@ -392,7 +392,12 @@ class _Builder:
         try:
             clauses = _distribute(nnf)
         except _TooBig:
-            clauses = [(self.tseitin(nnf),)]
+            clauses = []
+            for part in _flat(nnf, "and"):  # a conjunction needs no variable of its own
+                try:
+                    clauses.extend(_distribute(part))
+                except _TooBig:
+                    clauses.append((self.tseitin(part),))
             clauses.extend(self.definitions)
             self.definitions = []
         self.rule("constraint", constraint, features, _simplify(clauses), (0, -1), tree)
@@ -438,10 +443,15 @@ class _Builder:
         return (junctor, parts)
 
     def tseitin(self, node: tuple) -> int:
-        """A literal equivalent to ``node``; full equivalences keep auxiliaries determined."""
+        """A literal equivalent to ``node``; full equivalences keep auxiliaries determined.
+
+        Nested operands of the same junctor share one variable (``a | (b | c)`` is one
+        three-way or): the long or-chains of kernel models would otherwise get a variable
+        per operator, and every solver call pays for each variable.
+        """
         if node[0] == "lit":
             return node[1]
-        lits = [self.tseitin(part) for part in node[1]]
+        lits = [self.tseitin(part) for part in _flat(node, node[0])]
         x = self.fresh()
         if node[0] == "and":
             self.definitions.extend((-x, lit) for lit in lits)
@@ -454,6 +464,21 @@ class _Builder:
 
 class _TooBig(Exception):
     pass
+
+
+def _flat(node: tuple, junctor: str) -> list[tuple]:
+    """The operands of ``node`` with nested ``junctor`` nodes opened, in order."""
+    if node[0] != junctor:
+        return [node]
+    out: list[tuple] = []
+    stack = list(reversed(node[1]))
+    while stack:
+        part = stack.pop()
+        if part[0] == junctor:
+            stack.extend(reversed(part[1]))
+        else:
+            out.append(part)
+    return out
 
 
 def _binary_clause(tree: tuple) -> tuple[tuple[bool, str], tuple[bool, str]] | None:
