@@ -19,7 +19,8 @@ from spl.dsl.fm_formats import exported_attributes, original_name
 from spl.dsl.fm_plain import FeatureModel, to_ecore
 from spl.dsl.fm_printer import format_formula
 from spl.dsl.fm_vocabulary import too_deep
-from spl.dsl.uvl_reader import KEYWORDS, parse_uvl_plain
+from spl.dsl.uvl_lexer import KEYWORDS
+from spl.dsl.uvl_reader import parse_uvl_plain
 
 # Names spelled like a UVL keyword are quoted on export ("abstract" too: older readers
 # took it for one, and a quoted name reads the same).

@@ -3,8 +3,9 @@
 The reader follows the reference grammar (uvlparser 2.x: ``UVLLexer.g4``,
 ``UVLParser.g4`` and its Python lexer, which turns line breaks and indentation into
 NEWLINE, INDENT and DEDENT tokens, ignoring line breaks inside brackets): one regular
-expression tokenizes the whole file the way the ANTLR lexer does, and a recursive
-descent over the grammar's rules builds :mod:`spl.dsl.fm_plain` objects directly. A file
+expression tokenizes the whole file the way the ANTLR lexer does
+(:mod:`spl.dsl.uvl_lexer`), and a recursive descent over the grammar's rules builds
+:mod:`spl.dsl.fm_plain` objects directly. A file
 the reference grammar refuses is refused here too (``tests/test_uvl_conformance.py``
 checks both on the same files). Valid UVL that spl cannot represent (typed or
 cardinality features, imports and includes, dotted references, arithmetic and
@@ -18,13 +19,12 @@ model (600 KB) reads in a fraction of a second.
 from __future__ import annotations
 
 import re
-from typing import ClassVar, NoReturn
+from typing import NoReturn
 
 from spl.diagnostics import DiagnosticSink, ModelError
 from spl.dsl.fm_formats import ORIGINAL_NAME, FeatureNames, model_name
 from spl.dsl.fm_plain import (
     Attribute,
-    Constraint,
     Feature,
     FeatureModel,
     Group,
@@ -32,84 +32,10 @@ from spl.dsl.fm_plain import (
     Source,
 )
 from spl.dsl.fm_vocabulary import SHARING_MODES, canonical_value, too_deep
+from spl.dsl.uvl_formulas import FormulaReader, Syntax
+from spl.dsl.uvl_lexer import OPENING, tokenize
 
-# One alternative per token of UVLLexer.g4, ordered so the first match is ANTLR's
-# longest match; blanks and comments before a token are skipped like the lexer's SKIP_
-# rule (as a prefix of the next token: half as many matches to loop over).
-_TOKEN = re.compile(
-    r"""
-    (?:[ \t]|//[^\n]*|/\*.*?\*/)*
-    (?:
-      (?P<nl>\n[ \t]*)
-    | (?P<card>\[(?:0|-?[1-9][0-9]*)(?:\.\.(?:0|-?[1-9][0-9]*|\*))?\])
-    | (?P<float>-?[0-9]*\.[0-9]+)
-    | (?P<int>0|-?[1-9][0-9]*)
-    | (?P<word>[a-zA-Z][a-zA-Z0-9_\#§%?\\'äüöß;]*)
-    | (?P<qid>"[^\n".]+")
-    | (?P<string>'[^\n']+')
-    | (?P<op><=>|=>|==|<=|>=|!=|[!&|<>/*+\-(){}\[\],.])
-    | (?P<bad>[^ \t])
-    )
-    """,
-    re.VERBOSE | re.DOTALL,
-)
-_KIND_OF_GROUP = {index: name for name, index in _TOKEN.groupindex.items()}
-# Words the lexer makes keywords (a feature spelled like one must be quoted).
-KEYWORDS = frozenset(
-    (
-        "include",
-        "features",
-        "imports",
-        "namespace",
-        "as",
-        "constraint",
-        "constraints",
-        "cardinality",
-        "String",
-        "Boolean",
-        "Integer",
-        "Real",
-        "len",
-        "sum",
-        "avg",
-        "floor",
-        "ceil",
-        "Type",
-        "Arithmetic",
-        "or",
-        "alternative",
-        "optional",
-        "mandatory",
-        "true",
-        "false",
-    )
-)
-_WORD_KINDS = {word: word for word in KEYWORDS} | {"true": "bool", "false": "bool"}
-_OPENING = {"(": 1, "[": 1, "{": 1, ")": -1, "]": -1, "}": -1}
 _GROUPS = ("or", "alternative", "optional", "mandatory")
-# Tokens only an equation (arithmetic or attribute constraint) holds.
-_ARITHMETIC = frozenset(
-    (
-        "==",
-        "<",
-        ">",
-        "<=",
-        ">=",
-        "!=",
-        "+",
-        "-",
-        "*",
-        "/",
-        "int",
-        "float",
-        "string",
-        "sum",
-        "avg",
-        "len",
-        "floor",
-        "ceil",
-    )
-)
 _NAMES = ("id", "qid")
 _UNCLOSED = {
     '"': "a quoted name is closed on its line and holds no '.'",
@@ -118,69 +44,8 @@ _UNCLOSED = {
 _PLAIN_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
 
 
-def tokenize(text: str) -> list[tuple[str, str, int]]:
-    """``(kind, text, offset)`` tokens with NEWLINE/INDENT/DEDENT as the Python lexer
-    makes them: kind is the keyword or operator itself, or id, qid (quoted name), bool,
-    int, float, string, card (a group cardinality ``[n..m]``), bad (no token), NL,
-    INDENT, DEDENT, EOF."""
-    tokens: list[tuple[str, str, int]] = []
-    append = tokens.append
-    indents: list[int] = []
-    opened = 0
-    size = len(text)
-    if text[:1] in (" ", "\t"):  # the lexer treats blanks at the very start as a line break
-        text = "\n" + text
-        shift = -1
-    else:
-        shift = 0
-    kinds = _KIND_OF_GROUP
-    for match in _TOKEN.finditer(text):
-        group = match.lastindex
-        value = match[group]
-        kind = kinds[group]
-        end = match.end() + shift
-        start = end - len(value)
-        if kind == "word":
-            kind = _WORD_KINDS.get(value, "id")
-        elif kind == "op":
-            kind = value
-            opened += _OPENING.get(value, 0)
-        elif kind == "nl":
-            following = text[match.end() : match.end() + 1]
-            if opened > 0 or following in ("", "\n", "/", "#"):
-                continue
-            append(("NL", "", max(start, 0)))
-            indent = len(value[1:].expandtabs(8))
-            previous = indents[-1] if indents else 0
-            if indent > previous:
-                indents.append(indent)
-                append(("INDENT", "", end))
-            elif indent < previous:
-                while indents and indents[-1] > indent:
-                    indents.pop()
-                    append(("DEDENT", "", end))
-            continue
-        append((kind, value, start))
-    if indents:
-        append(("NL", "", size))
-        tokens.extend([("DEDENT", "", size)] * len(indents))
-    append(("EOF", "", size))
-    return tokens
-
-
-class _Syntax(Exception):
-    """A syntax error already reported: the reader stops (a constraint line: that line)."""
-
-
-class UvlReader:
+class UvlReader(FormulaReader):
     """One UVL text -> one :class:`fm_plain.FeatureModel`; every problem raised at once."""
-
-    _BINARY: ClassVar[dict[str, tuple[str, int]]] = {
-        "<=>": ("iff", 0),
-        "=>": ("implies", 1),
-        "|": ("or", 2),
-        "&": ("and", 3),
-    }
 
     def __init__(self, text: str, filename: str) -> None:
         text = text.replace("\r\n", "\n").replace("\r", "\n")
@@ -199,7 +64,7 @@ class UvlReader:
     def fail(self, message: str) -> NoReturn:
         kind, text, position = self.tokens[self.index]
         self.error(position, f"{message}, got {_shown(kind, text)}")
-        raise _Syntax
+        raise Syntax
 
     def expect(self, kind: str, what: str) -> tuple[str, str, int]:
         token = self.tokens[self.index]
@@ -281,7 +146,7 @@ class UvlReader:
                 self.expect("DEDENT", "the end of the constraints")
             if tokens[self.index][0] != "EOF":
                 self.fail("expected namespace, features or constraints (in that order)")
-        except _Syntax:
+        except Syntax:
             pass
         self.sink.raise_if_errors()
         return model
@@ -362,7 +227,7 @@ class UvlReader:
         self.expect("NL", f"a line break after group {text}")
         if self.tokens[self.index][0] != "INDENT":
             self.error(position, f"group {text} has no features")
-            raise _Syntax
+            raise Syntax
         self.index += 1
         while self.tokens[self.index][0] != "DEDENT":
             group.features.append(self.feature())
@@ -419,7 +284,7 @@ class UvlReader:
         elif value[0] in _NAMES:  # a word where a value would be: not UVL
             what = "abstract takes true or false" if name == "abstract" else "expected a value"
             self.error(value[2], f"{what} (true, false, a number or a 'string'), got {value[1]}")
-            raise _Syntax
+            raise Syntax
         else:
             value = None
         if not _PLAIN_NAME.match(name):
@@ -455,68 +320,8 @@ class UvlReader:
             kind = self.tokens[self.index][0]
             if kind == "EOF" or (depth == 0 and kind in (",", "}")):
                 return
-            depth += _OPENING.get(kind, 0)
+            depth += OPENING.get(kind, 0)
             self.index += 1
-
-    # -- constraints -----------------------------------------------------------------
-    def constraint_line(self) -> Constraint | None:
-        tokens = self.tokens
-        start = self.index
-        end = start
-        while tokens[end][0] not in ("NL", "EOF"):
-            end += 1
-        position = tokens[start][2]
-        try:
-            for kind, _, at in tokens[start:end]:
-                if kind in _ARITHMETIC:
-                    self.error(at, "arithmetic and attribute constraints are not supported")
-                    raise _Syntax
-            formula = self.formula(0)
-            if self.index != end:
-                self.fail("expected an operator (! & | => <=>)")
-        except _Syntax:
-            formula = None
-        self.index = end + 1 if tokens[end][0] == "NL" else end
-        if formula is None or self.failed_names:
-            self.failed_names = False
-            return None
-        return Constraint(self.source, position, formula)
-
-    def formula(self, level: int) -> tuple:
-        """Precedence climbing: ! > & > | > => > <=>, binary operators left-associative."""
-        left = self.unary()
-        tokens = self.tokens
-        binary = self._BINARY
-        while True:
-            kind, _, position = tokens[self.index]
-            entry = binary.get(kind)
-            if entry is None or entry[1] < level:
-                return left
-            self.index += 1
-            left = (entry[0], left, self.formula(entry[1] + 1), position)
-
-    def unary(self) -> tuple:
-        kind, _, position = self.tokens[self.index]
-        if kind == "!":
-            self.index += 1
-            return ("not", self.unary(), position)
-        if kind == "(":
-            self.index += 1
-            inner = self.formula(0)
-            self.expect(")", "')'")
-            return inner
-        if kind in _NAMES:
-            parts, _ = self.reference()
-            if len(parts) > 1:
-                self.error(position, "a dotted reference (an imported feature) is not supported")
-                raise _Syntax
-            identifier = self.identifiers.get(parts[0])
-            if identifier is None:
-                self.error(position, f"unknown feature {parts[0]}")
-                self.failed_names = True
-                identifier = parts[0]
-            return ("ref", identifier, position)
-        self.fail("expected a feature, ! or (")
 
 
 def _typed(value: tuple[str, str, int] | None) -> tuple[str, str]:
