@@ -231,7 +231,7 @@ def main() -> int:
     parser.add_argument("--flamapy-python", default="/tmp/benchvenv/bin/python")
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--solver", default="glucose4", help="python-sat solver name for spl")
-    parser.add_argument("--count-seconds", type=float, default=10.0)
+    parser.add_argument("--count-seconds", type=float, default=600.0)
     parser.add_argument("--json-out", help="store flamapy's answers here (test fixtures)")
     parser.add_argument(
         "--bdd-max-features",
