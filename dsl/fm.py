@@ -20,7 +20,14 @@ from typing import Any
 
 from textx import TextXSyntaxError, metamodel_from_file
 
-from spl.diagnostics import Diagnostic, DiagnosticSink, Location, ModelError, counted
+from spl.diagnostics import (
+    Diagnostic,
+    DiagnosticSink,
+    Location,
+    ModelError,
+    counted,
+    model_text,
+)
 from spl.dsl.fm_vocabulary import ATTRIBUTE_TYPES as ATTRIBUTE_TYPES
 from spl.dsl.fm_vocabulary import IDENTIFIER as IDENTIFIER
 from spl.dsl.fm_vocabulary import OPERATORS as OPERATORS
@@ -41,7 +48,7 @@ def _grammar():
 def parse_file(path: str | Path) -> Any:
     """Parse a .fm file into an ``fm.FeatureModel``; raise ModelError with every problem."""
     path = Path(path)
-    return parse_text(path.read_text(encoding="utf-8-sig"), str(path))
+    return parse_text(model_text(path), str(path))
 
 
 def parse_text(text: str, filename: str = "<string>") -> Any:

@@ -14,7 +14,7 @@ from decimal import Decimal
 from pathlib import Path
 from typing import Any
 
-from spl.diagnostics import Diagnostic, Location, ModelError
+from spl.diagnostics import Diagnostic, Location, ModelError, model_text
 from spl.dsl.fm_formats import exported_attributes, original_name
 from spl.dsl.fm_plain import FeatureModel, to_ecore
 from spl.dsl.fm_printer import format_formula
@@ -33,13 +33,13 @@ def read_uvl_plain(path: str | Path) -> FeatureModel:
     """Import a UVL file as a plain :class:`fm_plain.FeatureModel` (what analysis needs,
     without building pyecore objects); raise ModelError with every problem."""
     path = Path(path)
-    return parse_uvl_plain(path.read_text(encoding="utf-8-sig"), str(path), default_name=path.stem)
+    return parse_uvl_plain(model_text(path), str(path), default_name=path.stem)
 
 
 def read_uvl(path: str | Path) -> Any:
     """Import a UVL file as an ``fm.FeatureModel``; raise ModelError with every problem."""
     path = Path(path)
-    return parse_uvl(path.read_text(encoding="utf-8-sig"), str(path), default_name=path.stem)
+    return parse_uvl(model_text(path), str(path), default_name=path.stem)
 
 
 def parse_uvl(text: str, filename: str = "<string>", default_name: str = "FeatureModel") -> Any:
