@@ -30,6 +30,7 @@ from spl.dsl.fm_plain import (
     Group,
     Sharing,
     Source,
+    without_cyclic_gc,
 )
 from spl.dsl.fm_vocabulary import SHARING_MODES, canonical_value, too_deep
 from spl.dsl.uvl_formulas import FormulaReader, Syntax
@@ -350,6 +351,7 @@ def parse_uvl_plain(
     """UVL text as a plain feature model; ``default_name`` names it when it has no
     namespace. Raises ModelError with every problem, located."""
     try:
-        return UvlReader(text, filename).read(default_name)
+        with without_cyclic_gc():
+            return UvlReader(text, filename).read(default_name)
     except RecursionError:
         raise ModelError([too_deep(filename)]) from None

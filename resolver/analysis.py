@@ -29,7 +29,6 @@ Everything is computed from one :class:`FeatureModelFormula`, which owns one sol
 
 from __future__ import annotations
 
-import gc
 import sys
 import time
 from collections import defaultdict
@@ -39,6 +38,7 @@ from typing import Any
 
 from pysat.solvers import Solver
 
+from spl.dsl.fm_plain import without_cyclic_gc
 from spl.resolver.cnf import Clause, FeatureModelCNF, encode
 
 SOLVER_NAME = "glucose4"
@@ -64,15 +64,8 @@ class FeatureModelFormula:
 
     def __init__(self, model: Any, solver_name: str = SOLVER_NAME) -> None:
         self.model = model
-        # the encoding allocates tens of thousands of acyclic tuples: cyclic garbage
-        # collection passes over a big loaded model would only slow it down
-        collecting = gc.isenabled()
-        gc.disable()
-        try:
+        with without_cyclic_gc():  # the encoding allocates only acyclic tuples
             self.cnf: FeatureModelCNF = encode(model)
-        finally:
-            if collecting:
-                gc.enable()
         self.solver_name = solver_name
         self.solver = Solver(name=solver_name, bootstrap_with=list(self.cnf.clauses))
         self._satisfiable: bool | None = None
