@@ -92,13 +92,10 @@ class UvlReader(FormulaReader):
     def read(self, default_name: str) -> FeatureModel:
         model = FeatureModel(self.source, model_name(default_name))
         tokens = self.tokens
-        for kind, text, position in tokens:
-            if kind == "bad":
-                self.error(
-                    position,
-                    _UNCLOSED.get(text, f"unexpected character {text!r}"),
-                )
-                self.sink.raise_if_errors()
+        bad = next((token for token in tokens if token[0] == "bad"), None)
+        if bad is not None:  # the lexer refuses the file: nothing after it is read
+            self.error(bad[2], _UNCLOSED.get(bad[1], f"unexpected character {bad[1]!r}"))
+            self.sink.raise_if_errors()
         try:
             if tokens[self.index][0] == "namespace":
                 self.index += 1
