@@ -13,10 +13,13 @@ import re
 
 # One alternative per token of UVLLexer.g4, ordered so the first match is ANTLR's
 # longest match; blanks and comments before a token are skipped like the lexer's SKIP_
-# rule (as a prefix of the next token: half as many matches to loop over).
+# rule (as a prefix of the next token: half as many matches to loop over). A block
+# comment runs to the *last* "*/" of the file, as in the grammar (its ".*" is greedy):
+# flamapy and every tool on uvlparser read such a file so, and spl reads the same model.
+# "end" matches only at the end of the text, so a trailing comment is never given back.
 _TOKEN = re.compile(
     r"""
-    (?:[ \t]|//[^\n]*|/\*.*?\*/)*
+    (?:[ \t]|//[^\n]*|/\*.*\*/)*
     (?:
       (?P<nl>\n[ \t]*)
     | (?P<card>\[(?:0|-?[1-9][0-9]*)(?:\.\.(?:0|-?[1-9][0-9]*|\*))?\])
@@ -27,6 +30,7 @@ _TOKEN = re.compile(
     | (?P<string>'[^\n']+')
     | (?P<op><=>|=>|==|<=|>=|!=|[!&|<>/*+\-(){}\[\],.])
     | (?P<bad>[^ \t])
+    | (?P<end>\Z)
     )
     """,
     re.VERBOSE | re.DOTALL,
@@ -90,6 +94,8 @@ def tokenize(text: str) -> list[tuple[str, str, int]]:
         start = end - len(value)
         if kind == "word":
             kind = _WORD_KINDS.get(value, "id")
+        elif kind == "end":  # blanks or a comment at the very end: nothing to take back
+            break
         elif kind == "op":
             kind = value
             opened += OPENING.get(value, 0)
