@@ -48,9 +48,9 @@ def load_formula(source: Path):
         raise click.BadParameter(
             f"{source}: expected a product-line folder or a .fm, .uvl or .xml feature model",
             param_hint="DIR_OR_FM")
-    from spl.dsl.fm_formats import load_feature_model
+    from spl.dsl.fm_formats import load_analysable_model
 
-    return FeatureModelFormula(load_feature_model(source))
+    return FeatureModelFormula(load_analysable_model(source))
 
 
 @click.command("products")
