@@ -23,7 +23,6 @@ from typing import Any
 from lxml import etree
 
 from spl.diagnostics import Diagnostic, DiagnosticSink, Location, ModelError
-from spl.dsl.fm import SHARING_MODES, canonical_value, too_deep
 from spl.dsl.fm_formats import (
     CAPABILITY,
     ORIGINAL_NAME,
@@ -34,6 +33,7 @@ from spl.dsl.fm_formats import (
     original_name,
 )
 from spl.dsl.fm_printer import format_capabilities
+from spl.dsl.fm_vocabulary import SHARING_MODES, canonical_value, too_deep
 from spl.metamodels import fm as fm_metamodel
 
 _FEATURE_TAGS = {"feature", "and", "or", "alt"}

@@ -20,38 +20,22 @@ from typing import Any
 
 from textx import TextXSyntaxError, metamodel_from_file
 
-from spl.diagnostics import Diagnostic, DiagnosticSink, Location, ModelError, counted
-from spl.metamodels import fm as fm_metamodel
-
-# Words of the .fm language that can never name a feature (the grammar rejects them
-# where a feature name is expected); importers rename features called like this.
-RESERVED_WORDS = frozenset(
-    {
-        "abstract",
-        "and",
-        "attribute",
-        "constraints",
-        "excludes",
-        "group",
-        "mandatory",
-        "not",
-        "optional",
-        "or",
-        "requires",
-        "sharing",
-        "xor",
-    }
+from spl.diagnostics import (
+    Diagnostic,
+    DiagnosticSink,
+    Location,
+    ModelError,
+    counted,
+    model_text,
 )
-IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
-ATTRIBUTE_TYPES = ("int", "double", "string", "bool")
-SHARING_MODES = ("public", "protected", "private")
-# Binary operators of the metamodel, as the .fm language spells them.
-OPERATORS = ("and", "or", "implies", "iff", "requires", "excludes")
-
-
-def is_feature_name(name: str) -> bool:
-    """True when ``name`` can be written as a feature name in a .fm file."""
-    return bool(IDENTIFIER.match(name)) and name not in RESERVED_WORDS
+from spl.dsl.fm_vocabulary import ATTRIBUTE_TYPES as ATTRIBUTE_TYPES
+from spl.dsl.fm_vocabulary import IDENTIFIER as IDENTIFIER
+from spl.dsl.fm_vocabulary import OPERATORS as OPERATORS
+from spl.dsl.fm_vocabulary import RESERVED_WORDS as RESERVED_WORDS
+from spl.dsl.fm_vocabulary import SHARING_MODES as SHARING_MODES
+from spl.dsl.fm_vocabulary import canonical_value, too_deep
+from spl.dsl.fm_vocabulary import is_feature_name as is_feature_name
+from spl.metamodels import fm as fm_metamodel
 
 
 @cache
@@ -118,7 +102,7 @@ def capability_condition(node: Any, where: Location | None, sink: DiagnosticSink
 def parse_file(path: str | Path) -> Any:
     """Parse a .fm file into an ``fm.FeatureModel``; raise ModelError with every problem."""
     path = Path(path)
-    return parse_text(path.read_text(encoding="utf-8-sig"), str(path))
+    return parse_text(model_text(path), str(path))
 
 
 def parse_text(text: str, filename: str = "<string>") -> Any:
@@ -133,13 +117,6 @@ def parse_text(text: str, filename: str = "<string>") -> Any:
         raise ModelError([too_deep(filename)]) from None
     sink.raise_if_errors()
     return model
-
-
-def too_deep(filename: str) -> Diagnostic:
-    """The error for input nested beyond what the readers follow (a hostile file)."""
-    return Diagnostic(
-        Location(filename, 1, 1), "the model is nested too deeply (features or parentheses)"
-    )
 
 
 def syntax_diagnostic(exc: TextXSyntaxError, filename: str) -> Diagnostic:
@@ -208,27 +185,6 @@ def parent_of(feature: Any) -> Any:
     """The parent feature (None for the root)."""
     group = feature.eContainer()
     return group.eContainer() if group is not None and group.eClass.name == "Group" else None
-
-
-def canonical_value(type_name: str, text: str) -> str | None:
-    """The canonical text of a default value of ``type_name``, or None when it does not fit.
-
-    Canonical means one spelling per value (``1.0`` and ``1.`` are the same double), so
-    comparing models compares values, and every importer agrees with the .fm language.
-    """
-    if type_name == "bool":
-        return text if text in ("true", "false") else None
-    if type_name == "int":
-        return str(int(text)) if re.fullmatch(r"[-+]?\d+", text) else None
-    if type_name == "double":
-        try:
-            number = float(text)
-        except ValueError:
-            return None
-        if number != number or number in (float("inf"), float("-inf")):
-            return None
-        return repr(number)
-    return text
 
 
 def _unquote(literal: str) -> str:

@@ -21,7 +21,7 @@ from pathlib import Path
 from typing import Any
 
 from spl.diagnostics import Diagnostic, Location, ModelError
-from spl.dsl.fm import RESERVED_WORDS, is_feature_name
+from spl.dsl.fm_vocabulary import RESERVED_WORDS, is_feature_name
 
 FORMATS = {".fm": "FeatureModel (.fm)", ".uvl": "UVL", ".xml": "FeatureIDE XML"}
 ORIGINAL_NAME = "original_name"
@@ -47,6 +47,19 @@ def load_feature_model(path: str | Path) -> Any:
 
         return read_featureide(path)
     raise ModelError([Diagnostic(Location(str(path), 1, 1), unsupported_format_message(path))])
+
+
+def load_analysable_model(path: str | Path) -> Any:
+    """A feature model as analysis needs it: a UVL file stays in plain objects
+    (:mod:`spl.dsl.fm_plain`: reading builds no pyecore object, which dominated the time
+    on large community models); .fm and FeatureIDE .xml as :func:`load_feature_model`.
+    Both kinds give the same encoding (:func:`spl.resolver.cnf.encode`)."""
+    path = Path(path)
+    if path.suffix.lower() == ".uvl":
+        from spl.dsl.uvl import read_uvl_plain
+
+        return read_uvl_plain(path)
+    return load_feature_model(path)
 
 
 def render_feature_model(model: Any, suffix: str) -> bytes:

@@ -57,7 +57,7 @@ def format_formula(
     symbols: dict[str, str] | None = None,
     right_assoc_implication: bool = True,
 ) -> str:
-    """A formula as text with minimal parentheses.
+    """A formula (pyecore, or a plain model's tuple tree) as text with minimal parentheses.
 
     ``symbols`` and ``name_of`` let the UVL writer reuse this with its own operators and
     quoted names. With ``right_assoc_implication`` false, nested implications and
@@ -65,19 +65,29 @@ def format_formula(
     """
     symbols = symbols or _FM_SYMBOLS
 
-    def text(node: Any) -> tuple[str, int]:
+    def parts(node: Any) -> tuple[str, Any, Any]:
+        """(operator, left, right), ("ref", name, None) or ("not", operand, None)."""
+        if isinstance(node, tuple):  # a plain model's tree (spl.dsl.fm_plain): names as is
+            return node[0], node[1], (node[2] if node[0] not in ("ref", "not") else None)
         kind = node.eClass.name
         if kind == "FeatureRef":
-            return name_of(node.feature), 5
+            return "ref", name_of(node.feature), None
         if kind == "Not":
-            inner, level = text(node.operand)
+            return "not", node.operand, None
+        return node.operator, node.left, node.right
+
+    def text(node: Any) -> tuple[str, int]:
+        operator, left_node, right_node = parts(node)
+        if operator == "ref":
+            return left_node, 5
+        if operator == "not":
+            inner, level = text(left_node)
             if level < 4:
                 inner = f"({inner})"
             return symbols["not"] + inner, 4
-        operator = node.operator
         level = _LEVELS[operator]
-        left, left_level = text(node.left)
-        right, right_level = text(node.right)
+        left, left_level = text(left_node)
+        right, right_level = text(right_node)
         if level == 1 and right_assoc_implication:
             wrap_left, wrap_right = left_level <= level, right_level < level
         elif level <= 1:

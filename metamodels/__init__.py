@@ -2,31 +2,43 @@
 
 The Python classes of every model element come from the ``.ecore`` files next to this
 module, so the metamodel an Eclipse EMF user opens and the classes the toolchain
-instantiates cannot drift apart.
+instantiates cannot drift apart. The files are read by :mod:`.ecore_files` (the
+standard library's XML parser and pyecore's constructors: pyecore's XMI resource layer
+and its imports are paid only by code that saves or loads XMI models).
 """
 
 from __future__ import annotations
 
 from functools import cache
 from importlib.resources import files
+from pathlib import Path
 from types import SimpleNamespace
+from typing import Any
 
 from pyecore.ecore import EClass, EEnum, EPackage
-from pyecore.resources import URI, ResourceSet
 
-__all__ = ["fm", "load", "resource_set", "rm", "tsm"]
+from spl.metamodels.ecore_files import read_packages
+
+__all__ = ["fm", "load", "packages", "resource_set", "rm", "tsm"]
+
+NAMES = ("tsm", "fm", "rm")
 
 
 @cache
-def resource_set() -> ResourceSet:
-    """One resource set holding every metamodel, so cross-metamodel references resolve."""
+def packages() -> dict[str, EPackage]:
+    """Every metamodel package by name, cross-metamodel references resolved."""
+    folder = Path(str(files(__name__)))
+    found = read_packages([folder / f"{name}.ecore" for name in NAMES])
+    return {package.name: package for package in found.values()}
+
+
+@cache
+def resource_set() -> Any:
+    """A pyecore ResourceSet whose metamodel registry holds the metamodels (for XMI)."""
+    from pyecore.resources import ResourceSet
+
     rset = ResourceSet()
-    for name in ("tsm", "fm", "rm"):
-        path = files(__name__).joinpath(f"{name}.ecore")
-        if not path.is_file():
-            continue
-        resource = rset.get_resource(URI(str(path)))
-        package: EPackage = resource.contents[0]
+    for package in packages().values():
         rset.metamodel_registry[package.nsURI] = package
     return rset
 
@@ -34,15 +46,15 @@ def resource_set() -> ResourceSet:
 @cache
 def load(name: str) -> SimpleNamespace:
     """The metamodel ``name`` as a namespace of its classes and enums (``load('tsm').Node``)."""
-    for package in resource_set().metamodel_registry.values():
-        if isinstance(package, EPackage) and package.name == name:
-            members = {
-                c.name: (c.python_class if isinstance(c, EClass) else c)
-                for c in package.eClassifiers
-                if isinstance(c, (EClass, EEnum))
-            }
-            return SimpleNamespace(package=package, **members)
-    raise KeyError(f"no metamodel named {name!r}")
+    package = packages().get(name)
+    if package is None:
+        raise KeyError(f"no metamodel named {name!r}")
+    members = {
+        c.name: (c.python_class if isinstance(c, EClass) else c)
+        for c in package.eClassifiers
+        if isinstance(c, (EClass, EEnum))
+    }
+    return SimpleNamespace(package=package, **members)
 
 
 def tsm() -> SimpleNamespace:

@@ -24,6 +24,7 @@ from typing import Any, NamedTuple
 from pysat.card import CardEnc, EncType
 
 from spl.diagnostics import Diagnostic, Location, ModelError, location_of
+from spl.dsl.fm_plain import FeatureModel as PlainFeatureModel
 from spl.dsl.fm_printer import format_formula
 
 Clause = tuple[int, ...]
@@ -148,6 +149,8 @@ def formula_tree(formula: Any) -> tuple:
 
     One pass over the pyecore objects; the CNF encoding and selection checking work on
     the tuples, which is several times faster than attribute access through pyecore.
+    A plain model's trees (:mod:`spl.dsl.fm_plain`) have this shape plus a trailing
+    source position per node, which everything reading trees by index ignores.
     """
     cls = type(formula).__name__
     if cls == "FeatureRef":
@@ -158,12 +161,21 @@ def formula_tree(formula: Any) -> tuple:
 
 
 def formula_features(tree: tuple) -> tuple[str, ...]:
-    """The features a formula tree mentions, in first-use order."""
-    if tree[0] == "ref":
-        return (tree[1],)
-    if tree[0] == "not":
-        return formula_features(tree[1])
-    return tuple(dict.fromkeys(formula_features(tree[1]) + formula_features(tree[2])))
+    """The features a formula tree mentions, in first-use order (one pass: the long
+    or-chains of kernel models made the recursive concatenation quadratic)."""
+    found: dict[str, None] = {}
+    stack = [tree]
+    while stack:
+        node = stack.pop()
+        head = node[0]
+        if head == "ref":
+            found[node[1]] = None
+        elif head == "not":
+            stack.append(node[1])
+        else:
+            stack.append(node[2])
+            stack.append(node[1])
+    return tuple(found)
 
 
 def evaluate(tree: tuple, product: set[str] | frozenset[str]) -> bool:
@@ -201,16 +213,23 @@ class _Builder:
         self.parent: dict[str, str | None] = {}
         self.groups: list[tuple[str, Any, list[Any], list[str]]] = []
         stack: list[tuple[Any, str | None]] = [(root, None)]
-        # reading an unset many-valued reference makes pyecore create an empty collection;
-        # asking first spares that for every leaf of a freshly loaded model
-        groups_ref = root.eClass.findEStructuralFeature("groups")
+        if isinstance(model, PlainFeatureModel):
+            groups_ref = None
+        else:
+            # reading an unset many-valued reference makes pyecore create an empty
+            # collection; asking first spares that for every leaf of a freshly loaded model
+            groups_ref = root.eClass.findEStructuralFeature("groups")
         while stack:
             feature, parent = stack.pop()
             name = feature.name
             self.names.append(name)
             self.parent[name] = parent
             pushed = []
-            for group in feature.groups if feature.eIsSet(groups_ref) else ():
+            if groups_ref is None:
+                groups = feature.groups
+            else:
+                groups = feature.groups if feature.eIsSet(groups_ref) else ()
+            for group in groups:
                 children = list(group.features)
                 members = [child.name for child in children]
                 self.groups.append((name, group, children, members))
@@ -340,8 +359,10 @@ class _Builder:
         return [tuple(c) for c in enc.clauses]
 
     def encode_constraint(self, constraint: Any) -> None:
-        tree = formula_tree(constraint.formula)
-        unknown = [name for name in formula_features(tree) if name not in self.var]
+        formula = constraint.formula
+        tree = formula if isinstance(formula, tuple) else formula_tree(formula)
+        features = formula_features(tree)
+        unknown = [name for name in features if name not in self.var]
         if unknown:
             raise ModelError(
                 [
@@ -371,12 +392,15 @@ class _Builder:
         try:
             clauses = _distribute(nnf)
         except _TooBig:
-            clauses = [(self.tseitin(nnf),)]
+            clauses = []
+            for part in _flat(nnf, "and"):  # a conjunction needs no variable of its own
+                try:
+                    clauses.extend(_distribute(part))
+                except _TooBig:
+                    clauses.append((self.tseitin(part),))
             clauses.extend(self.definitions)
             self.definitions = []
-        self.rule(
-            "constraint", constraint, formula_features(tree), _simplify(clauses), (0, -1), tree
-        )
+        self.rule("constraint", constraint, features, _simplify(clauses), (0, -1), tree)
 
     # --- formulas -------------------------------------------------------------------
     def nnf(self, tree: tuple, positive: bool) -> tuple:
@@ -419,10 +443,15 @@ class _Builder:
         return (junctor, parts)
 
     def tseitin(self, node: tuple) -> int:
-        """A literal equivalent to ``node``; full equivalences keep auxiliaries determined."""
+        """A literal equivalent to ``node``; full equivalences keep auxiliaries determined.
+
+        Nested operands of the same junctor share one variable (``a | (b | c)`` is one
+        three-way or): the long or-chains of kernel models would otherwise get a variable
+        per operator, and every solver call pays for each variable.
+        """
         if node[0] == "lit":
             return node[1]
-        lits = [self.tseitin(part) for part in node[1]]
+        lits = [self.tseitin(part) for part in _flat(node, node[0])]
         x = self.fresh()
         if node[0] == "and":
             self.definitions.extend((-x, lit) for lit in lits)
@@ -435,6 +464,21 @@ class _Builder:
 
 class _TooBig(Exception):
     pass
+
+
+def _flat(node: tuple, junctor: str) -> list[tuple]:
+    """The operands of ``node`` with nested ``junctor`` nodes opened, in order."""
+    if node[0] != junctor:
+        return [node]
+    out: list[tuple] = []
+    stack = list(reversed(node[1]))
+    while stack:
+        part = stack.pop()
+        if part[0] == junctor:
+            stack.extend(reversed(part[1]))
+        else:
+            out.append(part)
+    return out
 
 
 def _binary_clause(tree: tuple) -> tuple[tuple[bool, str], tuple[bool, str]] | None:
@@ -480,13 +524,15 @@ def _simplify(clauses: list[Clause]) -> list[Clause]:
     """Drop duplicate literals and tautologies (``A or not A``), keeping literal order."""
     out: list[Clause] = []
     for clause in clauses:
-        seen = tuple(dict.fromkeys(clause))
-        if len({abs(lit) for lit in seen}) != len(seen):
+        unique = dict.fromkeys(clause)
+        if any(-lit in unique for lit in unique):
             continue  # a literal and its negation: always true
-        out.append(seen)
+        out.append(clause if len(unique) == len(clause) else tuple(unique))
     return out
 
 
 def encode(model: Any) -> FeatureModelCNF:
-    """The CNF of a feature model (``spl.metamodels.fm`` FeatureModel)."""
+    """The CNF of a feature model: an ``spl.metamodels.fm`` FeatureModel (pyecore) or the
+    same model held in plain objects (:mod:`spl.dsl.fm_plain`, formulas as tuple trees,
+    which the encoding uses as they are)."""
     return _Builder(model).build()

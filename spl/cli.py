@@ -3,14 +3,19 @@
 Each sub-command lives in its own module under :mod:`spl.commands` and exposes a
 ``command`` object; this module only assembles them and turns model errors into
 located messages on stderr with exit status 1 (usage errors exit 2, as click does).
+
+Commands are imported when they run, not when ``spl`` starts: the module of a command
+is named like the command, so ``spl check`` imports ``spl.commands.check`` (and what
+it needs) and nothing else; only ``spl --help`` imports them all. Every start pays for
+click alone (``bench/cli_start.py`` measures it).
 """
 
 from __future__ import annotations
 
 import importlib
 import os
-import pkgutil
 import sys
+from pathlib import Path
 from typing import Any
 
 import click
@@ -24,7 +29,44 @@ def report(diagnostics) -> None:
         click.echo(str(diagnostic), err=True)
 
 
+def _command_modules() -> list[str]:
+    """Names of the modules of spl.commands (a listing of its folder: no import)."""
+    folder = Path(__file__).resolve().parent / "commands"
+    return sorted(
+        entry.name[:-3]
+        for entry in os.scandir(folder)
+        if entry.name.endswith(".py") and not entry.name.startswith("_")
+    )
+
+
+def _load_command(module_name: str) -> click.Command | None:
+    module = importlib.import_module(f"spl.commands.{module_name}")
+    command = getattr(module, "command", None)
+    return command if isinstance(command, click.Command) else None
+
+
 class SplGroup(click.Group):
+    def list_commands(self, ctx: click.Context) -> list[str]:
+        names = set(super().list_commands(ctx))
+        for module_name in _command_modules():
+            command = _load_command(module_name)  # listing means showing their help
+            if command is not None and command.name:
+                names.add(command.name)
+        return sorted(names)
+
+    def get_command(self, ctx: click.Context, cmd_name: str) -> click.Command | None:
+        known = super().get_command(ctx, cmd_name)
+        if known is not None:
+            return known
+        modules = _command_modules()
+        # the module named like the command first; any other only if it is not there
+        for module_name in sorted(modules, key=lambda m: m != cmd_name.replace("-", "_")):
+            command = _load_command(module_name)
+            if command is not None and command.name == cmd_name:
+                self.add_command(command)
+                return command
+        return None
+
     def invoke(self, ctx: click.Context) -> Any:
         try:
             return super().invoke(ctx)
@@ -58,18 +100,6 @@ def main() -> None:
     features, and get launch files, Rapyuta configurations and cloud services.
     """
 
-
-def _register_commands() -> None:
-    import spl.commands as package
-
-    for info in sorted(pkgutil.iter_modules(package.__path__), key=lambda i: i.name):
-        module = importlib.import_module(f"{package.__name__}.{info.name}")
-        command = getattr(module, "command", None)
-        if isinstance(command, click.Command):
-            main.add_command(command)
-
-
-_register_commands()
 
 if __name__ == "__main__":  # pragma: no cover
     sys.exit(main())

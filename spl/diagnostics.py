@@ -8,6 +8,7 @@ them together in one :class:`ModelError` instead of stopping at the first.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any, Literal
 
 Severity = Literal["error", "warning", "info"]
@@ -90,6 +91,17 @@ def location_of(element: Any) -> Location | None:
     if not file:
         return None
     return Location(file, element.srcLine or 0, element.srcCol or 0)
+
+
+def model_text(path: Path) -> str:
+    """The text of a model file (UTF-8, a byte order mark dropped); a file that is not
+    UTF-8 is a located error, not a crash."""
+    try:
+        return path.read_text(encoding="utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise ModelError(
+            [Diagnostic(Location(str(path), 1, 1), f"file is not UTF-8 text ({exc.reason})")]
+        ) from None
 
 
 def counted(count: int, noun: str) -> str:

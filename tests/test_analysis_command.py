@@ -50,7 +50,7 @@ def test_uvl_and_readable_report() -> None:
 
 def test_count_bound_gives_null_and_a_note() -> None:
     report = json.loads(run(BERKELEY, "--json", "--count-seconds", "0").output)
-    assert report["products"] is None and "counting stopped" in report["products_note"]
+    assert report["products"] is None and "count skipped" in report["products_note"]
 
 
 def test_featureide_xml_gives_the_same_analysis_as_uvl() -> None:
@@ -67,3 +67,31 @@ def test_unreadable_model_is_a_located_error(tmp_path: Path) -> None:
     result = run(bad)
     assert result.exit_code == 1
     assert str(bad) in result.output and "error" in result.output
+
+
+def test_file_that_is_not_utf8_is_a_located_error(tmp_path: Path) -> None:
+    for suffix in (".uvl", ".fm"):
+        bad = tmp_path / f"latin1{suffix}"
+        bad.write_bytes(b"features\n\tCaf\xe9\n")
+        result = run(bad)
+        assert result.exit_code == 1, result.output
+        assert f"{bad}:1:1: error: file is not UTF-8 text" in result.output
+
+
+def test_count_flag_and_default_bound() -> None:
+    counted = json.loads(run(BERKELEY, "--json", "--count").output)
+    assert counted["products"] == 4080389785 and counted["products_note"] == ""
+    # the default bound is at least a second: BerkeleyDB counts within it
+    default = json.loads(run(BERKELEY, "--json").output)
+    assert default["products"] == 4080389785
+    both = run(BERKELEY, "--count", "--count-seconds", "3")
+    assert both.exit_code == 2 and "either --count or --count-seconds" in both.output
+
+
+def test_skipped_count_is_said_plainly() -> None:
+    result = run(BERKELEY, "--count-seconds", "0")
+    assert result.exit_code == 0, result.output
+    assert (
+        "  products:       unknown (count skipped after 0 s; --count counts without a time bound)"
+        in result.output.splitlines()
+    )

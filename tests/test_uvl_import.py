@@ -76,8 +76,8 @@ features
 constraints
     "a-b" => !"1st" & (C | D)
     // a comment
-    G <=> "or"
-        | E
+    G <=> ("or"
+        | E)
 """
 
 
@@ -113,8 +113,11 @@ def test_names_are_sanitised_injectively_and_written_back() -> None:
 
 
 def test_names_uvl_cannot_quote_are_reported_on_export() -> None:
-    model = parse_uvl('features\n\tR\n\t\toptional\n\t\t\t"x.y"\n\t\t\t"_z"\n', "dots.uvl")
+    # a quoted UVL name holds no dot; FeatureIDE names may, and reach the writer so
+    model = parse_uvl('features\n\tR\n\t\toptional\n\t\t\t"x y"\n\t\t\t"_z"\n', "dots.uvl")
     assert [f.name for f in fm.all_features(model)] == ["R", "x_y", "_z"]
+    (kept,) = model.root.groups[0].features[0].attributes
+    kept.value = "x.y"
     with pytest.raises(ModelError) as info:
         write_uvl(model)
     (problem,) = info.value.diagnostics
@@ -188,7 +191,8 @@ def test_hostile_nesting_is_a_located_error() -> None:
 
 
 def test_identifiers_uvl_reserves_are_quoted_and_read_back() -> None:
-    model = parse_uvl("namespace features\nfeatures\n\tR {\"_k\" 1, sharing 'public'}\n", "q.uvl")
+    text = 'namespace "features"\nfeatures\n\tR {"_k" 1, sharing \'public\'}\n'
+    model = parse_uvl(text, "q.uvl")
     assert model.name == "features"
     assert [(a.name, a.value) for a in model.root.attributes] == [("_k", "1")]
     text = write_uvl(model)

@@ -47,25 +47,39 @@ def load_formula(source: Path):
     if source.suffix.lower() not in FEATURE_MODEL_SUFFIXES:
         raise click.BadParameter(
             f"{source}: expected a product-line folder or a .fm, .uvl or .xml feature model",
-            param_hint="DIR_OR_FM")
-    from spl.dsl.fm_formats import load_feature_model
+            param_hint="DIR_OR_FM",
+        )
+    from spl.dsl.fm_formats import load_analysable_model
 
-    return FeatureModelFormula(load_feature_model(source))
+    return FeatureModelFormula(load_analysable_model(source))
 
 
 @click.command("products")
-@click.argument("source", metavar="DIR_OR_FM",
-                type=click.Path(exists=True, path_type=Path))
-@click.option("--all", "all_products", is_flag=True,
-              help="every valid product, streamed as found (the default)")
-@click.option("--sample", metavar="t=N",
-              help="a t-wise covering array (t = 1, 2 or 3)")
-@click.option("--random", "random_count", type=click.IntRange(min=0), metavar="N",
-              help="N distinct products drawn at random (not uniformly; see docs)")
+@click.argument("source", metavar="DIR_OR_FM", type=click.Path(exists=True, path_type=Path))
+@click.option(
+    "--all",
+    "all_products",
+    is_flag=True,
+    help="every valid product, streamed as found (the default)",
+)
+@click.option("--sample", metavar="t=N", help="a t-wise covering array (t = 1, 2 or 3)")
+@click.option(
+    "--random",
+    "random_count",
+    type=click.IntRange(min=0),
+    metavar="N",
+    help="N distinct products drawn at random (not uniformly; see docs)",
+)
 @click.option("--seed", type=int, default=0, show_default=True, help="seed for --random")
 @click.option("--json", "as_json", is_flag=True, help="JSON Lines: one object per product")
-def command(source: Path, all_products: bool, sample: str | None, random_count: int | None,
-            seed: int, as_json: bool) -> None:
+def command(
+    source: Path,
+    all_products: bool,
+    sample: str | None,
+    random_count: int | None,
+    seed: int,
+    as_json: bool,
+) -> None:
     """List the products of a product line or feature model: all of them, a t-wise
     covering sample, or a random selection."""
     from spl.resolver.sampling import covering_array, product_key, random_products
@@ -82,8 +96,10 @@ def command(source: Path, all_products: bool, sample: str | None, random_count: 
         except ValueError as exc:  # too many combinations for t
             raise click.ClickException(str(exc)) from None
         products = iter(found.products)
-        note = (f"; they cover all {found.covered} valid {t}-wise combinations "
-                f"({found.invalid} invalid ones excluded) in {found.seconds:.2f} s")
+        note = (
+            f"; they cover all {found.covered} valid {t}-wise combinations "
+            f"({found.invalid} invalid ones excluded) in {found.seconds:.2f} s"
+        )
     elif random_count is not None:
         products = random_products(formula, random_count, seed)
     else:
@@ -93,8 +109,7 @@ def command(source: Path, all_products: bool, sample: str | None, random_count: 
         selection = product_key(formula, product) or [root]
         if as_json:
             features = [name for name in formula.cnf.names if name in product]
-            click.echo(json.dumps({"index": count, "selection": selection,
-                                   "features": features}))
+            click.echo(json.dumps({"index": count, "selection": selection, "features": features}))
         else:
             click.echo(",".join(selection))
     click.echo(f"{count} products{note}", err=True)
