@@ -20,7 +20,15 @@ from typing import Any
 
 from textx import TextXSyntaxError, metamodel_from_file
 
-from spl.diagnostics import Diagnostic, DiagnosticSink, Location, ModelError, counted
+from spl.diagnostics import (
+    Diagnostic,
+    DiagnosticSink,
+    Location,
+    ModelError,
+    counted,
+    read_source,
+)
+from spl.dsl import literals
 from spl.metamodels import fm as fm_metamodel
 
 # Words of the .fm language that can never name a feature (the grammar rejects them
@@ -64,7 +72,7 @@ def _grammar():
 def parse_file(path: str | Path) -> Any:
     """Parse a .fm file into an ``fm.FeatureModel``; raise ModelError with every problem."""
     path = Path(path)
-    return parse_text(path.read_text(encoding="utf-8-sig"), str(path))
+    return parse_text(read_source(path), str(path))
 
 
 def parse_text(text: str, filename: str = "<string>") -> Any:
@@ -159,7 +167,8 @@ def canonical_value(type_name: str, text: str) -> str | None:
     if type_name == "bool":
         return text if text in ("true", "false") else None
     if type_name == "int":
-        return str(int(text)) if re.fullmatch(r"[-+]?\d+", text) else None
+        value = literals.int_literal(text)
+        return str(value) if value is not None else None
     if type_name == "double":
         try:
             number = float(text)
@@ -293,22 +302,23 @@ class _Builder:
             group = self.group("or", node)
         else:
             group = self.group("cardinality", node)
-            lower = int(node.lower)
-            upper = (
-                lower
-                if node.upper in ("", None)
-                else (-1 if node.upper == "*" else int(node.upper))
-            )
-            group.lower, group.upper = lower, upper
-            if upper == 0:
-                self.sink.error(
-                    self.loc(node), "bad cardinality: the upper bound must be at least 1"
-                )
+            bound = literals.INT32_MAX
+            lower = literals.int_literal(node.lower, bound)
+            if node.upper in ("", None):
+                upper = lower
+            else:
+                upper = -1 if node.upper == "*" else literals.int_literal(node.upper, bound)
+            if lower is None or upper is None:
+                problem = f": a bound is out of range (at most {bound})"
+            elif upper == 0:
+                problem = ": the upper bound must be at least 1"
             elif upper != -1 and lower > upper:
-                self.sink.error(
-                    self.loc(node),
-                    f"bad cardinality [{lower}..{upper}]: the lower bound exceeds the upper bound",
-                )
+                problem = f" [{lower}..{upper}]: the lower bound exceeds the upper bound"
+            else:
+                problem = None
+                group.lower, group.upper = lower, upper
+            if problem:
+                self.sink.error(self.loc(node), f"bad cardinality{problem}")
         group.features.extend(self.feature(member) for member in node.members)
         return group
 

@@ -21,7 +21,8 @@ from decimal import Decimal
 from pathlib import Path
 from typing import Any, ClassVar
 
-from spl.diagnostics import Diagnostic, DiagnosticSink, Location, ModelError
+from spl.diagnostics import Diagnostic, DiagnosticSink, Location, ModelError, read_source
+from spl.dsl import literals
 from spl.dsl.fm import SHARING_MODES, canonical_value, too_deep
 from spl.dsl.fm_formats import (
     ORIGINAL_NAME,
@@ -102,7 +103,7 @@ class _Line:
 def read_uvl(path: str | Path) -> Any:
     """Import a UVL file as an ``fm.FeatureModel``; raise ModelError with every problem."""
     path = Path(path)
-    return parse_uvl(path.read_text(encoding="utf-8-sig"), str(path), default_name=path.stem)
+    return parse_uvl(read_source(path), str(path), default_name=path.stem)
 
 
 def parse_uvl(text: str, filename: str = "<string>", default_name: str = "FeatureModel") -> Any:
@@ -372,15 +373,15 @@ class _Reader:
 
 def _cardinality(tokens: list[_Token]) -> tuple[int, int] | None:
     texts = [t.text for t in tokens]
-    if len(texts) == 3 and texts[0] == "[" and texts[2] == "]" and texts[1].isdigit():
-        return int(texts[1]), int(texts[1])
-    if (
-        len(texts) == 5
-        and (texts[0], texts[2], texts[4]) == ("[", "..", "]")
-        and texts[1].isdigit()
-        and (texts[3].isdigit() or texts[3] == "*")
-    ):
-        return int(texts[1]), (-1 if texts[3] == "*" else int(texts[3]))
+    bound = literals.INT32_MAX
+    if len(texts) == 3 and texts[0] == "[" and texts[2] == "]":
+        lower = literals.int_literal(texts[1], bound) if texts[1].isdigit() else None
+        return (lower, lower) if lower is not None else None
+    if len(texts) == 5 and (texts[0], texts[2], texts[4]) == ("[", "..", "]"):
+        lower = literals.int_literal(texts[1], bound) if texts[1].isdigit() else None
+        upper = -1 if texts[3] == "*" else literals.int_literal(texts[3], bound)
+        if lower is not None and upper is not None and not texts[3].startswith(("+", "-")):
+            return lower, upper
     return None
 
 

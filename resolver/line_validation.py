@@ -75,8 +75,9 @@ def load_lines(directories: Iterable[Path]) -> list[LoadedLine]:
             line = load_product_line(directory)
             line.formula.backbone()  # computed here, inherited by every worker
         except ModelError as exc:
-            loaded.append(LoadedLine(Path(directory), name, None,
-                                     tuple(str(d) for d in exc.diagnostics)))
+            loaded.append(
+                LoadedLine(Path(directory), name, None, tuple(str(d) for d in exc.diagnostics))
+            )
             continue
         loaded.append(LoadedLine(Path(directory), name, line))
     return loaded
@@ -118,7 +119,8 @@ def _listed_name(path: Path) -> str:
 
     try:
         data = yaml.safe_load(path.read_text(encoding="utf-8"))
-    except (yaml.YAMLError, OSError, UnicodeDecodeError):
+    except (yaml.YAMLError, OSError, ValueError, TypeError, RecursionError):
+        # ValueError: not UTF-8, or a tag that does not convert (`!!float x`)
         return path.stem
     name = data.get("product") if isinstance(data, dict) else None
     return name if isinstance(name, str) and name.isidentifier() else path.stem
@@ -136,22 +138,30 @@ def run_case(line: ProductLine, classname: str, case: ProductCase) -> CaseResult
         if case.selection_file is not None:
             selection = load_selection_file(case.selection_file)
         else:
-            selection = selection_from_list(",".join(case.features),
-                                            name="_".join(case.features))
+            selection = selection_from_list(",".join(case.features), name="_".join(case.features))
         product = resolve(line, selection).product
         problems = validate_bundle(bundle_files(product))
         warnings = tuple(str(w) for w in product.warnings)
     except ModelError as exc:
-        return CaseResult(classname, case.name, "failed",
-                          tuple(str(d) for d in exc.diagnostics if d.severity == "error"),
-                          seconds=time.perf_counter() - start)
+        return CaseResult(
+            classname,
+            case.name,
+            "failed",
+            tuple(str(d) for d in exc.diagnostics if d.severity == "error"),
+            seconds=time.perf_counter() - start,
+        )
     except Exception as exc:  # an spl bug: reported as this product's error, run goes on
-        return CaseResult(classname, case.name, "error",
-                          (f"internal error: {type(exc).__name__}: {exc}",),
-                          seconds=time.perf_counter() - start)
+        return CaseResult(
+            classname,
+            case.name,
+            "error",
+            (f"internal error: {type(exc).__name__}: {exc}",),
+            seconds=time.perf_counter() - start,
+        )
     outcome: Outcome = "failed" if problems else "passed"
-    return CaseResult(classname, case.name, outcome, tuple(problems), warnings,
-                      time.perf_counter() - start)
+    return CaseResult(
+        classname, case.name, outcome, tuple(problems), warnings, time.perf_counter() - start
+    )
 
 
 # The lines of the current run, set before the pool forks: workers read them from here.
@@ -164,12 +174,19 @@ def _run_in_worker(case: ProductCase) -> CaseResult:
     return run_case(loaded.line, loaded.name, case)
 
 
-def run_cases(lines: list[LoadedLine], cases: list[ProductCase], jobs: int = 1,
-              on_result: Callable[[CaseResult], None] | None = None) -> list[CaseResult]:
+def run_cases(
+    lines: list[LoadedLine],
+    cases: list[ProductCase],
+    jobs: int = 1,
+    on_result: Callable[[CaseResult], None] | None = None,
+) -> list[CaseResult]:
     """Every case's result, in the order of ``cases`` (plus one failing case per line
     that did not load, first). ``jobs > 1`` uses forked worker processes."""
-    results = [CaseResult(loaded.name, LINE_CASE, "failed", loaded.problems)
-               for loaded in lines if loaded.line is None]
+    results = [
+        CaseResult(loaded.name, LINE_CASE, "failed", loaded.problems)
+        for loaded in lines
+        if loaded.line is None
+    ]
     for result in results:
         if on_result:
             on_result(result)
@@ -211,27 +228,41 @@ def junit_xml(results: list[CaseResult]) -> bytes:
     suites: dict[str, list[CaseResult]] = {}
     for result in results:
         suites.setdefault(result.classname, []).append(result)
-    root = etree.Element("testsuites", name="spl validate", tests=str(len(results)),
-                         failures=str(_count(results, "failed")),
-                         errors=str(_count(results, "error")))
+    root = etree.Element(
+        "testsuites",
+        name="spl validate",
+        tests=str(len(results)),
+        failures=str(_count(results, "failed")),
+        errors=str(_count(results, "error")),
+    )
     for suite_name, cases in suites.items():
-        suite = etree.SubElement(root, "testsuite", name=_xml_text(suite_name),
-                                 tests=str(len(cases)),
-                                 failures=str(_count(cases, "failed")),
-                                 errors=str(_count(cases, "error")), skipped="0")
+        suite = etree.SubElement(
+            root,
+            "testsuite",
+            name=_xml_text(suite_name),
+            tests=str(len(cases)),
+            failures=str(_count(cases, "failed")),
+            errors=str(_count(cases, "error")),
+            skipped="0",
+        )
         for result in cases:
-            case = etree.SubElement(suite, "testcase", classname=_xml_text(result.classname),
-                                    name=_xml_text(result.name))
+            case = etree.SubElement(
+                suite,
+                "testcase",
+                classname=_xml_text(result.classname),
+                name=_xml_text(result.name),
+            )
             if result.outcome != "passed":
                 first = result.messages[0] if result.messages else "failed"
                 problem = etree.SubElement(
-                    case, "failure" if result.outcome == "failed" else "error",
+                    case,
+                    "failure" if result.outcome == "failed" else "error",
                     message=_xml_text(first),
-                    type="ModelError" if result.outcome == "failed" else "InternalError")
+                    type="ModelError" if result.outcome == "failed" else "InternalError",
+                )
                 problem.text = _xml_text("\n".join(result.messages))
             if result.warnings:
-                etree.SubElement(case, "system-out").text = _xml_text(
-                    "\n".join(result.warnings))
+                etree.SubElement(case, "system-out").text = _xml_text("\n".join(result.warnings))
     return etree.tostring(root, xml_declaration=True, encoding="UTF-8", pretty_print=True)
 
 
@@ -242,8 +273,12 @@ def _count(results: list[CaseResult], outcome: str) -> int:
 def _xml_text(text: str) -> str:
     """Messages and folder names are user input; characters XML 1.0 cannot carry are
     shown escaped instead of making lxml refuse the whole report."""
-    return "".join(c if c in "\t\n\r" or (" " <= c <= "\ud7ff") or ("\ue000" <= c <= "\ufffd")
-                   or c > "\uffff" else f"\\x{ord(c):02x}" for c in text)
+    return "".join(
+        c
+        if c in "\t\n\r" or (" " <= c <= "\ud7ff") or ("\ue000" <= c <= "\ufffd") or c > "\uffff"
+        else f"\\x{ord(c):02x}"
+        for c in text
+    )
 
 
 def summary(results: list[CaseResult]) -> str:
@@ -254,5 +289,4 @@ def summary(results: list[CaseResult]) -> str:
 def describe(result: CaseResult) -> list[str]:
     """Plain-text lines for one result (CI logs): a status line, then its messages."""
     head = {"passed": "ok  ", "failed": "FAIL", "error": "ERROR"}[result.outcome]
-    return [f"{head} {result.classname} :: {result.name}",
-            *(f"    {m}" for m in result.messages)]
+    return [f"{head} {result.classname} :: {result.name}", *(f"    {m}" for m in result.messages)]

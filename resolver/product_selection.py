@@ -14,7 +14,7 @@ from typing import Any
 
 import yaml
 
-from spl.diagnostics import DiagnosticSink, Location
+from spl.diagnostics import DiagnosticSink, Location, read_source
 
 IDENT = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 ROBOT_ID = re.compile(r"[A-Za-z][A-Za-z0-9_-]{0,63}")
@@ -58,14 +58,23 @@ def load_selection_file(path: str | Path) -> ProductSelection:
     path = Path(path)
     filename = str(path)
     sink = DiagnosticSink()
+    text = read_source(path)
     try:
-        root = yaml.compose(path.read_text(encoding="utf-8"), Loader=yaml.SafeLoader)
+        root = yaml.compose(text, Loader=yaml.SafeLoader)
+    except RecursionError:
+        sink.error(Location(filename, 1, 1), "invalid YAML: nested too deeply")
     except yaml.MarkedYAMLError as exc:
         mark = exc.problem_mark
         where = Location(filename, mark.line + 1, mark.column + 1) if mark else None
-        sink.error(where, f"invalid YAML: {exc.problem}")
-        sink.raise_if_errors()
-        raise AssertionError("unreachable") from None
+        sink.error(where or Location(filename, 1, 1), f"invalid YAML: {exc.problem}")
+    except yaml.reader.ReaderError as exc:  # a character YAML does not allow; no mark
+        line = text.count("\n", 0, exc.position) + 1
+        column = exc.position - text.rfind("\n", 0, exc.position)
+        sink.error(
+            Location(filename, line, column),
+            f"invalid YAML: character U+{exc.character:04X} is not allowed",
+        )
+    sink.raise_if_errors()
 
     def at(node: yaml.Node) -> Location:
         return Location(filename, node.start_mark.line + 1, node.start_mark.column + 1)
@@ -75,9 +84,10 @@ def load_selection_file(path: str | Path) -> ProductSelection:
         sink.error(Location(filename, 1, 1), "a product selection is a mapping (product, features)")
         sink.raise_if_errors()
     for key_node, value_node in root.value:
-        key = key_node.value
+        key = _scalar(key_node)
         if key not in TOP_LEVEL_KEYS:
-            sink.error(at(key_node), f"unknown key {key!r} (expected {', '.join(TOP_LEVEL_KEYS)})")
+            shown = repr(key) if key is not None else _kind(key_node)
+            sink.error(at(key_node), f"unknown key {shown} (expected {', '.join(TOP_LEVEL_KEYS)})")
         elif key == "product":
             if isinstance(value_node, yaml.ScalarNode) and IDENT.fullmatch(value_node.value):
                 selection.name = value_node.value
@@ -101,8 +111,12 @@ def load_selection_file(path: str | Path) -> ProductSelection:
             for k, v in _pairs(value_node, at, sink, key):
                 if not re.fullmatch(r"[A-Za-z_]\w*\.[A-Za-z_]\w*", k.value, re.ASCII):
                     sink.error(at(k), f"attributes: {k.value!r} is not FEATURE.ATTRIBUTE")
+                    continue
+                value, problem = _value(yaml.serialize(v))
+                if problem:
+                    sink.error(at(v), f"attributes: {k.value}: {problem}")
                 else:
-                    selection.attributes[k.value] = yaml.safe_load(yaml.serialize(v))
+                    selection.attributes[k.value] = value
                     selection.locations[k.value] = at(k)
         else:
             _deployment(value_node, at, sink, selection)
@@ -118,10 +132,12 @@ def _names(node, at, sink, key) -> list[str]:
         return []
     names = []
     for item in node.value:
-        if isinstance(item, yaml.ScalarNode) and IDENT.fullmatch(item.value):
-            names.append(item.value)
+        name = _scalar(item)
+        if name is not None and IDENT.fullmatch(name):
+            names.append(name)
         else:
-            sink.error(at(item), f"{key}: {getattr(item, 'value', item)!r} is not a feature name")
+            shown = repr(name) if name is not None else _kind(item)
+            sink.error(at(item), f"{key}: {shown} is not a feature name")
     return names
 
 
@@ -131,11 +147,33 @@ def _pairs(node, at, sink, key):
         return []
     pairs = []
     for k, v in node.value:
-        if isinstance(v, yaml.ScalarNode):
+        if _scalar(k) is None:
+            sink.error(at(k), f"{key}: expected a name, got {_kind(k)}")
+        elif isinstance(v, yaml.ScalarNode):
             pairs.append((k, v))
         else:
             sink.error(at(v), f"{key}: {k.value}: expected a single value")
     return pairs
+
+
+def _scalar(node: yaml.Node) -> str | None:
+    """The text of a scalar node; None for a list or a mapping."""
+    return node.value if isinstance(node, yaml.ScalarNode) else None
+
+
+def _kind(node: yaml.Node) -> str:
+    return "a list" if isinstance(node, yaml.SequenceNode) else "a mapping"
+
+
+def _value(text: str) -> tuple[Any, str | None]:
+    """(value, None) for a YAML scalar, or (None, why not): an unknown tag or a tagged
+    value that does not convert (``!!float x``) is the user's error, not ours."""
+    try:
+        return yaml.safe_load(text), None
+    except yaml.MarkedYAMLError as exc:
+        return None, f"invalid YAML value: {exc.problem or exc.context}"
+    except (yaml.YAMLError, ValueError, TypeError) as exc:
+        return None, f"invalid YAML value: {exc}"
 
 
 def _deployment(node, at, sink, selection: ProductSelection) -> None:
@@ -143,9 +181,10 @@ def _deployment(node, at, sink, selection: ProductSelection) -> None:
         sink.error(at(node), "deployment: expected CONTAINER: {robot_id: ..., url: ...}")
         return
     for container_node, settings in node.value:
-        container = container_node.value
-        if not IDENT.fullmatch(container):
-            sink.error(at(container_node), f"deployment: {container!r} is not a container name")
+        container = _scalar(container_node)
+        if container is None or not IDENT.fullmatch(container):
+            shown = repr(container) if container is not None else _kind(container_node)
+            sink.error(at(container_node), f"deployment: {shown} is not a container name")
             continue
         selection.locations[f"deployment:{container}"] = at(container_node)
         values = {}
@@ -179,7 +218,11 @@ def apply_overrides(
         if not re.fullmatch(r"[A-Za-z_]\w*\.[A-Za-z_]\w*", key, re.ASCII) or not value:
             sink.error(where, f"{text!r}: expected FEATURE.ATTRIBUTE=VALUE")
             continue
-        selection.attributes[key] = yaml.safe_load(value)
+        parsed, problem = _value(value)
+        if problem:
+            sink.error(where, f"{text!r}: {problem}")
+            continue
+        selection.attributes[key] = parsed
         selection.locations[key] = where
     sink.raise_if_errors()
     return selection

@@ -8,6 +8,7 @@ them together in one :class:`ModelError` instead of stopping at the first.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any, Literal
 
 Severity = Literal["error", "warning", "info"]
@@ -95,3 +96,14 @@ def location_of(element: Any) -> Location | None:
 def counted(count: int, noun: str) -> str:
     """``1 bridge``, ``4 bridges``: the counts in every summary line read as English."""
     return f"{count} {noun}{'' if count == 1 else 's'}"
+
+
+def read_source(path: str | Path, encoding: str = "utf-8-sig") -> str:
+    """The text of a model or selection file; a file that is not UTF-8 is the user's
+    located error, not an internal one. The default encoding drops a byte order mark."""
+    path = Path(path)
+    try:
+        return path.read_text(encoding=encoding)
+    except UnicodeDecodeError as exc:
+        where = Location(str(path), 1, 1)
+        raise ModelError([Diagnostic(where, f"file is not UTF-8 text ({exc.reason})")]) from None
