@@ -55,59 +55,58 @@ def rewire(system: Any, trace: Trace, migrated: set[str]) -> list[Diagnostic]:
             seen.add(id(server))
             caller = callers_of_stand_in.get(id(server))
             server = caller.server if caller is not None else None
+        if server is not None and server.eContainer().eContainer() is None:
+            return None  # its node was pruned: the client is left unserved
         return server
 
     publishers, subscribers, clients = NodeInterfaces.of(system.containers)
     template_topic = {id(i): i.topic for i in publishers + subscribers}
+    order = {id(i): n for n, i in enumerate(publishers + subscribers)}
     served_by = {id(c): real_server(c.server) for c in clients}
-
-    local_topics: dict[int, dict] = {}
-    for interface in publishers + subscribers:
-        container = interface.eContainer().eContainer()
-        if interface.topic.eContainer() is not container:
-            if id(container) not in local_topics:
-                local_topics[id(container)] = TopicIndex(container)
-            interface.topic = local_topics[id(container)].local_topic(interface, trace)
 
     subscribers_of: dict[int, list[Any]] = defaultdict(list)
     for subscriber in subscribers:
         subscribers_of[id(template_topic[id(subscriber)])].append(subscriber)
     reach: dict[int, set[int]] = {}
-    bridges: dict[tuple[int, int], list[tuple[Any, Any]]] = {}
-    warnings: list[Diagnostic] = []
+    flows: list[tuple[Any, Any]] = []  # (publisher, subscriber) of the template, in model order
     for publisher in publishers:
         start = id(template_topic[id(publisher)])
         if start not in reach:
             downstream = nx.descendants(flow_graph, start) if start in flow_graph else set()
             reach[start] = downstream | {start}
-        for topic_id in reach[start]:
-            for subscriber in subscribers_of.get(topic_id, ()):
-                if _container(publisher) is not _container(subscriber):
-                    bridges.setdefault((id(publisher.topic), id(subscriber.topic)), []).append(
-                        (publisher, subscriber)
-                    )
-                elif publisher.topic is not subscriber.topic:
-                    warnings.append(
-                        Diagnostic(
-                            location_of(subscriber),
-                            f"{qualified(subscriber)} was fed by {qualified(publisher)} through "
-                            f"another container; both now live in {_container(publisher).name} "
-                            f"on different topics ({qualified(publisher.topic)}, "
-                            f"{qualified(subscriber.topic)}): connect them to one topic",
-                            "warning",
-                            "SPL031",
-                        )
-                    )
+        flows += [(publisher, s) for t in reach[start] for s in subscribers_of.get(t, ())]
+    flows.sort(key=lambda flow: (order[id(flow[0])], order[id(flow[1])]))
+    _bind_moved(publishers + subscribers, flows, trace)
+
+    bridges: dict[tuple[int, int], list[tuple[Any, Any]]] = {}
+    warnings: list[Diagnostic] = []
+    for publisher, subscriber in flows:
+        if _container(publisher) is not _container(subscriber):
+            bridges.setdefault((id(publisher.topic), id(subscriber.topic)), []).append(
+                (publisher, subscriber)
+            )
+        elif publisher.topic is not subscriber.topic:
+            warnings.append(
+                Diagnostic(
+                    location_of(subscriber),
+                    f"{qualified(subscriber)} was fed by {qualified(publisher)} through "
+                    f"another container; both now live in {_container(publisher).name} "
+                    f"on different topics ({qualified(publisher.topic)}, "
+                    f"{qualified(subscriber.topic)}): connect them to one topic",
+                    "warning",
+                    "SPL031",
+                )
+            )
 
     for container in system.containers:
         container.endpoint.interfaces.clear()
     system.connections.clear()
     wiring = endpoints.EndpointWiring(system)
-    for flows in bridges.values():
-        publisher, subscriber = flows[0]
+    for shared in bridges.values():
+        publisher, subscriber = shared[0]
         wiring.topic_bridge(publisher.topic, subscriber.topic)
         if {publisher.eContainer().name, subscriber.eContainer().name} & migrated:
-            carried = ", ".join(f"{qualified(p)} -> {qualified(s)}" for p, s in flows)
+            carried = ", ".join(f"{qualified(p)} -> {qualified(s)}" for p, s in shared)
             trace.record(
                 qualified(publisher.topic),
                 "bridged",
@@ -133,6 +132,56 @@ def rewire(system: Any, trace: Trace, migrated: set[str]) -> list[Diagnostic]:
 
 def _container(interface: Any) -> Any:
     return interface.eContainer().eContainer()
+
+
+def _bind_moved(interfaces: list[Any], flows: list[tuple[Any, Any]], trace: Trace) -> None:
+    """Bind each interface of a migrated node to a topic of its new container.
+
+    Interfaces that now share a container and were linked by a template flow must share
+    one topic there, or the flow would need a bridge inside the container. Such a group
+    joins the topic its unmoved members use; when none stayed, its first moved member's
+    topic (same ROS name and type, reused or created) is shared by all. When the unmoved
+    members use two topics, no single topic serves them all: each moved interface keeps
+    the ROS-name rule and the flows that cannot be delivered are reported (SPL031).
+    """
+    moved = [i for i in interfaces if i.topic.eContainer() is not _container(i)]
+    if not moved:
+        return
+    position = {id(i): n for n, i in enumerate(interfaces)}
+    peers = nx.Graph()
+    peers.add_nodes_from(id(i) for i in moved)
+    for publisher, subscriber in flows:
+        if _container(publisher) is _container(subscriber):
+            peers.add_edge(id(publisher), id(subscriber))
+    by_id = {id(i): i for i in interfaces}
+    moved_ids = {id(i) for i in moved}
+    indexes: dict[int, TopicIndex] = {}
+    for first in moved:
+        if first.topic.eContainer() is _container(first):
+            continue  # bound with an earlier member of its group
+        group = sorted(nx.node_connected_component(peers, id(first)), key=position.__getitem__)
+        members = [by_id[k] for k in group]
+        fixed = list(dict.fromkeys(m.topic for m in members if id(m) not in moved_ids))
+        container = _container(first)
+        index = indexes.setdefault(id(container), TopicIndex(container))
+        if len(fixed) > 1:
+            for member in members:
+                if id(member) in moved_ids:
+                    member.topic = index.local_topic(member, trace)
+            continue
+        if fixed:
+            topic = fixed[0]
+        else:
+            topic = first.topic = index.local_topic(first, trace)
+        for member in members:
+            if id(member) in moved_ids and member.topic is not topic:
+                trace.record(
+                    qualified(member),
+                    "rewired",
+                    f"to {qualified(topic)}, the topic of the interfaces it exchanged data "
+                    f"with in the template, which now live in {container.name} too",
+                )
+                member.topic = topic
 
 
 class TopicIndex:

@@ -1,0 +1,152 @@
+"""Counterexamples the migration property tests (test_migration_properties.py) found,
+shrunk and written out as ordinary tests with hand-written expectations."""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+
+from architecture_view import view
+from cli_outcome import assert_clean, run
+
+from spl.dsl.tsm_printer import print_model
+from spl.resolver.engine import resolve
+from spl.resolver.product_line import load_product_line
+from spl.resolver.product_selection import selection_from_list
+
+ENDPOINT = 'endpoint robot_id "r" url "wss://cloud.example.org:9000/" user "u" password env "PW"'
+
+
+def write_line(directory: Path, tsm: str, features: str, elements: str = "") -> Path:
+    directory.mkdir(parents=True, exist_ok=True)
+    (directory / "l.tsm").write_text(tsm, encoding="utf-8")
+    children = "".join(f" optional {f}" for f in features.split())
+    (directory / "l.fm").write_text(f"feature model L\nroot Root {{{children} }}\n", "utf-8")
+    (directory / "l.rm").write_text(
+        f'resolution model L\ntsm "l.tsm"\nfm "l.fm"\n{elements}', encoding="utf-8"
+    )
+    return directory
+
+
+def product(directory: Path, features: str = "Root"):
+    return resolve(load_product_line(directory), selection_from_list(features)).product
+
+
+def test_a_client_of_a_pruned_optional_server_is_left_unserved(tmp_path):
+    # was: error: internal error in spl 0.1.0: AttributeError: 'NoneType' object has no
+    # attribute 'endpoint' (the rewiring bridged the client to the removed server)
+    line = write_line(
+        tmp_path / "line",
+        "cloud container Cloud1 {\n"
+        "    node N1 {\n        implementation pkg/n1\n        calls c0 -> N3.p1\n    }\n"
+        "    optional node N3 {\n        implementation pkg/n3\n"
+        "        provides p1 : nav_msgs/GetPlan\n    }\n}\n",
+        "M0",
+    )
+    out = tmp_path / "out"
+    out.mkdir()
+    result = run("resolve", line, "--features", "Root", "-o", out / "bundle")
+    assert_clean(result, "pruned server")
+    assert result.exit_code == 0
+    resolved = product(line)
+    assert view(resolved.system)["placement"] == {"N1": "Cloud1"}
+    assert resolved.system.containers[0].nodes[0].interfaces[0].server is None
+    assert any("N1.c0" in str(w) for w in resolved.warnings)
+
+
+def test_a_kept_optional_node_is_no_longer_optional_in_the_product(tmp_path):
+    # resolved.tsm said `optional node N3`, so resolving it again (no element requires
+    # N3 there) dropped N3: the resolved model was not a fixed point
+    tsm = (
+        f"robot container Robot3 {{\n    {ENDPOINT}\n"
+        "    optional node N3 {\n        implementation pkg/n3\n    }\n}\n"
+    )
+    line = write_line(tmp_path / "line", tsm, "K0", "when K0 not selected { require N3 }\n")
+    text = print_model(product(line).system)
+    assert "    node N3 {" in text and "optional" not in text
+    again = write_line(tmp_path / "again", text, "")
+    assert print_model(product(again).system) == text
+
+
+RENAMING_BRIDGE = f"""robot container Robot0 {{
+    {ENDPOINT}
+    topic Pose : geometry_msgs/PoseStamped name "/pose"
+    node N0 {{
+        implementation pkg/n0
+        publishes p0 -> Pose
+    }}
+}}
+
+cloud container Cloud1 {{
+    topic Scan : geometry_msgs/PoseStamped name "/goal"
+    node N1 {{
+        implementation pkg/n1
+        subscribes s0 <- Scan
+    }}
+}}
+
+bridge Robot0.Pose -> Cloud1.Scan
+"""
+
+
+def test_migrating_a_publisher_across_a_renaming_bridge_keeps_its_flow(tmp_path):
+    # /pose on the robot is bridged to /goal in the cloud. Moving N0 next to N1 used to
+    # give N0 a new cloud topic /pose while N1 stayed on /goal: the flow N0 -> N1 was lost
+    # (warning SPL031). N0 now joins the topic of the subscriber it fed.
+    line = write_line(
+        tmp_path / "line", RENAMING_BRIDGE, "M0", "when M0 selected { migrate N0 to Cloud1 }\n"
+    )
+    resolved = product(line, "Root,M0")
+    v = view(resolved.system)
+    assert v["placement"] == {"N0": "Cloud1", "N1": "Cloud1"}
+    assert v["bindings"] == {"N0.p0": "Cloud1.Scan", "N1.s0": "Cloud1.Scan"}
+    assert v["bridges"] == []
+    assert v["topics"] == {"Robot0": [], "Cloud1": ["Scan"]}
+    assert not [w for w in resolved.warnings if w.code == "SPL031"]
+
+
+def test_migrating_a_subscriber_across_a_renaming_bridge_keeps_its_flows(tmp_path):
+    # the mirror case, with a second, remote publisher on /goal that must now be bridged
+    # to the topic N1 joined on the robot
+    tsm = RENAMING_BRIDGE.replace(
+        "bridge Robot0.Pose",
+        'cloud container Cloud2 {\n    topic Goal : geometry_msgs/PoseStamped name "/goal"\n'
+        "    node N2 {\n        implementation pkg/n2\n        publishes p0 -> Goal\n    }\n}\n\n"
+        "bridge Cloud2.Goal -> Cloud1.Scan\nbridge Robot0.Pose",
+    )
+    line = write_line(tmp_path / "line", tsm, "M0", "when M0 selected { migrate N1 to Robot0 }\n")
+    resolved = product(line, "Root,M0")
+    v = view(resolved.system)
+    assert v["bindings"] == {"N0.p0": "Robot0.Pose", "N1.s0": "Robot0.Pose", "N2.p0": "Cloud2.Goal"}
+    assert v["bridges"] == ["Cloud2.endpoint.sub_Goal -> Robot0.endpoint.pub_Pose"]
+    assert not [w for w in resolved.warnings if w.code == "SPL031"]
+
+
+def test_bridges_are_created_in_the_model_order_of_the_flows_they_carry(tmp_path):
+    # the order used to follow a set of object ids, so the same inputs gave differently
+    # ordered bridges (and resolved.tsm bytes) from one process to the next
+    clouds = "".join(
+        f'cloud container {c} {{\n    topic T : sensor_msgs/LaserScan name "/scan"\n'
+        f"    node S{c} {{\n        implementation pkg/s\n        subscribes x <- T\n    }}\n}}\n"
+        for c in ("B", "C", "D")
+    )
+    tsm = (
+        f'robot container A {{\n    {ENDPOINT}\n    topic T : sensor_msgs/LaserScan name "/scan"\n'
+        "    node P {\n        implementation pkg/p\n        publishes out -> T\n    }\n}\n"
+        f"{clouds}bridge A.T -> D.T\nbridge A.T -> C.T\nbridge A.T -> B.T\n"
+    )
+    line = write_line(tmp_path / "line", tsm, "")
+    assert print_model(product(line).system).endswith(
+        "bridge A.T -> B.T\nbridge A.T -> C.T\nbridge A.T -> D.T\n"
+    )
+
+
+def test_the_counterexample_lines_resolve_from_the_command_line(tmp_path):
+    line = write_line(
+        tmp_path / "line", RENAMING_BRIDGE, "M0", "when M0 selected { migrate N0 to Cloud1 }\n"
+    )
+    out = tmp_path / "out"
+    result = run("resolve", line, "--features", "Root,M0", "-o", out)
+    assert_clean(result, "renaming bridge")
+    assert result.exit_code == 0 and "SPL031" not in result.stderr
+    shutil.rmtree(out)
