@@ -8,11 +8,13 @@ derived once from the data flows of the template:
    subscriber when the subscriber's template topic is reachable from the publisher's.
    A service client is served by the real server behind any chain of stand-ins.
 2. Each node interface is bound to a topic of the container its node now lives in:
-   its own topic if it stayed, else a topic of the target container with the same ROS
-   name and type (reused when it exists, created otherwise).
+   its own topic if it stayed; else the topic its flow peers there use, or a topic of
+   the target container with the same ROS name and type (reused when it exists,
+   created otherwise).
 3. For every flow whose two ends now live in different containers, one bridge between
-   their topics; for every client whose server lives elsewhere, one service bridge.
-   Flows inside one container need nothing.
+   their topics, unless other bridges already carry its data there (no message arrives
+   twice); for every client whose server lives elsewhere, one service bridge. Flows
+   inside one container need nothing.
 
 So there is never a bridge inside one container, never a hairpin (a node that moved
 next to its peer is wired to it locally and the bridge that served it disappears),
@@ -102,7 +104,7 @@ def rewire(system: Any, trace: Trace, migrated: set[str]) -> list[Diagnostic]:
         container.endpoint.interfaces.clear()
     system.connections.clear()
     wiring = endpoints.EndpointWiring(system)
-    for shared in bridges.values():
+    for shared in _without_shortcuts(bridges, trace).values():
         publisher, subscriber = shared[0]
         wiring.topic_bridge(publisher.topic, subscriber.topic)
         if {publisher.eContainer().name, subscriber.eContainer().name} & migrated:
@@ -132,6 +134,30 @@ def rewire(system: Any, trace: Trace, migrated: set[str]) -> list[Diagnostic]:
 
 def _container(interface: Any) -> Any:
     return interface.eContainer().eContainer()
+
+
+def _without_shortcuts(bridges: dict[tuple[int, int], list], trace: Trace) -> dict:
+    """The bridges minus those another chain of bridges already makes redundant.
+
+    A flow A.T -> C.T whose data also travels A.T -> B.T -> C.T (B has a subscriber and a
+    publisher of its own on T) would otherwise be bridged directly as well, and every
+    message would reach C twice. Dropping such shortcuts (the transitive reduction of
+    the bridge graph) keeps what reaches where and delivers each message once.
+    """
+    graph = nx.DiGraph(list(bridges))
+    if not nx.is_directed_acyclic_graph(graph):
+        return bridges
+    kept = nx.transitive_reduction(graph)
+    for (source, target), flows in bridges.items():
+        if not kept.has_edge(source, target):
+            publisher, subscriber = flows[0]
+            trace.record(
+                qualified(publisher.topic),
+                "not bridged",
+                f"to {qualified(subscriber.topic)} directly: its data already arrives there "
+                "through other bridges",
+            )
+    return {key: flows for key, flows in bridges.items() if kept.has_edge(*key)}
 
 
 def _bind_moved(interfaces: list[Any], flows: list[tuple[Any, Any]], trace: Trace) -> None:

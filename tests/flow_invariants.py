@@ -142,16 +142,19 @@ def check_resolved(spec: LineSpec, selected: set[str], system: Any, warnings=())
             assert target.eClass.name == "Publisher", "topic bridge to a non-publisher"
             data.add_edge(id(source.topic), id(target.topic))
     containers = {id(t): _container(t).name for c in system.containers for t in c.topics}
-    for topic in data:
-        for other in nx.descendants(data, topic):
-            assert containers[other] != containers[topic], (
-                f"hairpin: data leaves {containers[topic]} and comes back"
-            )
+    assert nx.is_directed_acyclic_graph(data), "data can travel round a cycle of bridges"
+    for x, y in data.edges:  # each message arrives once: no bridge duplicates a chain
+        others = data.copy()
+        others.remove_edge(x, y)
+        assert not nx.has_path(others, x, y), (
+            f"bridge {containers[x]} -> {containers[y]} duplicates a chain of bridges"
+        )
 
     # every template flow between kept nodes is still delivered, or it cannot be and the
     # engine says so
     blocked = undeliverable(spec, selected)
     reported = {str(w) for w in warnings if w.code == "SPL031"}
+    carried: set[tuple[int, int]] = set()  # (publisher topic, subscriber topic) of flows
     for publisher, subscriber in sorted(template_flows(spec)):
         if publisher[0] not in where or subscriber[0] not in where:
             continue
@@ -167,6 +170,21 @@ def check_resolved(spec: LineSpec, selected: set[str], system: Any, warnings=())
             )
             continue
         assert delivered, f"flow {publisher} -> {subscriber} is no longer delivered"
+        if source is not target:  # no hairpin: some route never re-enters a container
+            routes = nx.all_simple_paths(data, id(source), id(target))
+            assert any(len({containers[t] for t in r}) == len(r) for r in routes), (
+                f"hairpin: every route of {publisher} -> {subscriber} re-enters a container"
+            )
+            carried.add((id(source), id(target)))
+
+    # minimal: every bridge lies on the way of some flow of the template
+    def reaches(a: int, b: int) -> bool:
+        return a == b or nx.has_path(data, a, b)
+
+    for x, y in data.edges:
+        assert any(reaches(s, x) and reaches(y, t) for s, t in carried), (
+            f"bridge {containers[x]} -> {containers[y]} carries no flow of the template"
+        )
 
     # every client still reaches its server
     for client, server in sorted(template_calls(spec).items()):
