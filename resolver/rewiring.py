@@ -104,7 +104,7 @@ def rewire(system: Any, trace: Trace, migrated: set[str]) -> list[Diagnostic]:
         container.endpoint.interfaces.clear()
     system.connections.clear()
     wiring = endpoints.EndpointWiring(system)
-    for shared in _without_shortcuts(bridges, trace).values():
+    for shared in _minimal_bridges(bridges, trace, warnings).values():
         publisher, subscriber = shared[0]
         wiring.topic_bridge(publisher.topic, subscriber.topic)
         if {publisher.eContainer().name, subscriber.eContainer().name} & migrated:
@@ -136,20 +136,42 @@ def _container(interface: Any) -> Any:
     return interface.eContainer().eContainer()
 
 
-def _without_shortcuts(bridges: dict[tuple[int, int], list], trace: Trace) -> dict:
-    """The bridges minus those another chain of bridges already makes redundant.
+def _minimal_bridges(
+    bridges: dict[tuple[int, int], list], trace: Trace, warnings: list[Diagnostic]
+) -> dict:
+    """The bridges to build: no loop, and none that a chain of others makes redundant.
 
-    A flow A.T -> C.T whose data also travels A.T -> B.T -> C.T (B has a subscriber and a
-    publisher of its own on T) would otherwise be bridged directly as well, and every
-    message would reach C twice. Dropping such shortcuts (the transitive reduction of
-    the bridge graph) keeps what reaches where and delivers each message once.
+    Bridges are taken in flow order; one that would close a loop (data bridged from a
+    topic back into it, as when a moved node both publishes and subscribes a topic whose
+    other ends stayed behind) is left out, since every message would circle for ever,
+    and each flow that then cannot be delivered is reported (SPL032). Of the rest, a
+    bridge A.T -> C.T whose data already travels A.T -> B.T -> C.T is dropped (the
+    transitive reduction), or every message would reach C twice.
     """
-    graph = nx.DiGraph(list(bridges))
-    if not nx.is_directed_acyclic_graph(graph):
-        return bridges
+    graph = nx.DiGraph()
+    looping = []
+    for key in bridges:
+        if key[0] in graph and key[1] in graph and nx.has_path(graph, key[1], key[0]):
+            looping.append(key)
+        else:
+            graph.add_edge(*key)
+    for key in looping:
+        for publisher, subscriber in bridges[key]:
+            if not nx.has_path(graph, *key):
+                warnings.append(
+                    Diagnostic(
+                        location_of(subscriber),
+                        f"{qualified(subscriber)} is no longer fed by {qualified(publisher)}: "
+                        f"bridging {qualified(publisher.topic)} to "
+                        f"{qualified(subscriber.topic)} would send data round a loop of "
+                        "bridges back to where it came from",
+                        "warning",
+                        "SPL032",
+                    )
+                )
     kept = nx.transitive_reduction(graph)
     for (source, target), flows in bridges.items():
-        if not kept.has_edge(source, target):
+        if (source, target) not in looping and not kept.has_edge(source, target):
             publisher, subscriber = flows[0]
             trace.record(
                 qualified(publisher.topic),

@@ -154,6 +154,7 @@ def check_resolved(spec: LineSpec, selected: set[str], system: Any, warnings=())
     # engine says so
     blocked = undeliverable(spec, selected)
     reported = {str(w) for w in warnings if w.code == "SPL031"}
+    looping = {str(w) for w in warnings if w.code == "SPL032"}
     carried: set[tuple[int, int]] = set()  # (publisher topic, subscriber topic) of flows
     for publisher, subscriber in sorted(template_flows(spec)):
         if publisher[0] not in where or subscriber[0] not in where:
@@ -167,6 +168,16 @@ def check_resolved(spec: LineSpec, selected: set[str], system: Any, warnings=())
             names = (".".join(subscriber) + " was fed by " + ".".join(publisher)).split()
             assert any(all(n in w for n in names) for w in reported), (
                 f"flow {publisher} -> {subscriber} lost without a warning"
+            )
+            continue
+        if not delivered and id(target) in data and id(source) in data:
+            # allowed only when bridging it would close a loop, and the engine says so
+            names = (".".join(subscriber) + " is no longer fed by " + ".".join(publisher)).split()
+            assert nx.has_path(data, id(target), id(source)), (
+                f"flow {publisher} -> {subscriber} is no longer delivered"
+            )
+            assert any(all(n in w for n in names) for w in looping), (
+                f"flow {publisher} -> {subscriber} lost to a loop without a warning"
             )
             continue
         assert delivered, f"flow {publisher} -> {subscriber} is no longer delivered"

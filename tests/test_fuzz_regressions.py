@@ -5,10 +5,12 @@ command and checks the exact message the user gets."""
 from __future__ import annotations
 
 import shutil
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
-from cli_outcome import assert_clean, run
+from cli_outcome import assert_clean, assert_clean_outcome, run
 
 ROOT = Path(__file__).resolve().parent.parent
 MAPPING = ROOT / "product_lines" / "mapping3d"
@@ -247,3 +249,31 @@ def test_validate_reads_a_listed_product_whose_name_does_not_convert(tmp_path):
     result = run("validate", line)
     assert_clean(result, "validate")
     assert "ok   mapping3d :: odd" in result.stdout  # the file's name stands in for it
+
+
+@pytest.mark.parametrize(
+    ("name", "text", "code"),
+    [
+        ("empty.tsm", "", 0),
+        ("odd.fm", f"feature model X\nroot R {{ group [{DIGITS}..*] {{ A B }} }}\n", 1),
+        (
+            "deep.tsm",
+            "data D { x : double }\ntransform T : D -> D { x = " + "-" * 3000 + "x }\n",
+            1,
+        ),
+        ("bytes.rm", "resolution model \udcff\n", 1),
+    ],
+)
+def test_the_installed_command_exits_plainly_on_fuzzed_input(tmp_path, name, text, code):
+    """The same inputs through the real process entry point (exit status, stderr)."""
+    path = tmp_path / name
+    path.write_text(text, encoding="utf-8", errors="surrogateescape")
+    done = subprocess.run(
+        [sys.executable, "-m", "spl", "check", str(path)],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=False,
+    )
+    assert_clean_outcome(done.returncode, done.stdout, done.stderr, name)
+    assert done.returncode == code

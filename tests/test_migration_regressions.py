@@ -253,3 +253,49 @@ def test_a_subscriber_moved_next_to_its_feeder_is_a_fixed_point(tmp_path):
     text = print_model(resolved.system)
     again = write_line(tmp_path / "again", text, "")
     assert print_model(product(again).system) == text
+
+
+LOOP = f"""robot container Robot {{
+    {ENDPOINT}
+}}
+robot container Rover {{
+    {ENDPOINT.replace('"r"', '"rover"')}
+    topic Scan : geometry_msgs/PoseStamped name "/goal"
+    node N4 {{
+        implementation pkg/n4
+        publishes p0 -> Scan
+    }}
+    node N5 {{
+        implementation pkg/n5
+        publishes p0 -> Scan
+        subscribes s1 <- Scan
+    }}
+    node N6 {{
+        implementation pkg/n6
+        subscribes s0 <- Scan
+    }}
+}}
+"""
+
+
+def test_a_moved_node_that_publishes_and_subscribes_one_topic_makes_no_loop(tmp_path):
+    # shrunk from a random line: N5 both publishes and subscribes /goal, with N4 and N6
+    # left behind. Bridging N4 -> N5 (Rover -> Robot) and N5 -> N6 (Robot -> Rover) on the
+    # one topic each side sent every message round the two bridges for ever.
+    line = write_line(tmp_path / "line", LOOP, "M0", "when M0 selected { migrate N5 to Robot }\n")
+    resolved = product(line, "Root,M0")
+    v = view(resolved.system)
+    assert v["bindings"] == {
+        "N5.p0": "Robot.Scan",
+        "N5.s1": "Robot.Scan",
+        "N4.p0": "Rover.Scan",
+        "N6.s0": "Rover.Scan",
+    }
+    # flows are bridged in the product's model order (N5, now first in Robot, first);
+    # the second bridge would close the loop, so it is left out and its flow reported
+    assert v["bridges"] == ["Robot.endpoint.sub_Scan -> Rover.endpoint.pub_Scan"]
+    (warning,) = [w for w in resolved.warnings if w.code == "SPL032"]
+    assert warning.message == (
+        "N5.s1 is no longer fed by N4.p0: bridging Rover.Scan to Robot.Scan would send data "
+        "round a loop of bridges back to where it came from"
+    )
