@@ -13,13 +13,16 @@ derived once from the data flows of the template:
    created otherwise).
 3. For every flow whose two ends now live in different containers, one bridge between
    their topics, unless other bridges already carry its data there (no message arrives
-   twice); for every client whose server lives elsewhere, one service bridge. Flows
-   inside one container need nothing.
+   twice) or it would close a loop; for every client whose server lives elsewhere, one
+   service bridge. Flows inside one container need nothing.
 
 So there is never a bridge inside one container, never a hairpin (a node that moved
 next to its peer is wired to it locally and the bridge that served it disappears),
 never a duplicate bridge for a topic several migrated nodes share, and same-named
-topics are reused. The result is the same whatever order migrations ran in.
+topics are reused. The result is the same whatever order migrations ran in, and the
+resolved model, resolved again, is itself. Flows that no wiring obeying these rules
+can deliver are reported: SPL031 (peers in one container on two topics) and SPL032
+(a bridge that would close a loop).
 """
 
 from __future__ import annotations
@@ -104,7 +107,14 @@ def rewire(system: Any, trace: Trace, migrated: set[str]) -> list[Diagnostic]:
         container.endpoint.interfaces.clear()
     system.connections.clear()
     wiring = endpoints.EndpointWiring(system)
-    for shared in _minimal_bridges(bridges, trace, warnings).values():
+    # built in the order of the topics they join, which the printed model keeps: so the
+    # resolved model, resolved again, gives the same bridges in the same order
+    position = {
+        id(t): (i, j) for i, c in enumerate(system.containers) for j, t in enumerate(c.topics)
+    }
+    minimal = _minimal_bridges(bridges, trace, warnings)
+    for key in sorted(minimal, key=lambda k: (position[k[0]], position[k[1]])):
+        shared = minimal[key]
         publisher, subscriber = shared[0]
         wiring.topic_bridge(publisher.topic, subscriber.topic)
         if {publisher.eContainer().name, subscriber.eContainer().name} & migrated:

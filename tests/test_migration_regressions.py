@@ -122,7 +122,7 @@ def test_migrating_a_subscriber_across_a_renaming_bridge_keeps_its_flows(tmp_pat
     assert not [w for w in resolved.warnings if w.code == "SPL031"]
 
 
-def test_bridges_are_created_in_the_model_order_of_the_flows_they_carry(tmp_path):
+def test_bridges_are_created_in_the_model_order_of_the_topics_they_join(tmp_path):
     # the order used to follow a set of object ids, so the same inputs gave differently
     # ordered bridges (and resolved.tsm bytes) from one process to the next
     clouds = "".join(
@@ -299,3 +299,56 @@ def test_a_moved_node_that_publishes_and_subscribes_one_topic_makes_no_loop(tmp_
         "N5.s1 is no longer fed by N4.p0: bridging Rover.Scan to Robot.Scan would send data "
         "round a loop of bridges back to where it came from"
     )
+
+
+SWAP = f"""robot container Robot0 {{
+    {ENDPOINT}
+    topic Scan : geometry_msgs/PoseStamped name "/pose"
+    node N0 {{
+        implementation pkg/n0
+        subscribes s0 <- Scan
+    }}
+}}
+cloud container Cloud1 {{
+    topic Data : geometry_msgs/PoseStamped name "/goal"
+    node N2 {{
+        implementation pkg/n2
+        publishes p0 -> Data
+    }}
+}}
+robot container Robot2 {{
+    {ENDPOINT.replace('"r"', '"r2"')}
+    topic Scan : geometry_msgs/PoseStamped name "/goal"
+    node N3 {{
+        implementation pkg/n3
+        publishes p0 -> Scan
+    }}
+    node N5 {{
+        implementation pkg/n5
+        subscribes s2 <- Scan
+    }}
+}}
+bridge Cloud1.Data -> Robot0.Scan
+"""
+
+
+def test_two_bridges_from_one_topic_keep_their_order_when_resolved_again(tmp_path):
+    # shrunk from a random line: N0 moves to Robot2 (a new topic /pose there), N3 to
+    # Cloud1 (joining /goal). Both bridges leave Cloud1.Data; they were ordered by the
+    # flows they carry, which differ once the model is resolved again, so resolved.tsm
+    # resolved to a different text. They are now ordered by the topics they join.
+    elements = "when M0 selected {\n    migrate N0 to Robot2\n    migrate N3 to Cloud1\n}\n"
+    line = write_line(tmp_path / "line", SWAP, "M0", elements)
+    resolved = product(line, "Root,M0")
+    v = view(resolved.system)
+    assert v["placement"] == {"N2": "Cloud1", "N3": "Cloud1", "N5": "Robot2", "N0": "Robot2"}
+    assert v["bindings"] == {
+        "N2.p0": "Cloud1.Data",
+        "N3.p0": "Cloud1.Data",
+        "N5.s2": "Robot2.Scan",
+        "N0.s0": "Robot2.Scan_2",
+    }
+    text = print_model(resolved.system)
+    assert text.endswith("bridge Cloud1.Data -> Robot2.Scan\nbridge Cloud1.Data -> Robot2.Scan_2\n")
+    again = write_line(tmp_path / "again", text, "")
+    assert print_model(product(again).system) == text
