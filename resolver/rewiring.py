@@ -221,7 +221,9 @@ def _bind_moved(interfaces: list[Any], flows: list[tuple[Any, Any]], trace: Trac
         members = [by_id[k] for k in group]
         fixed = list(dict.fromkeys(m.topic for m in members if id(m) not in moved_ids))
         container = _container(first)
-        index = indexes.setdefault(id(container), TopicIndex(container))
+        if id(container) not in indexes:
+            indexes[id(container)] = TopicIndex(container)
+        index = indexes[id(container)]
         if len(fixed) > 1:
             for member in members:
                 if id(member) in moved_ids:
