@@ -28,6 +28,7 @@ from spl.diagnostics import (
     counted,
     model_text,
 )
+from spl.dsl import literals
 from spl.dsl.fm_vocabulary import ATTRIBUTE_TYPES as ATTRIBUTE_TYPES
 from spl.dsl.fm_vocabulary import IDENTIFIER as IDENTIFIER
 from spl.dsl.fm_vocabulary import OPERATORS as OPERATORS
@@ -314,22 +315,23 @@ class _Builder:
             group = self.group("or", node)
         else:
             group = self.group("cardinality", node)
-            lower = int(node.lower)
-            upper = (
-                lower
-                if node.upper in ("", None)
-                else (-1 if node.upper == "*" else int(node.upper))
-            )
-            group.lower, group.upper = lower, upper
-            if upper == 0:
-                self.sink.error(
-                    self.loc(node), "bad cardinality: the upper bound must be at least 1"
-                )
+            bound = literals.INT32_MAX
+            lower = literals.int_literal(node.lower, bound)
+            if node.upper in ("", None):
+                upper = lower
+            else:
+                upper = -1 if node.upper == "*" else literals.int_literal(node.upper, bound)
+            if lower is None or upper is None:
+                problem = f": a bound is out of range (at most {bound})"
+            elif upper == 0:
+                problem = ": the upper bound must be at least 1"
             elif upper != -1 and lower > upper:
-                self.sink.error(
-                    self.loc(node),
-                    f"bad cardinality [{lower}..{upper}]: the lower bound exceeds the upper bound",
-                )
+                problem = f" [{lower}..{upper}]: the lower bound exceeds the upper bound"
+            else:
+                problem = None
+                group.lower, group.upper = lower, upper
+            if problem:
+                self.sink.error(self.loc(node), f"bad cardinality{problem}")
         group.features.extend(self.feature(member) for member in node.members)
         return group
 

@@ -10,6 +10,7 @@ from __future__ import annotations
 import re
 
 from spl.diagnostics import Diagnostic, Location
+from spl.dsl import literals
 
 # Words of the .fm language that can never name a feature (the grammar rejects them
 # where a feature name is expected); importers rename features called like this.
@@ -58,7 +59,8 @@ def canonical_value(type_name: str, text: str) -> str | None:
     if type_name == "bool":
         return text if text in ("true", "false") else None
     if type_name == "int":
-        return str(int(text)) if re.fullmatch(r"[-+]?\d+", text) else None
+        value = literals.int_literal(text)
+        return str(value) if value is not None else None
     if type_name == "double":
         try:
             number = float(text)

@@ -9,17 +9,17 @@ whose types agree. Problems are reported all at once, located in the .rm file.
 from __future__ import annotations
 
 import importlib
+import math
 from dataclasses import dataclass
 from functools import cache
 from importlib.resources import files
 from pathlib import Path
 from typing import Any
 
-import yaml
 from textx import TextXSyntaxError, get_location, metamodel_from_file
 
-from spl.diagnostics import Diagnostic, DiagnosticSink, Location, ModelError, counted
-from spl.dsl import rosnames
+from spl.diagnostics import Diagnostic, DiagnosticSink, Location, ModelError, counted, model_text
+from spl.dsl import literals, rosnames
 from spl.dsl.rm_names import (
     BRIDGE_FORMS,
     NameProblem,
@@ -67,8 +67,7 @@ def summary(model: Any) -> str:
 def load(path: str | Path) -> ResolutionModelFiles:
     """Parse a .rm file and the .tsm and .fm it names; raise ModelError on any problem."""
     path = Path(path)
-    text = path.read_text(encoding="utf-8")
-    return parse_text(text, str(path), base=path.parent)
+    return parse_text(model_text(path), str(path), base=path.parent)
 
 
 def parse_text(
@@ -394,15 +393,16 @@ def canonical_parameter_value(value: Any, ptype: str) -> tuple[str | None, str |
         if any(ord(c) < 32 and c not in "\n\t" for c in text):
             return None, "control characters are not allowed in values"
         if ptype == "yaml":
-            try:
-                yaml.safe_load(text)
-            except yaml.YAMLError as exc:
-                return None, f"invalid YAML: {getattr(exc, 'problem', exc)}"
+            problem = literals.problem_yaml(text)
+            if problem:
+                return None, problem
         return text, None
     if kind == "BoolValue":
         return (text, None) if ptype == "bool" else (None, f"expected a {ptype} value, got {text}")
     if ptype == "int" and text.lstrip("+-").isdigit():
-        return str(int(text)), None
+        value = literals.int_literal(text)
+        return (str(value), None) if value is not None else (None, f"{text} is out of range")
     if ptype == "double":
-        return repr(float(text)), None
+        value = float(text)
+        return (repr(value), None) if math.isfinite(value) else (None, f"{text} is out of range")
     return None, f"expected a {ptype} value, got {text}"

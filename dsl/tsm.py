@@ -23,11 +23,17 @@ from importlib.resources import files
 from pathlib import Path
 from typing import Any
 
-import yaml
 from textx import TextXSyntaxError, metamodel_from_file
 
-from spl.diagnostics import Diagnostic, DiagnosticSink, Location, ModelError, counted
-from spl.dsl import rosnames, transform_types
+from spl.diagnostics import (
+    Diagnostic,
+    DiagnosticSink,
+    Location,
+    ModelError,
+    counted,
+    model_text,
+)
+from spl.dsl import literals, rosnames, transform_types
 from spl.metamodels import tsm as tsm_metamodel
 
 __all__ = [
@@ -72,7 +78,6 @@ IMPLICIT_FIELD = "timestamp"
 RESERVED_FIELD_NAMES = frozenset(
     {"and", "or", "not", "true", "false", "if", IMPLICIT_FIELD, *NEIGHBOURS, *CONSTANTS}
 )
-_INT32 = 2**31 - 1
 
 
 # -- canonical endpoint interface names (shared with the resolver) ---------------------
@@ -106,27 +111,25 @@ def _grammar() -> Any:
 
 def parse_file(path: str | Path) -> Any:
     """Parse and check a .tsm file; raise ModelError with every problem found."""
-    path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8-sig")  # a byte order mark is not text
-    except UnicodeDecodeError as exc:
-        raise ModelError(
-            [Diagnostic(Location(str(path), 1, 1), f"file is not UTF-8 text ({exc.reason})")]
-        ) from None
-    return parse_text(text, str(path))
+    return parse_text(model_text(path), str(path))
 
 
 def parse_text(text: str, filename: str = "<string>") -> Any:
     """Parse and check .tsm text; ``filename`` is what diagnostics name."""
+    sink = DiagnosticSink()
     try:
         tree = _grammar().model_from_str(text, file_name=filename)
+        if isinstance(tree, str):  # textX gives '' for text holding no element at all
+            return tsm_metamodel().System(srcFile=filename, srcLine=1, srcCol=1)
+        system = _Builder(text, filename, sink).build(tree)
+        sink.raise_if_errors()
+        # types of transform expressions, once every name is known to resolve
+        sink.diagnostics.extend(transform_types.check_system(system))
     except TextXSyntaxError as exc:
         raise ModelError([_syntax_diagnostic(exc, text, filename)]) from None
-    sink = DiagnosticSink()
-    system = _Builder(text, filename, sink).build(tree)
-    sink.raise_if_errors()
-    # types of transform expressions, once every name is known to resolve
-    sink.diagnostics.extend(transform_types.check_system(system))
+    except RecursionError:  # only transform expressions nest; a hostile file nests deep
+        message = "a transform expression is nested too deeply or too long"
+        raise ModelError([Diagnostic(Location(filename, 1, 1), message)]) from None
     sink.raise_if_errors()
     return system
 
@@ -455,7 +458,11 @@ class _Builder:
 
     def _number(self, tree: Any, text: str) -> Any:
         if re.fullmatch(r"\d+", text):
-            canonical = str(int(text))
+            value = literals.int_literal(text)
+            if value is None:
+                self.error(tree, f"number {text} is out of range")
+                return None
+            canonical = str(value)
         else:
             value = float(text)
             if not math.isfinite(value):
@@ -562,9 +569,12 @@ class _Builder:
             value_tree = getattr(tree, attribute)
             if value_tree is None:
                 continue
-            value = int(value_tree.value)
-            if value > _INT32:
-                self.error(value_tree, f"{attribute} {value} is out of range (at most {_INT32})")
+            value = literals.int_literal(value_tree.value, literals.INT32_MAX)
+            if value is None:
+                limit = literals.INT32_MAX
+                self.error(
+                    value_tree, f"{attribute} {value_tree.value} is out of range (at most {limit})"
+                )
             else:
                 container.eSet(attribute, value)
 
@@ -1074,10 +1084,9 @@ def _parameter_value(tree: Any, ptype: str) -> tuple[str | None, str | None]:
         if ptype not in ("string", "yaml"):
             return None, f"expected {_a(ptype)} value, got a string"
         if ptype == "yaml":
-            try:
-                yaml.safe_load(text)
-            except yaml.YAMLError as exc:
-                return None, f"invalid YAML: {getattr(exc, 'problem', None) or exc}"
+            problem = literals.problem_yaml(text)
+            if problem:
+                return None, problem
         return text, None
     text = tree.value
     if kind == "BoolValue":
@@ -1086,8 +1095,8 @@ def _parameter_value(tree: Any, ptype: str) -> tuple[str | None, str | None]:
         )
     if ptype == "int":
         if re.fullmatch(r"[-+]?\d+", text):
-            value = int(text)
-            if abs(value) <= 2**63 - 1:
+            value = literals.int_literal(text)
+            if value is not None:
                 return str(value), None
             return None, f"{text} is out of range"
         return None, f"expected an int value, got {text}"

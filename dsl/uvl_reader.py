@@ -22,6 +22,7 @@ import re
 from typing import NoReturn
 
 from spl.diagnostics import DiagnosticSink, ModelError
+from spl.dsl import literals
 from spl.dsl.fm_formats import CAPABILITY, ORIGINAL_NAME, FeatureNames, model_name
 from spl.dsl.fm_plain import (
     Attribute,
@@ -211,14 +212,16 @@ class UvlReader(FormulaReader):
         elif kind == "card":
             group = Group(self.source, position, "cardinality")
             bounds = text[1:-1].split("..")
-            group.lower = int(bounds[0])
-            group.upper = int(bounds[-1]) if bounds[-1] != "*" else -1
-            if (
-                group.lower < 0
-                or group.upper == 0
-                or (group.upper != -1 and group.lower > group.upper)
-            ):
-                self.error(position, f"bad cardinality [{group.lower}..{group.upper}]")
+            lower = literals.int_literal(bounds[0], literals.INT32_MAX)
+            upper = (
+                -1 if bounds[-1] == "*" else literals.int_literal(bounds[-1], literals.INT32_MAX)
+            )
+            if lower is None or upper is None:  # EInt in the metamodel
+                self.error(position, f"bad cardinality {text}: a bound is out of range")
+                lower, upper = 0, -1
+            elif lower < 0 or upper == 0 or (upper != -1 and lower > upper):
+                self.error(position, f"bad cardinality [{lower}..{upper}]")
+            group.lower, group.upper = lower, upper
         else:
             self.fail("expected a group (mandatory, optional, alternative, or, [n..m])")
         self.index += 1

@@ -9,11 +9,13 @@ endpoint rewiring, architecture checks.
 from __future__ import annotations
 
 import gc
+import math
 from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import Any
 
 from spl.diagnostics import DiagnosticSink, Location, ModelError, location_of
+from spl.dsl import literals
 from spl.emf import copy_with_map
 from spl.generators.clients import client_package_name
 from spl.metamodels import tsm
@@ -169,12 +171,12 @@ def _typed(text: str | None, kind: str) -> Any:
 
 
 def _fits(value: Any, kind: str) -> bool:
-    if kind == "bool":
-        return isinstance(value, bool)
+    if isinstance(value, bool) or kind == "bool":
+        return isinstance(value, bool) and kind == "bool"
     if kind == "int":
-        return isinstance(value, int) and not isinstance(value, bool)
-    if kind == "double":
-        return isinstance(value, int | float) and not isinstance(value, bool)
+        return isinstance(value, int) and abs(value) <= literals.INT64_MAX
+    if kind == "double":  # a NaN or infinite value cannot reach a launch file or JSON
+        return isinstance(value, int | float) and math.isfinite(value)
     return isinstance(value, str) and not any(ord(c) < 32 for c in value)
 
 

@@ -127,7 +127,8 @@ def _listed_name(path: Path) -> str:
 
     try:
         data = yaml.safe_load(path.read_text(encoding="utf-8"))
-    except (yaml.YAMLError, OSError, UnicodeDecodeError):
+    except (yaml.YAMLError, OSError, ValueError, TypeError, RecursionError):
+        # ValueError: not UTF-8, or a tag that does not convert (`!!float x`)
         return path.stem
     name = data.get("product") if isinstance(data, dict) else None
     return name if isinstance(name, str) and name.isidentifier() else path.stem

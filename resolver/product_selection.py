@@ -87,9 +87,15 @@ def read_yaml(path: Path, sink: DiagnosticSink) -> tuple[yaml.Node | None, Calla
     except yaml.MarkedYAMLError as exc:
         mark = exc.problem_mark
         where = Location(filename, mark.line + 1, mark.column + 1) if mark else None
-        sink.error(where, f"invalid YAML: {exc.problem}")
-        sink.raise_if_errors()
-        raise AssertionError("unreachable") from None
+        sink.error(where or Location(filename, 1, 1), f"invalid YAML: {exc.problem}")
+    except yaml.reader.ReaderError as exc:  # a character YAML does not allow; no mark
+        line = text.count("\n", 0, exc.position) + 1
+        column = exc.position - text.rfind("\n", 0, exc.position)
+        sink.error(
+            Location(filename, line, column),
+            f"invalid YAML: character U+{exc.character:04X} is not allowed",
+        )
+    sink.raise_if_errors()
 
     def at(node: yaml.Node) -> Location:
         return Location(filename, node.start_mark.line + 1, node.start_mark.column + 1)
@@ -133,9 +139,10 @@ def read_selection(
     allowed += tuple(k for k in extra_keys if k not in TOP_LEVEL_KEYS)
     extra = []
     for key_node, value_node in pairs:
-        key = key_node.value
+        key = _scalar(key_node)
         if key not in allowed:
-            sink.error(at(key_node), f"unknown key {key!r} (expected {', '.join(allowed)})")
+            shown = repr(key) if key is not None else _kind(key_node)
+            sink.error(at(key_node), f"unknown key {shown} (expected {', '.join(allowed)})")
         elif key in extra_keys:
             extra.append((key_node, value_node))
         elif key in ("features", "deselected"):
@@ -156,8 +163,12 @@ def read_selection(
             for k, v in _pairs(value_node, at, sink, key):
                 if not re.fullmatch(r"[A-Za-z_]\w*\.[A-Za-z_]\w*", k.value, re.ASCII):
                     sink.error(at(k), f"attributes: {k.value!r} is not FEATURE.ATTRIBUTE")
+                    continue
+                value, problem = _value(yaml.serialize(v))
+                if problem:
+                    sink.error(at(v), f"attributes: {k.value}: {problem}")
                 else:
-                    selection.attributes[k.value] = yaml.safe_load(yaml.serialize(v))
+                    selection.attributes[k.value] = value
                     selection.locations[k.value] = at(k)
         elif key == "capabilities":
             _capabilities(value_node, at, sink, selection)
@@ -191,10 +202,12 @@ def _names(node, at, sink, key) -> list[str]:
         return []
     names = []
     for item in node.value:
-        if isinstance(item, yaml.ScalarNode) and IDENT.fullmatch(item.value):
-            names.append(item.value)
+        name = _scalar(item)
+        if name is not None and IDENT.fullmatch(name):
+            names.append(name)
         else:
-            sink.error(at(item), f"{key}: {getattr(item, 'value', item)!r} is not a feature name")
+            shown = repr(name) if name is not None else _kind(item)
+            sink.error(at(item), f"{key}: {shown} is not a feature name")
     return names
 
 
@@ -204,11 +217,33 @@ def _pairs(node, at, sink, key):
         return []
     pairs = []
     for k, v in node.value:
-        if isinstance(v, yaml.ScalarNode):
+        if _scalar(k) is None:
+            sink.error(at(k), f"{key}: expected a name, got {_kind(k)}")
+        elif isinstance(v, yaml.ScalarNode):
             pairs.append((k, v))
         else:
             sink.error(at(v), f"{key}: {k.value}: expected a single value")
     return pairs
+
+
+def _scalar(node: yaml.Node) -> str | None:
+    """The text of a scalar node; None for a list or a mapping."""
+    return node.value if isinstance(node, yaml.ScalarNode) else None
+
+
+def _kind(node: yaml.Node) -> str:
+    return "a list" if isinstance(node, yaml.SequenceNode) else "a mapping"
+
+
+def _value(text: str) -> tuple[Any, str | None]:
+    """(value, None) for a YAML scalar, or (None, why not): an unknown tag or a tagged
+    value that does not convert (``!!float x``) is the user's error, not ours."""
+    try:
+        return yaml.safe_load(text), None
+    except yaml.MarkedYAMLError as exc:
+        return None, f"invalid YAML value: {exc.problem or exc.context}"
+    except (yaml.YAMLError, ValueError, TypeError) as exc:
+        return None, f"invalid YAML value: {exc}"
 
 
 def _deployment(node, at, sink, selection: ProductSelection) -> None:
@@ -216,9 +251,10 @@ def _deployment(node, at, sink, selection: ProductSelection) -> None:
         sink.error(at(node), "deployment: expected CONTAINER: {robot_id: ..., url: ...}")
         return
     for container_node, settings in node.value:
-        container = container_node.value
-        if not IDENT.fullmatch(container):
-            sink.error(at(container_node), f"deployment: {container!r} is not a container name")
+        container = _scalar(container_node)
+        if container is None or not IDENT.fullmatch(container):
+            shown = repr(container) if container is not None else _kind(container_node)
+            sink.error(at(container_node), f"deployment: {shown} is not a container name")
             continue
         selection.locations[f"deployment:{container}"] = at(container_node)
         values = {}
@@ -252,7 +288,11 @@ def apply_overrides(
         if not re.fullmatch(r"[A-Za-z_]\w*\.[A-Za-z_]\w*", key, re.ASCII) or not value:
             sink.error(where, f"{text!r}: expected FEATURE.ATTRIBUTE=VALUE")
             continue
-        selection.attributes[key] = yaml.safe_load(value)
+        parsed, problem = _value(value)
+        if problem:
+            sink.error(where, f"{text!r}: {problem}")
+            continue
+        selection.attributes[key] = parsed
         selection.locations[key] = where
     sink.raise_if_errors()
     return selection

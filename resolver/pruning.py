@@ -16,10 +16,14 @@ from spl.resolver.trace import Trace
 
 
 def prune_unkept(system: Any, kept: set[int], trace: Trace) -> None:
+    """Optional elements nobody kept leave; the kept ones are no longer optional, since a
+    product has no variability left (its resolved.tsm, resolved again, is itself)."""
     for container in system.containers:
         for collection, what in ((container.nodes, "node"), (container.stores, "store")):
             for element in list(collection):
-                if element.optional and id(element) not in kept:
+                if element.optional and id(element) in kept:
+                    element.optional = False
+                elif element.optional:
                     collection.remove(element)
                     trace.record(
                         qualified(element) if what == "store" else element.name,

@@ -8,16 +8,21 @@ derived once from the data flows of the template:
    subscriber when the subscriber's template topic is reachable from the publisher's.
    A service client is served by the real server behind any chain of stand-ins.
 2. Each node interface is bound to a topic of the container its node now lives in:
-   its own topic if it stayed, else a topic of the target container with the same ROS
-   name and type (reused when it exists, created otherwise).
+   its own topic if it stayed; else the topic its flow peers there use, or a topic of
+   the target container with the same ROS name and type (reused when it exists,
+   created otherwise).
 3. For every flow whose two ends now live in different containers, one bridge between
-   their topics; for every client whose server lives elsewhere, one service bridge.
-   Flows inside one container need nothing.
+   their topics, unless other bridges already carry its data there (no message arrives
+   twice) or it would close a loop; for every client whose server lives elsewhere, one
+   service bridge. Flows inside one container need nothing.
 
 So there is never a bridge inside one container, never a hairpin (a node that moved
 next to its peer is wired to it locally and the bridge that served it disappears),
 never a duplicate bridge for a topic several migrated nodes share, and same-named
-topics are reused. The result is the same whatever order migrations ran in.
+topics are reused. The result is the same whatever order migrations ran in, and the
+resolved model, resolved again, is itself. Flows that no wiring obeying these rules
+can deliver are reported: SPL031 (peers in one container on two topics) and SPL032
+(a bridge that would close a loop).
 """
 
 from __future__ import annotations
@@ -55,59 +60,65 @@ def rewire(system: Any, trace: Trace, migrated: set[str]) -> list[Diagnostic]:
             seen.add(id(server))
             caller = callers_of_stand_in.get(id(server))
             server = caller.server if caller is not None else None
+        if server is not None and server.eContainer().eContainer() is None:
+            return None  # its node was pruned: the client is left unserved
         return server
 
     publishers, subscribers, clients = NodeInterfaces.of(system.containers)
     template_topic = {id(i): i.topic for i in publishers + subscribers}
+    order = {id(i): n for n, i in enumerate(publishers + subscribers)}
     served_by = {id(c): real_server(c.server) for c in clients}
-
-    local_topics: dict[int, dict] = {}
-    for interface in publishers + subscribers:
-        container = interface.eContainer().eContainer()
-        if interface.topic.eContainer() is not container:
-            if id(container) not in local_topics:
-                local_topics[id(container)] = TopicIndex(container)
-            interface.topic = local_topics[id(container)].local_topic(interface, trace)
 
     subscribers_of: dict[int, list[Any]] = defaultdict(list)
     for subscriber in subscribers:
         subscribers_of[id(template_topic[id(subscriber)])].append(subscriber)
     reach: dict[int, set[int]] = {}
-    bridges: dict[tuple[int, int], list[tuple[Any, Any]]] = {}
-    warnings: list[Diagnostic] = []
+    flows: list[tuple[Any, Any]] = []  # (publisher, subscriber) of the template, in model order
     for publisher in publishers:
         start = id(template_topic[id(publisher)])
         if start not in reach:
             downstream = nx.descendants(flow_graph, start) if start in flow_graph else set()
             reach[start] = downstream | {start}
-        for topic_id in reach[start]:
-            for subscriber in subscribers_of.get(topic_id, ()):
-                if _container(publisher) is not _container(subscriber):
-                    bridges.setdefault((id(publisher.topic), id(subscriber.topic)), []).append(
-                        (publisher, subscriber)
-                    )
-                elif publisher.topic is not subscriber.topic:
-                    warnings.append(
-                        Diagnostic(
-                            location_of(subscriber),
-                            f"{qualified(subscriber)} was fed by {qualified(publisher)} through "
-                            f"another container; both now live in {_container(publisher).name} "
-                            f"on different topics ({qualified(publisher.topic)}, "
-                            f"{qualified(subscriber.topic)}): connect them to one topic",
-                            "warning",
-                            "SPL031",
-                        )
-                    )
+        flows += [(publisher, s) for t in reach[start] for s in subscribers_of.get(t, ())]
+    flows.sort(key=lambda flow: (order[id(flow[0])], order[id(flow[1])]))
+    _bind_moved(publishers + subscribers, flows, trace)
+
+    bridges: dict[tuple[int, int], list[tuple[Any, Any]]] = {}
+    warnings: list[Diagnostic] = []
+    for publisher, subscriber in flows:
+        if _container(publisher) is not _container(subscriber):
+            bridges.setdefault((id(publisher.topic), id(subscriber.topic)), []).append(
+                (publisher, subscriber)
+            )
+        elif publisher.topic is not subscriber.topic:
+            warnings.append(
+                Diagnostic(
+                    location_of(subscriber),
+                    f"{qualified(subscriber)} was fed by {qualified(publisher)} through "
+                    f"another container; both now live in {_container(publisher).name} "
+                    f"on different topics ({qualified(publisher.topic)}, "
+                    f"{qualified(subscriber.topic)}): connect them to one topic",
+                    "warning",
+                    "SPL031",
+                )
+            )
 
     for container in system.containers:
         container.endpoint.interfaces.clear()
     system.connections.clear()
     wiring = endpoints.EndpointWiring(system)
-    for flows in bridges.values():
-        publisher, subscriber = flows[0]
+    # built in the order of the topics they join, which the printed model keeps: so the
+    # resolved model, resolved again, gives the same bridges in the same order
+    position = {
+        id(t): (i, j) for i, c in enumerate(system.containers) for j, t in enumerate(c.topics)
+    }
+    minimal = _minimal_bridges(bridges, trace, warnings)
+    for key in sorted(minimal, key=lambda k: (position[k[0]], position[k[1]])):
+        shared = minimal[key]
+        publisher, subscriber = shared[0]
         wiring.topic_bridge(publisher.topic, subscriber.topic)
         if {publisher.eContainer().name, subscriber.eContainer().name} & migrated:
-            carried = ", ".join(f"{qualified(p)} -> {qualified(s)}" for p, s in flows)
+            carried = ", ".join(f"{qualified(p)} -> {qualified(s)}" for p, s in shared)
             trace.record(
                 qualified(publisher.topic),
                 "bridged",
@@ -133,6 +144,104 @@ def rewire(system: Any, trace: Trace, migrated: set[str]) -> list[Diagnostic]:
 
 def _container(interface: Any) -> Any:
     return interface.eContainer().eContainer()
+
+
+def _minimal_bridges(
+    bridges: dict[tuple[int, int], list], trace: Trace, warnings: list[Diagnostic]
+) -> dict:
+    """The bridges to build: no loop, and none that a chain of others makes redundant.
+
+    Bridges are taken in flow order; one that would close a loop (data bridged from a
+    topic back into it, as when a moved node both publishes and subscribes a topic whose
+    other ends stayed behind) is left out, since every message would circle for ever,
+    and each flow that then cannot be delivered is reported (SPL032). Of the rest, a
+    bridge A.T -> C.T whose data already travels A.T -> B.T -> C.T is dropped (the
+    transitive reduction), or every message would reach C twice.
+    """
+    graph = nx.DiGraph()
+    looping = []
+    for key in bridges:
+        if key[0] in graph and key[1] in graph and nx.has_path(graph, key[1], key[0]):
+            looping.append(key)
+        else:
+            graph.add_edge(*key)
+    for key in looping:
+        for publisher, subscriber in bridges[key]:
+            if not nx.has_path(graph, *key):
+                warnings.append(
+                    Diagnostic(
+                        location_of(subscriber),
+                        f"{qualified(subscriber)} is no longer fed by {qualified(publisher)}: "
+                        f"bridging {qualified(publisher.topic)} to "
+                        f"{qualified(subscriber.topic)} would send data round a loop of "
+                        "bridges back to where it came from",
+                        "warning",
+                        "SPL032",
+                    )
+                )
+    kept = nx.transitive_reduction(graph)
+    for (source, target), flows in bridges.items():
+        if (source, target) not in looping and not kept.has_edge(source, target):
+            publisher, subscriber = flows[0]
+            trace.record(
+                qualified(publisher.topic),
+                "not bridged",
+                f"to {qualified(subscriber.topic)} directly: its data already arrives there "
+                "through other bridges",
+            )
+    return {key: flows for key, flows in bridges.items() if kept.has_edge(*key)}
+
+
+def _bind_moved(interfaces: list[Any], flows: list[tuple[Any, Any]], trace: Trace) -> None:
+    """Bind each interface of a migrated node to a topic of its new container.
+
+    Interfaces that now share a container and were linked by a template flow must share
+    one topic there, or the flow would need a bridge inside the container. Such a group
+    joins the topic its unmoved members use; when none stayed, its first moved member's
+    topic (same ROS name and type, reused or created) is shared by all. When the unmoved
+    members use two topics, no single topic serves them all: each moved interface keeps
+    the ROS-name rule and the flows that cannot be delivered are reported (SPL031).
+    """
+    moved = [i for i in interfaces if i.topic.eContainer() is not _container(i)]
+    if not moved:
+        return
+    position = {id(i): n for n, i in enumerate(interfaces)}
+    peers = nx.Graph()
+    peers.add_nodes_from(id(i) for i in moved)
+    for publisher, subscriber in flows:
+        if _container(publisher) is _container(subscriber):
+            peers.add_edge(id(publisher), id(subscriber))
+    by_id = {id(i): i for i in interfaces}
+    moved_ids = {id(i) for i in moved}
+    indexes: dict[int, TopicIndex] = {}
+    for first in moved:
+        if first.topic.eContainer() is _container(first):
+            continue  # bound with an earlier member of its group
+        group = sorted(nx.node_connected_component(peers, id(first)), key=position.__getitem__)
+        members = [by_id[k] for k in group]
+        fixed = list(dict.fromkeys(m.topic for m in members if id(m) not in moved_ids))
+        container = _container(first)
+        if id(container) not in indexes:
+            indexes[id(container)] = TopicIndex(container)
+        index = indexes[id(container)]
+        if len(fixed) > 1:
+            for member in members:
+                if id(member) in moved_ids:
+                    member.topic = index.local_topic(member, trace)
+            continue
+        if fixed:
+            topic = fixed[0]
+        else:
+            topic = first.topic = index.local_topic(first, trace)
+        for member in members:
+            if id(member) in moved_ids and member.topic is not topic:
+                trace.record(
+                    qualified(member),
+                    "rewired",
+                    f"to {qualified(topic)}, the topic of the interfaces it exchanged data "
+                    f"with in the template, which now live in {container.name} too",
+                )
+                member.topic = topic
 
 
 class TopicIndex:

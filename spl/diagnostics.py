@@ -93,9 +93,10 @@ def location_of(element: Any) -> Location | None:
     return Location(file, element.srcLine or 0, element.srcCol or 0)
 
 
-def model_text(path: Path) -> str:
+def model_text(path: str | Path) -> str:
     """The text of a model file (UTF-8, a byte order mark dropped); a file that is not
     UTF-8 is a located error, not a crash."""
+    path = Path(path)
     try:
         return path.read_text(encoding="utf-8-sig")
     except UnicodeDecodeError as exc:

@@ -1,0 +1,279 @@
+"""Inputs the fuzz tests found that ended in an internal error, each now a located
+error (or, for an empty template, a valid empty model). Every case runs the real
+command and checks the exact message the user gets."""
+
+from __future__ import annotations
+
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from cli_outcome import assert_clean, assert_clean_outcome, run
+
+ROOT = Path(__file__).resolve().parent.parent
+MAPPING = ROOT / "product_lines" / "mapping3d"
+DATA = ROOT / "product_lines" / "data_acquisition"
+FLEET = ROOT / "tests" / "models" / "launch"
+
+
+def copy_line(source: Path, tmp_path: Path) -> Path:
+    copy = tmp_path / source.name
+    shutil.copytree(source, copy)
+    return copy
+
+
+def errors(result) -> list[str]:
+    return [line for line in result.stderr.splitlines() if ": error: " in line]
+
+
+def test_an_empty_template_is_an_empty_model(tmp_path):
+    # was: internal error: AttributeError: 'str' object has no attribute 'name'
+    # (fleet.tsm mutated to '': textX gives '' for a file with no element)
+    for text in ("", "   \n// only a comment\n"):
+        path = tmp_path / "empty.tsm"
+        path.write_text(text, encoding="utf-8")
+        result = run("check", path)
+        assert_clean(result, repr(text))
+        assert result.exit_code == 0
+        assert "ok: 0 containers, 0 nodes, 0 topics, 0 interfaces, 0 bridges" in result.stdout
+
+
+def test_an_emptied_template_of_a_line_is_reported_through_the_line(tmp_path):
+    line = copy_line(FLEET, tmp_path)
+    (line / "fleet.tsm").write_text("", encoding="utf-8")
+    result = run("check", line)
+    assert_clean(result, "fleet.tsm emptied")
+    assert result.exit_code == 1
+    assert any("fleet.rm" in e and "unknown" in e for e in errors(result))
+
+
+@pytest.mark.parametrize(
+    ("text", "where", "character"),
+    [
+        # was: internal error: ReaderError: unacceptable character #x001e
+        ("features: [Ë÷Â\U0003fb7f\x1e]\n", "1:16", "U+001E"),
+        (" : misspelt\nfeatures:product[\x7f <- ]\nsharng: {Fast: private}", "2:18", "U+007F"),
+    ],
+)
+def test_a_control_character_in_a_selection_is_located(tmp_path, text, where, character):
+    selection = tmp_path / "p.yaml"
+    selection.write_text(text, encoding="utf-8")
+    out = tmp_path / "out"
+    out.mkdir()
+    result = run("resolve", MAPPING, "--features", selection, "-o", out / "bundle")
+    assert_clean(result, repr(text), out)
+    assert errors(result) == [
+        f"{selection}:{where}: error: invalid YAML: character {character} is not allowed"
+    ]
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        # each was an internal error (TypeError, ValueError, ConstructorError)
+        ("sharing: {[x]: private}", "2:11: error: sharing: expected a name, got a list"),
+        ("attributes: {[a]: 1}", "2:14: error: attributes: expected a name, got a list"),
+        ("deployment: {[R]: {}}", "2:14: error: deployment: a list is not a container name"),
+        (
+            "deployment: {Robot: {[R]: x}}",
+            "2:22: error: deployment: Robot: expected a name, got a list",
+        ),
+        (
+            "attributes: {Logging.rate: !foo 1}",
+            "2:28: error: attributes: Logging.rate: invalid YAML value: could not determine a "
+            "constructor for the tag '!foo'",
+        ),
+        (
+            "attributes: {Logging.rate: !!float x}",
+            "2:28: error: attributes: Logging.rate: invalid YAML value: could not convert "
+            "string to float: 'x'",
+        ),
+        ("attributes: {Logging.rate: " + "[" * 600 + "]" * 600 + "}", "1:1: error: invalid "),
+    ],
+)
+def test_odd_yaml_in_a_selection_is_located(tmp_path, text, message):
+    selection = tmp_path / "p.yaml"
+    selection.write_text(f"features: [YouBot]\n{text}\n", encoding="utf-8")
+    result = run("resolve", MAPPING, "--features", selection, "-o", tmp_path / "out")
+    assert_clean(result, text)
+    assert result.exit_code == 1
+    assert any(e.startswith(f"{selection}:{message}") for e in errors(result)), result.stderr
+
+
+@pytest.mark.parametrize(
+    ("setting", "message"),
+    [
+        ("FastRefresh.period=[", "invalid YAML value: expected the node content"),
+        ("FastRefresh.period=!!float x", "invalid YAML value: could not convert string"),
+        # were: ValueError / OverflowError deep in the generators
+        ("FastRefresh.period=.nan", "attribute FastRefresh.period is double, got nan"),
+        ("FastRefresh.period=.inf", "attribute FastRefresh.period is double, got inf"),
+        ("FastRefresh.period=-.inf", "attribute FastRefresh.period is double, got -inf"),
+    ],
+)
+def test_odd_attribute_values_are_refused(tmp_path, setting, message):
+    product = DATA / "products" / "both_fast_refresh.yaml"
+    out = tmp_path / "out"
+    out.mkdir()
+    result = run("resolve", DATA, "--features", product, "--set", setting, "-o", out / "b")
+    assert_clean(result, setting, out)
+    assert result.exit_code == 1
+    assert any(e.startswith("--set:1:1: error: ") and message in e for e in errors(result))
+
+
+DIGITS = "9" * 5000  # past Python's 4300-digit limit for int(str)
+
+
+@pytest.mark.parametrize(
+    ("name", "text", "message"),
+    [
+        (
+            "a.fm",
+            f"feature model X\nroot R {{ attribute a : int = {DIGITS} }}\n",
+            f"2:30: error: attribute a: {DIGITS} is not a int",
+        ),
+        (
+            "b.fm",
+            f"feature model X\nroot R {{ group [{DIGITS}..*] {{ A B }} }}\n",
+            "2:10: error: bad cardinality: a bound is out of range (at most 2147483647)",
+        ),
+        (
+            "c.tsm",
+            f"cloud container C size {DIGITS} {{ }}\n",
+            f"1:24: error: size {DIGITS} is out of range (at most 2147483647)",
+        ),
+        (
+            "d.tsm",
+            f"data D {{ x : double }}\ntransform T : D -> D {{ x = x + {DIGITS} }}\n",
+            f"2:32: error: number {DIGITS} is out of range",
+        ),
+        (
+            "e.tsm",
+            f"cloud container C {{ node N {{ param p : int = {DIGITS} }} }}\n",
+            f"1:46: error: parameter p is int: {DIGITS} is out of range",
+        ),
+        (
+            "f.tsm",
+            'cloud container C { node N { param p : yaml = "!!float x" } }\n',
+            "1:47: error: parameter p is yaml: invalid YAML: could not convert string to float",
+        ),
+    ],
+)
+def test_huge_numbers_and_unconvertible_yaml_in_models_are_located(tmp_path, name, text, message):
+    path = tmp_path / name
+    path.write_text(text, encoding="utf-8")
+    result = run("check", path)
+    assert_clean(result, text[:80])
+    assert result.exit_code == 1
+    assert any(e.startswith(f"{path}:{message}") for e in errors(result)), result.stderr
+
+
+@pytest.mark.parametrize(
+    "expression",
+    ["(" * 3000 + "x" + ")" * 3000, "-" * 3000 + "x", "+".join(["x"] * 600)],
+    ids=["parentheses", "negations", "long-sum"],
+)
+def test_a_transform_nested_too_deeply_is_located(tmp_path, expression):
+    # was: internal error: RecursionError: maximum recursion depth exceeded
+    path = tmp_path / "deep.tsm"
+    path.write_text(
+        f"data D {{ x : double }}\ntransform T : D -> D {{\n x = {expression}\n}}\n",
+        encoding="utf-8",
+    )
+    result = run("check", path)
+    assert_clean(result, expression[:40])
+    assert errors(result) == [
+        f"{path}:1:1: error: a transform expression is nested too deeply or too long"
+    ]
+
+
+@pytest.mark.parametrize("model", ["mapping.rm", "mapping.fm", "products/roomba_depth_room.yaml"])
+def test_a_file_that_is_not_utf8_is_located(tmp_path, model):
+    # was: internal error: UnicodeDecodeError (the .tsm already said so plainly)
+    line = copy_line(MAPPING, tmp_path)
+    path = line / model
+    path.write_bytes(path.read_bytes() + b"\n// \xff\n")
+    features = str(path) if model.endswith(".yaml") else "YouBot,Depth,Room"
+    out = tmp_path / "out"
+    out.mkdir()
+    result = run("resolve", line, "--features", features, "-o", out / "bundle")
+    assert_clean(result, model, out)
+    assert errors(result) == [f"{path}:1:1: error: file is not UTF-8 text (invalid start byte)"]
+
+
+@pytest.mark.parametrize(
+    ("value", "message"),
+    [
+        ("1e999", "parameter rate is double: 1e999 is out of range"),
+        (DIGITS, f"parameter port is int: {DIGITS} is out of range"),
+    ],
+)
+def test_rm_parameter_values_out_of_range_are_refused(tmp_path, value, message):
+    # 1e999 used to become the double `inf` in the launch files; a 5000-digit int crashed
+    line = tmp_path / "line"
+    line.mkdir()
+    (line / "l.fm").write_text("feature model L\nroot R { optional F }\n", encoding="utf-8")
+    (line / "l.tsm").write_text(
+        "cloud container C { node N { param rate : double = 1.0\n param port : int = 1 } }\n",
+        encoding="utf-8",
+    )
+    parameter = "rate" if value == "1e999" else "port"
+    (line / "l.rm").write_text(
+        f'resolution model L\ntsm "l.tsm"\nfm "l.fm"\n'
+        f"when F selected {{ parameter N.{parameter} = {value} }}\n",
+        encoding="utf-8",
+    )
+    result = run("check", line / "l.rm")
+    assert_clean(result, value[:20])
+    assert errors(result) == [f"{line / 'l.rm'}:4:19: error: {message}"]
+
+
+def test_a_uvl_cardinality_of_thousands_of_digits_is_located(tmp_path):
+    # was: internal error: ValueError: Exceeds the limit (4300 digits)
+    path = tmp_path / "big.uvl"
+    path.write_text(f"features\n\tR\n\t\t[1..{DIGITS}]\n\t\t\tA\n\t\t\tB\n", encoding="utf-8")
+    result = run("analyze", path)
+    assert_clean(result, "uvl cardinality")
+    assert errors(result) == [
+        f"{path}:3:3: error: expected a group cardinality [n..m], [n] or [n..*]"
+    ]
+
+
+def test_validate_reads_a_listed_product_whose_name_does_not_convert(tmp_path):
+    # was: internal error: ValueError while reading the product's name for the report
+    line = copy_line(MAPPING, tmp_path)
+    listed = line / "products" / "odd.yaml"
+    listed.write_text("product: !!float x\nfeatures: [YouBot, Depth, Room]\n", encoding="utf-8")
+    result = run("validate", line)
+    assert_clean(result, "validate")
+    assert "ok   mapping3d :: odd" in result.stdout  # the file's name stands in for it
+
+
+@pytest.mark.parametrize(
+    ("name", "text", "code"),
+    [
+        ("empty.tsm", "", 0),
+        ("odd.fm", f"feature model X\nroot R {{ group [{DIGITS}..*] {{ A B }} }}\n", 1),
+        (
+            "deep.tsm",
+            "data D { x : double }\ntransform T : D -> D { x = " + "-" * 3000 + "x }\n",
+            1,
+        ),
+        ("bytes.rm", "resolution model \udcff\n", 1),
+    ],
+)
+def test_the_installed_command_exits_plainly_on_fuzzed_input(tmp_path, name, text, code):
+    """The same inputs through the real process entry point (exit status, stderr)."""
+    path = tmp_path / name
+    path.write_text(text, encoding="utf-8", errors="surrogateescape")
+    done = subprocess.run(
+        [sys.executable, "-m", "spl", "check", str(path)],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=False,
+    )
+    assert_clean_outcome(done.returncode, done.stdout, done.stderr, name)
+    assert done.returncode == code
