@@ -318,9 +318,13 @@ class _Reader:
                 config.mode = F.SharingMode.getEEnumLiteral(text)
                 feature.sharing = config
                 continue
+            canonical = canonical_value(type_name, text)
+            if canonical is None:  # a number out of range (1e999, a 30-digit int)
+                self.error(value.position, f"attribute {name}: {text} is out of range")
+                continue
             attribute = self.locate(F.Attribute(name=name), key.position)
             attribute.type = F.AttributeType.getEEnumLiteral(type_name)
-            attribute.value = canonical_value(type_name, text)
+            attribute.value = canonical
             feature.attributes.append(attribute)
         if index >= len(tokens):
             self.error(tokens[0].position, "attribute list is not closed with }")
