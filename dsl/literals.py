@@ -12,8 +12,6 @@ from __future__ import annotations
 
 import re
 
-import yaml
-
 INT32_MAX = 2**31 - 1  # EInt in the metamodels, Rapyuta's resource fields
 INT64_MAX = 2**63 - 1  # ROS integer parameters
 
@@ -32,6 +30,8 @@ def int_literal(text: str, limit: int = INT64_MAX) -> int | None:
 
 def problem_yaml(text: str) -> str | None:
     """None when ``text`` is a YAML document a ROS node can load; else why not."""
+    import yaml  # only models with yaml parameters pay for it
+
     try:
         yaml.safe_load(text)
     except yaml.MarkedYAMLError as exc:

@@ -315,6 +315,9 @@ class UvlReader(FormulaReader):
             feature.capability = (type_name, literal, position)
             return
         canonical = canonical_value(type_name, literal)
+        if canonical is None:  # a number out of range (1e999, a 30-digit int)
+            self.error(value[2], f"attribute {name}: {literal} is out of range")
+            return
         feature.attributes.append(Attribute(self.source, position, name, type_name, canonical))
 
     def skip_value(self) -> None:

@@ -1,8 +1,10 @@
-"""Fuzzing the command line with mutated models (issue 13: no internal error on any
-valid or invalid input).
+"""Fuzzing the command line with mutated and generated models (issue 13: no internal
+error on any valid or invalid input).
 
 The shipped product lines and the test corpora are mutated one file at a time (.tsm,
-.fm, .rm or a product selection) and run through the real commands, ``spl check FILE``,
+.fm, .rm or a product selection, tests/model_mutations.py), and whole lines are drawn
+from the grammars (tests/model_generator.py); both run through the real commands,
+``spl check FILE``,
 ``spl check DIR`` and ``spl resolve DIR --features ... -o OUT``: each must exit 0, or
 exit 1 with a located error, never fail with an internal error or a traceback, and
 never leave anything in the output folder when it fails (tests/cli_outcome.py).

@@ -277,3 +277,16 @@ def test_the_installed_command_exits_plainly_on_fuzzed_input(tmp_path, name, tex
     )
     assert_clean_outcome(done.returncode, done.stdout, done.stderr, name)
     assert done.returncode == code
+
+
+@pytest.mark.parametrize("value", ["99999999999999999999999", "1e999"])
+def test_a_uvl_attribute_out_of_range_is_located_not_dropped(tmp_path, value):
+    # was: imported with no value, and `spl convert` wrote `attribute a : int = `, an
+    # .fm that does not parse (the int case since the 64-bit bound, the double one always)
+    source = tmp_path / "big.uvl"
+    source.write_text(f"features\n\tR {{a {value}}}\n\t\toptional\n\t\t\tA\n", encoding="utf-8")
+    target = tmp_path / "big.fm"
+    result = run("convert", source, target)
+    assert_clean(result, value)
+    assert errors(result) == [f"{source}:2:7: error: attribute a: {value} is out of range"]
+    assert not target.exists()
