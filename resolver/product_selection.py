@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Any
 
 import yaml
 
-from spl.diagnostics import DiagnosticSink, Location, ModelError
+from spl.diagnostics import DiagnosticSink, Location, ModelError, model_text
 
 if TYPE_CHECKING:
     from spl.resolver.capabilities import RobotCapabilities
@@ -71,18 +71,11 @@ def read_yaml(path: Path, sink: DiagnosticSink) -> tuple[yaml.Node | None, Calla
     """The YAML of ``path`` composed into nodes (which keep their line and column), and the
     function giving a node's location; invalid YAML is raised as a located error."""
     filename = str(path)
-    data = path.read_bytes()
-    try:
-        text = data.decode("utf-8")
-    except UnicodeDecodeError as exc:
-        line = data.count(b"\n", 0, exc.start) + 1
-        col = exc.start - (data.rfind(b"\n", 0, exc.start) + 1) + 1
-        sink.error(Location(filename, line, col), "not UTF-8 text")
-        sink.raise_if_errors()
+    text = model_text(path)
     try:
         root = yaml.compose(text, Loader=yaml.SafeLoader)
     except RecursionError:
-        sink.error(Location(filename, 1, 1), "the YAML is nested too deeply")
+        sink.error(Location(filename, 1, 1), "invalid YAML: nested too deeply")
         sink.raise_if_errors()
     except yaml.MarkedYAMLError as exc:
         mark = exc.problem_mark

@@ -94,15 +94,18 @@ def location_of(element: Any) -> Location | None:
 
 
 def model_text(path: str | Path) -> str:
-    """The text of a model file (UTF-8, a byte order mark dropped); a file that is not
-    UTF-8 is a located error, not a crash."""
+    """The text of a model or selection file (UTF-8, a byte order mark dropped); a file
+    that is not UTF-8 is a located error at the first bad byte, not a crash."""
     path = Path(path)
+    data = path.read_bytes()
     try:
-        return path.read_text(encoding="utf-8-sig")
+        return data.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
-        raise ModelError(
-            [Diagnostic(Location(str(path), 1, 1), f"file is not UTF-8 text ({exc.reason})")]
-        ) from None
+        start = exc.start + (3 if data.startswith(b"\xef\xbb\xbf") else 0)
+        line = data.count(b"\n", 0, start) + 1
+        col = start - (data.rfind(b"\n", 0, start) + 1) + 1
+        where = Location(str(path), line, col)
+        raise ModelError([Diagnostic(where, f"file is not UTF-8 text ({exc.reason})")]) from None
 
 
 def counted(count: int, noun: str) -> str:

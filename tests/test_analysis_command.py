@@ -75,7 +75,7 @@ def test_file_that_is_not_utf8_is_a_located_error(tmp_path: Path) -> None:
         bad.write_bytes(b"features\n\tCaf\xe9\n")
         result = run(bad)
         assert result.exit_code == 1, result.output
-        assert f"{bad}:1:1: error: file is not UTF-8 text" in result.output
+        assert f"{bad}:2:5: error: file is not UTF-8 text" in result.output
 
 
 def test_count_flag_and_default_bound() -> None:

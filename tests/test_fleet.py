@@ -261,8 +261,8 @@ def test_resolve_of_a_conflicting_fleet_writes_nothing(tmp_path) -> None:
             "4:3: error: robot a: no features",
         ),
         ("fleet: [lab\n", "error: invalid YAML"),
-        ("fleet: lab\nrobots: \udcff\n", "2:9: error: not UTF-8 text"),
-        ("fleet: " + "[" * 5000 + "]" * 5000 + "\n", "1:1: error: the YAML is nested too deeply"),
+        ("fleet: lab\nrobots: \udcff\n", "2:9: error: file is not UTF-8 text (invalid start byte)"),
+        ("fleet: " + "[" * 5000 + "]" * 5000 + "\n", "1:1: error: invalid YAML: nested too deeply"),
         (
             "fleets: lab\n",
             "1:1: error: unknown key 'fleets' (expected fleet, product_line, robots)",

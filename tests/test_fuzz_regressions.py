@@ -194,13 +194,17 @@ def test_a_file_that_is_not_utf8_is_located(tmp_path, model):
     # was: internal error: UnicodeDecodeError (the .tsm already said so plainly)
     line = copy_line(MAPPING, tmp_path)
     path = line / model
-    path.write_bytes(path.read_bytes() + b"\n// \xff\n")
+    data = path.read_bytes() + b"\n// \xff\n"
+    path.write_bytes(data)
+    row, col = data.count(b"\n", 0, len(data) - 2) + 1, 4
     features = str(path) if model.endswith(".yaml") else "YouBot,Depth,Room"
     out = tmp_path / "out"
     out.mkdir()
     result = run("resolve", line, "--features", features, "-o", out / "bundle")
     assert_clean(result, model, out)
-    assert errors(result) == [f"{path}:1:1: error: file is not UTF-8 text (invalid start byte)"]
+    assert errors(result) == [
+        f"{path}:{row}:{col}: error: file is not UTF-8 text (invalid start byte)"
+    ]
 
 
 @pytest.mark.parametrize(
@@ -237,7 +241,7 @@ def test_a_uvl_cardinality_of_thousands_of_digits_is_located(tmp_path):
     result = run("analyze", path)
     assert_clean(result, "uvl cardinality")
     assert errors(result) == [
-        f"{path}:3:3: error: expected a group cardinality [n..m], [n] or [n..*]"
+        f"{path}:3:3: error: bad cardinality [1..{DIGITS}]: a bound is out of range"
     ]
 
 
@@ -279,8 +283,18 @@ def test_the_installed_command_exits_plainly_on_fuzzed_input(tmp_path, name, tex
     assert done.returncode == code
 
 
-@pytest.mark.parametrize("value", ["99999999999999999999999", "1e999"])
-def test_a_uvl_attribute_out_of_range_is_located_not_dropped(tmp_path, value):
+@pytest.mark.parametrize(
+    ("value", "message"),
+    [
+        (
+            "99999999999999999999999",
+            "2:7: error: attribute a: 99999999999999999999999 is out of range",
+        ),
+        # UVL's grammar has no exponent: the reader stops at it, as the reference parser does
+        ("1e999", "2:8: error: expected ',' or '}' in the attribute list, got e999"),
+    ],
+)
+def test_a_uvl_attribute_out_of_range_is_located_not_dropped(tmp_path, value, message):
     # was: imported with no value, and `spl convert` wrote `attribute a : int = `, an
     # .fm that does not parse (the int case since the 64-bit bound, the double one always)
     source = tmp_path / "big.uvl"
@@ -288,5 +302,5 @@ def test_a_uvl_attribute_out_of_range_is_located_not_dropped(tmp_path, value):
     target = tmp_path / "big.fm"
     result = run("convert", source, target)
     assert_clean(result, value)
-    assert errors(result) == [f"{source}:2:7: error: attribute a: {value} is out of range"]
+    assert errors(result) == [f"{source}:{message}"]
     assert not target.exists()

@@ -157,7 +157,8 @@ def test_ctrl_c_stops_every_process(paper_bundle, tmp_path, command):
     _, err = process.communicate(timeout=60)
     assert process.returncode == 130, err
     assert "interrupted" in err and "Traceback" not in err
-    assert leftovers(tag) == []
+    # SIGKILLed processes of a busy machine may take a moment to leave /proc
+    assert leftovers(tag, wait=5.0) == []
     assert list((tmp_path / "tmp").iterdir()) == []
 
 

@@ -548,7 +548,7 @@ def test_non_utf8_file_is_a_located_error(tmp_path: Path) -> None:
     path.write_bytes("system Caf\xe9\n".encode("latin-1"))
     with pytest.raises(ModelError) as info:
         tsm.parse_file(path)
-    assert str(info.value.diagnostics[0]).startswith(f"{path}:1:1: error: file is not UTF-8")
+    assert str(info.value.diagnostics[0]).startswith(f"{path}:1:11: error: file is not UTF-8")
 
 
 def test_control_characters_are_not_echoed_raw() -> None:
