@@ -29,6 +29,7 @@ def run(*args: str):
             "data_acquisition",
             "data_acquisition: 3 resolution elements, 12 products, 0 errors, 0 warnings",
         ),
+        ("orchard", "orchard: 9 resolution elements, 24 products, 0 errors, 0 warnings"),
     ],
 )
 def test_shipped_lines_pass(name, summary):
