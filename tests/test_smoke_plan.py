@@ -122,3 +122,17 @@ def test_plan_is_read_from_the_bundle_not_the_product_line(tmp_path):
     found = interfaces(load_plan(Path(out)))
     assert found["MappingCloud.VisualOdometry.rgb"].sources == ()
     assert "Robot.endpoint.sub_RGBImg" not in found
+
+
+def test_an_interface_the_product_leaves_unconnected_expects_nothing(tmp_path):
+    # orchard without yield mapping: PathPlanner's `subscribes yield_map : nav_msgs/...`
+    # is connected by no element, so no launch remap and nothing to receive; with yield
+    # mapping it is fed by the YieldMapper
+    line = ROOT / "product_lines" / "orchard"
+    without, with_map = tmp_path / "without", tmp_path / "with"
+    write_product(line, line / "products" / "onboard_soft.yaml", without)
+    write_product(line, line / "products" / "scout_yield_public.yaml", with_map)
+    idle = interfaces(load_plan(without))["Harvester.PathPlanner.yield_map"]
+    assert not idle.required and idle.sources == ()
+    fed = interfaces(load_plan(with_map))["OrchardCloud.PathPlanner.yield_map"]
+    assert fed.required and fed.sources == ("OrchardCloud.YieldMapper.yield_map",)

@@ -180,6 +180,9 @@ def _containers(system: Any, bundle: Path) -> list[ContainerPlan]:
                         KINDS[interface.eClass.name],
                         _type(interface),
                         ros_name,
+                        # an interface the model leaves unconnected (`subscribes x : T`,
+                        # no topic in this product) is wired to nothing: nothing expected
+                        required=interface.name in bound,
                     )
                 )
             for parameter in node.parameters:
