@@ -27,7 +27,7 @@ from pyecore.resources.xmi import XMIResource
 
 from spl import __version__
 from spl.dsl.tsm_printer import print_model
-from spl.resolver.product import ResolvedProduct
+from spl.resolver.product import ResolvedProduct, node_keys
 
 # One module per target; each offers generate(product) -> {bundle path: bytes}.
 GENERATORS = (
@@ -113,17 +113,20 @@ def manifest(
     product: ResolvedProduct, files: dict[str, bytes], skipped: dict[str, str] | None = None
 ) -> bytes:
     system = product.system
+    keys = node_keys(system)
     document = {
         "product": product.name,
         "features": list(product.features),
         "attributes": product.attributes,
         "sharing": {
-            node.name: node.sharing.name
+            keys[id(node)]: node.sharing.name
             for container in system.containers
             for node in container.nodes
         },
         "placement": {
-            node.name: container.name for container in system.containers for node in container.nodes
+            keys[id(node)]: container.name
+            for container in system.containers
+            for node in container.nodes
         },
         "migrations": [
             {"node": m.node, "from": m.source, "to": m.target} for m in product.migrations

@@ -23,7 +23,7 @@ from spl.resolver import pruning, rewiring
 from spl.resolver.architecture_checks import check_architecture
 from spl.resolver.capabilities import CapabilityChoice, choose_features, merge_choices
 from spl.resolver.context import ResolutionContext, describe
-from spl.resolver.product import ResolvedProduct
+from spl.resolver.product import ResolvedProduct, node_keys
 from spl.resolver.product_line import ProductLine
 from spl.resolver.product_selection import ProductSelection
 from spl.resolver.selection import SelectionCheck, check_selection
@@ -99,7 +99,7 @@ def _resolve(line: ProductLine, selection: ProductSelection) -> Resolution:
     _apply_sharing(ctx, active, selection)  # step 6
     sink.raise_if_errors()
 
-    before = {n.name for c in system.containers for n in c.nodes}
+    before = node_keys(system)  # pruning removes nodes: named as the template names them
     pruning.prune_unkept(system, ctx.kept, trace)  # step 7
     _implement_data_clients(system)
     warnings = rewiring.rewire(system, trace, {m.node for m in ctx.migrations})
@@ -119,7 +119,8 @@ def _resolve(line: ProductLine, selection: ProductSelection) -> Resolution:
         warnings=tuple(problems),
     )
     system.name = line.tsm.name
-    removed = tuple(sorted(before - set(kept)))
+    remaining = {id(n) for c in system.containers for n in c.nodes}
+    removed = tuple(sorted(key for i, key in before.items() if i not in remaining))
     return Resolution(product, trace, completion, removed, kept, tuple(choices))
 
 

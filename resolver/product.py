@@ -39,6 +39,20 @@ class ResolvedProduct:
         return next((m for m in self.migrations if m.node == node_name), None)
 
 
+def node_keys(system: Any) -> dict[int, str]:
+    """How reports name each node of ``system`` (by ``id``): its name, or
+    ``CONTAINER.NODE`` when two containers hold a node of that name (docs/semantics.md
+    allows it), so a manifest or summary never folds two nodes into one entry."""
+    nodes = [(c.name, n) for c in system.containers for n in c.nodes]
+    counts: dict[str, int] = {}
+    for _, node in nodes:
+        counts[node.name] = counts.get(node.name, 0) + 1
+    return {
+        id(node): node.name if counts[node.name] == 1 else f"{container}.{node.name}"
+        for container, node in nodes
+    }
+
+
 def topic_ros_name(topic: Any) -> str:
     """The ROS name a topic is published under; ``/Name`` when the model leaves it open."""
     return topic.rosName or f"/{topic.name}"

@@ -157,3 +157,22 @@ def test_everything_on_board(line):
     }
     assert launch_params(launch, "Harvester", "Navigator")["plan_timeout"] == "1.0"
     assert nodes["Gripper"].executable == "soft_gripper"
+
+
+def test_reports_keep_both_robots_nodes_of_one_name(line):
+    # both robots declare Camera and Driver: the manifest and the removed-node summary
+    # name them by container instead of folding two nodes into one entry (it read
+    # "Camera": "Scout" and listed no removed Camera before)
+    import json
+
+    from spl.generators.bundle import bundle_files
+
+    scouting = product(line, "scout_yield_public")
+    manifest = json.loads(bundle_files(scouting)["manifest.json"])
+    assert manifest["placement"]["Harvester.Camera"] == "Harvester"
+    assert manifest["placement"]["Scout.Camera"] == "Scout"
+    assert manifest["placement"]["Navigator"] == "Harvester"
+    assert "Camera" not in manifest["placement"] and "Camera" not in manifest["sharing"]
+    alone = resolve(line, load_selection_file(LINE / "products" / "onboard_soft.yaml"))
+    assert {"Scout.Camera", "Scout.Driver"} <= set(alone.removed_nodes)
+    assert "Harvester.Camera" not in alone.removed_nodes
