@@ -27,13 +27,7 @@ import tempfile
 import time
 from pathlib import Path
 
-DATA = Path(__file__).resolve().parents[1] / "tests" / "data" / "feature-models"
-DEFAULT_MODELS = [
-    "berkeleydb.uvl",
-    "axTLS.uvl",
-    "busybox_2010-05-02_14-17-07.uvl",
-    "automotive01.uvl",
-]
+from fm_analysis import DATA, DEFAULT_MODELS  # the same vendored models, run as a script
 
 
 def ganak_worker(path: str) -> None:

@@ -252,12 +252,7 @@ class Names:
                 readings.append((label, interface, BridgeEnd(None, None, interface)))
             except NameProblem as problem:
                 problems.append(str(problem))
-        if len(readings) > 1:
-            listed = candidates([(label, element) for label, element, _ in readings])
-            raise NameProblem(f"{ref} is ambiguous: {listed}")
-        if not readings:
-            raise NameProblem(problems[0] if problems else f"unknown container or node {parts[0]}")
-        return readings[0][2]
+        return _one_reading(ref, readings, problems, f"unknown container or node {parts[0]}")
 
     def parameter(self, ref: str) -> tuple[Any, Any]:
         """(parameter, refinement), one of them None: ``[CONTAINER.]NODE.PARAMETER`` or
@@ -288,12 +283,20 @@ class Names:
                 readings.append((label, parameter, (parameter, None)))
             except NameProblem as problem:
                 problems.append(str(problem))
-        if len(readings) > 1:
-            listed = candidates([(label, element) for label, element, _ in readings])
-            raise NameProblem(f"{ref} is ambiguous: {listed}")
-        if not readings:
-            raise NameProblem(problems[0] if problems else f"{ref}: expected NODE.PARAMETER")
-        return readings[0][2]
+        return _one_reading(ref, readings, problems, f"{ref}: expected NODE.PARAMETER")
+
+
+def _one_reading(
+    ref: str, readings: list[tuple[str, Any, Any]], problems: list[str], unknown: str
+) -> Any:
+    """The meaning of a dotted name that has exactly one reading; two readings are an
+    ambiguity naming both, none the first reading's problem (else ``unknown``)."""
+    if len(readings) > 1:
+        listed = candidates([(label, element) for label, element, _ in readings])
+        raise NameProblem(f"{ref} is ambiguous: {listed}")
+    if not readings:
+        raise NameProblem(problems[0] if problems else unknown)
+    return readings[0][2]
 
 
 def missing_topic(name: str, node: Any, places: list[Any]) -> str:

@@ -134,6 +134,14 @@ class _Statement:
     def witness(self) -> tuple[str, ...] | None:
         return self.solver.witness_where(self.element, self.clauses)
 
+    def witness_of_any(self, options: list[int]) -> tuple[str, ...] | None:
+        """A product where one of ``options`` holds (with the questions asked so far), or
+        None when there is none or no option at all."""
+        if not options:
+            return None
+        self.clauses.append(options)
+        return self.witness()
+
 
 def product_dependent_statements(line: ProductLine, solver: ActivationSolver) -> list[Diagnostic]:
     """Statements that fail in some product activating their element (SPL016)."""
@@ -217,11 +225,7 @@ def _together(statement: _Statement, client: Any, server: Any) -> str | None:
     """S2: a service bridge whose two nodes are in one container."""
     placements, common = _common_places(statement, client, server)
     options = [statement.both(*(statement.at(p, place) for p in placements)) for place in common]
-    options = [v for v in options if v is not None]
-    if not options:
-        return None
-    statement.clauses.append(options)
-    witness = statement.witness()
+    witness = statement.witness_of_any([v for v in options if v is not None])
     if witness is None:
         return None
     place = _place(placements[0], witness)
@@ -236,11 +240,9 @@ def _onto_a_name(statement: _Statement, node: Any, target: Any) -> str | None:
         if r is not node
     ]
     residents = [p for p in residents if any(target is c for c in p.places)]
-    options = [statement.variable(statement.at(p, target)) for p in residents]
-    if not options:
-        return None
-    statement.clauses.append(options)
-    witness = statement.witness()
+    witness = statement.witness_of_any(
+        [statement.variable(statement.at(p, target)) for p in residents]
+    )
     if witness is None:
         return None
     resident = next(p.node for p in residents if _place(p, witness) is target)
