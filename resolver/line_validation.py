@@ -22,7 +22,6 @@ depend on the application layer that implements it.
 from __future__ import annotations
 
 import multiprocessing
-import signal
 import time
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
@@ -32,6 +31,7 @@ from typing import Literal
 from lxml import etree
 
 from spl.diagnostics import ModelError
+from spl.lifetime import die_with_parent, raise_if_signalled, unwind_on_signals
 from spl.resolver.product_line import ProductLine, load_product_line
 
 Outcome = Literal["passed", "failed", "error"]
@@ -197,6 +197,7 @@ _REHEARSE: Rehearsal | None = None
 
 
 def _run_in_worker(case: ProductCase) -> CaseResult:
+    raise_if_signalled()
     loaded = _LINES[case.line]
     assert loaded.line is not None
     return run_case(loaded.line, loaded.name, case, _REHEARSE)
@@ -231,16 +232,12 @@ def run_cases(
     return results
 
 
-def _unwind_on_signals() -> None:
+def _start_worker() -> None:
     """Workers end on Ctrl-C (SIGINT from the terminal) and on SIGTERM (the pool's
     terminate) by unwinding quietly, so the task's own cleanup runs (a smoke rehearsal
-    stops the processes it started) and no worker prints a traceback."""
-
-    def leave(signum: int, _frame: object) -> None:
-        raise SystemExit(128 + signum)
-
-    signal.signal(signal.SIGINT, leave)
-    signal.signal(signal.SIGTERM, leave)
+    stops the processes it started), and end with a killed spl (a CI timeout)."""
+    unwind_on_signals()
+    die_with_parent()
 
 
 def _results(cases: list[ProductCase], jobs: int) -> Iterator[CaseResult]:
@@ -253,9 +250,16 @@ def _results(cases: list[ProductCase], jobs: int) -> Iterator[CaseResult]:
     yield _run_in_worker(cases[0])
     rest = cases[1:]
     context = multiprocessing.get_context("fork")
-    with context.Pool(min(jobs, len(rest)), initializer=_unwind_on_signals) as pool:
+    with context.Pool(min(jobs, len(rest)), initializer=_start_worker) as pool:
         chunk = max(1, min(16, len(rest) // (jobs * 8)))
-        yield from pool.imap(_run_in_worker, rest, chunksize=chunk)
+        results = pool.imap(_run_in_worker, rest, chunksize=chunk)
+        while True:  # in steps, so a Ctrl-C that Python swallowed still ends the wait
+            try:
+                yield results.next(timeout=0.2)
+            except multiprocessing.TimeoutError:
+                raise_if_signalled()
+            except StopIteration:
+                return
 
 
 # --- JUnit XML ------------------------------------------------------------------------

@@ -245,3 +245,27 @@ def test_a_node_that_dies_is_reported_without_waiting_for_the_timeout(tmp_path):
               if not r["ok"]}  # fmt: skip
     assert failed == {("Scout", "Navigator")}
     assert report["seconds"] < 100  # a verdict once the graph is quiet, not at the timeout
+
+
+def test_a_killed_validate_leaves_no_worker_nor_rehearsal(tmp_path):
+    """SIGKILL (a CI timeout) reaches only spl itself: its forked workers and their
+    rehearsals follow it through the parent-death signal instead of idling for ever."""
+    import os
+
+    tag = uuid.uuid4().hex
+    line = str(ROOT / "tests" / "models" / "launch")
+    process = subprocess.Popen(
+        [*spl_command(), "validate", line, "--all", "--smoke", "--jobs", "2"],
+        env=tagged_env(tag), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+    )  # fmt: skip
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline:  # until forked workers rehearse
+        running = leftovers(tag)
+        workers = sum(" validate " in c for c in running) - 1
+        if workers >= 1 and any("standin.py" in c for c in running):
+            break
+        time.sleep(0.1)
+    os.kill(process.pid, signal.SIGKILL)
+    process.wait()
+    # without the parent-death signal the rehearsal runs on to its verdict (5 s and more)
+    assert leftovers(tag, wait=3.0) == []

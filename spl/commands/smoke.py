@@ -8,7 +8,6 @@ matches the resolved model, 1 otherwise, 2 when ROS 1 is not installed.
 from __future__ import annotations
 
 import json
-import signal
 import sys
 from pathlib import Path
 
@@ -32,6 +31,7 @@ def command(bundle: Path, timeout: float, as_json: bool) -> None:
     then every node, topic, type, publisher, subscriber, service and parameter on each
     master is compared with the resolved model, and every subscriber must receive from
     each of its modelled sources and every client must be answered."""
+    from spl.lifetime import unwind_on_signals
     from spl.smoke.processes import RosMissing
     from spl.smoke.rehearsal import run_smoke
     from spl.smoke.report import text_report
@@ -41,10 +41,7 @@ def command(bundle: Path, timeout: float, as_json: bool) -> None:
     def progress(state) -> None:
         click.echo(f"\r{state.line()}\033[K", nl=False, err=True)
 
-    def terminated(signum: int, _frame: object) -> None:
-        raise SystemExit(128 + signum)  # unwinds through the rehearsal's cleanup
-
-    previous = signal.signal(signal.SIGTERM, terminated)
+    unwind_on_signals(keyboard_interrupt=True)  # SIGTERM unwinds through the cleanup too
     try:
         result = run_smoke(bundle, timeout=timeout, progress=progress if live else None)
     except RosMissing as exc:
@@ -54,7 +51,6 @@ def command(bundle: Path, timeout: float, as_json: bool) -> None:
         click.echo("\nsmoke: interrupted; every process it started has been stopped", err=True)
         sys.exit(130)
     finally:
-        signal.signal(signal.SIGTERM, previous)
         if live:
             click.echo("\r\033[K", nl=False, err=True)
     if as_json:

@@ -64,6 +64,10 @@ def command(
     from spl.resolver.line_validation import junit_xml, load_lines, plan_cases, summary
 
     rehearse = _rehearsal() if smoke else None
+    if smoke:  # the rehearsals' processes are stopped on Ctrl-C and SIGTERM alike
+        from spl.lifetime import unwind_on_signals
+
+        unwind_on_signals(keyboard_interrupt=True)
     t = parse_sample(sample)
     if all_products and t is not None:
         raise click.UsageError("give one of --all and --sample")

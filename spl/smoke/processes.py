@@ -17,7 +17,6 @@ runs the stand-in (see :func:`write_sandbox`).
 from __future__ import annotations
 
 import contextlib
-import ctypes
 import os
 import re
 import shlex
@@ -30,6 +29,8 @@ import uuid
 from collections.abc import Iterable
 from dataclasses import dataclass
 from pathlib import Path
+
+from spl.lifetime import die_with_parent
 
 MARKER = "SPL_SMOKE_RUN"
 ROS_MISSING = (
@@ -133,11 +134,6 @@ def write_sandbox(root: Path, executables: Iterable[tuple[str, str]], python: st
         wrapper.chmod(0o755)
 
 
-def _die_with_parent() -> None:  # runs in the child between fork and exec
-    with contextlib.suppress(OSError, AttributeError):
-        ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGTERM)  # PR_SET_PDEATHSIG
-
-
 class Processes:
     """The processes of one rehearsal; leaving the ``with`` block ends all of them."""
 
@@ -160,7 +156,7 @@ class Processes:
         with log.open("wb") as output:
             process = subprocess.Popen(
                 argv, env=env, stdin=subprocess.DEVNULL, stdout=output,
-                stderr=subprocess.STDOUT, start_new_session=True, preexec_fn=_die_with_parent,
+                stderr=subprocess.STDOUT, start_new_session=True, preexec_fn=die_with_parent,
             )  # fmt: skip
         self.children.append((label, process, log))
         return process

@@ -27,6 +27,7 @@ from typing import Any
 
 from lxml import etree
 
+from spl.lifetime import raise_if_signalled
 from spl.smoke.live import NOT_MODELLED, Master, Row, compare, read_statuses
 from spl.smoke.plan import ContainerPlan, SmokePlan, load_plan
 from spl.smoke.processes import (
@@ -260,6 +261,7 @@ class _Rehearsal:
             if (all_up and everything_ok and ready >= stand_ins) or settled or now >= deadline:
                 break
             time.sleep(POLL)
+            raise_if_signalled()
         if not all_up:
             down = [c.name for c in self.plan.containers if c.name not in self.launched]
             problems.append(f"roscore did not come up for {', '.join(down)} in time")

@@ -1,0 +1,76 @@
+"""How spl's processes end: children that follow a killed parent, and processes that
+unwind on a signal even when Python loses the exception the signal handler raised.
+
+A forked `spl validate` worker or a smoke rehearsal's roscore must not outlive spl when
+spl itself is killed (SIGKILL from a CI timeout cannot be caught, so nothing in spl gets
+to clean up): Linux's parent-death signal tells the child instead.
+
+A signal handler that raises is fragile: when the signal lands while a finaliser, an
+at-fork hook or ``sys.unraisablehook`` runs, Python prints "Exception ignored" and
+carries on, and a worker would rehearse on while its pool waits for it. So the handler
+also records the signal, and every loop that waits (the rehearsal's poll) calls
+:func:`raise_if_signalled`.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import ctypes
+import os
+import signal
+import sys
+
+_PR_SET_PDEATHSIG = 1
+_signalled: int | None = None
+_owner: int | None = None  # the process that installed the handlers
+_keyboard = False
+
+
+def die_with_parent() -> None:
+    """Ask for SIGTERM when the parent ends (Linux; elsewhere a no-op). Safe between fork
+    and exec, and in a pool worker's initializer."""
+    with contextlib.suppress(OSError, AttributeError):
+        ctypes.CDLL(None, use_errno=True).prctl(_PR_SET_PDEATHSIG, signal.SIGTERM)
+
+
+def _unwinding(signum: int) -> BaseException:
+    if signum == signal.SIGINT and _keyboard:
+        return KeyboardInterrupt()
+    return SystemExit(128 + signum)
+
+
+def _leave(signum: int, _frame: object) -> None:
+    global _signalled
+    if os.getpid() != _owner:
+        # a child forked by subprocess runs Python (at-fork hooks, preexec_fn) before it
+        # execs, with this handler inherited: raising there is printed as "Exception
+        # ignored" and changes nothing; the owner stops that child anyway
+        return
+    if _signalled is not None:
+        return  # already unwinding (Ctrl-C, then the pool's SIGTERM): let cleanup finish
+    _signalled = signum
+    raise _unwinding(signum)
+
+
+def _quiet_unraisable(unraisable: sys.UnraisableHookArgs) -> None:
+    if _signalled is not None and isinstance(unraisable.exc_value, SystemExit | KeyboardInterrupt):
+        return  # a signal's unwinding Python could not deliver there: the next checkpoint does
+    sys.__unraisablehook__(unraisable)
+
+
+def unwind_on_signals(keyboard_interrupt: bool = False) -> None:
+    """SIGINT and SIGTERM end this process by unwinding quietly (SystemExit 128+signal,
+    or KeyboardInterrupt for SIGINT when ``keyboard_interrupt``), so ``with`` blocks stop
+    what they started and no traceback is printed; a second signal does not interrupt
+    that cleanup."""
+    global _signalled, _owner, _keyboard
+    _signalled, _owner, _keyboard = None, os.getpid(), keyboard_interrupt
+    signal.signal(signal.SIGINT, _leave)
+    signal.signal(signal.SIGTERM, _leave)
+    sys.unraisablehook = _quiet_unraisable
+
+
+def raise_if_signalled() -> None:
+    """Unwind now if a signal arrived whose exception Python swallowed."""
+    if _signalled is not None and os.getpid() == _owner:
+        raise _unwinding(_signalled)

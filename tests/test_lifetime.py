@@ -1,0 +1,76 @@
+"""How spl processes end on a signal (spl.lifetime), in a fresh interpreter each time:
+the cases are races in real runs (a Ctrl-C landing in a finaliser or in a child between
+fork and exec), made certain here by signalling from exactly that place."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+import textwrap
+
+import pytest
+
+
+def run(script: str) -> subprocess.CompletedProcess[str]:
+    code = "import os, signal\nfrom spl.lifetime import raise_if_signalled, unwind_on_signals\n"
+    return subprocess.run(
+        [sys.executable, "-c", code + textwrap.dedent(script)],
+        capture_output=True, text=True, timeout=60,
+    )  # fmt: skip
+
+
+@pytest.mark.parametrize("signum, status", [("SIGINT", 130), ("SIGTERM", 143)])
+def test_a_signal_swallowed_in_a_finaliser_still_ends_the_process_quietly(signum, status):
+    result = run(f"""
+        unwind_on_signals()
+        class Finaliser:
+            def __del__(self):
+                os.kill(os.getpid(), signal.{signum})
+                sum(range(1000))  # the handler runs here, where Python cannot raise
+        Finaliser()
+        print("carried on")
+        raise_if_signalled()
+        print("not reached")
+    """)
+    assert result.returncode == status
+    assert result.stdout == "carried on\n"
+    assert result.stderr == ""  # no "Exception ignored" for a signal's unwinding
+
+
+def test_ctrl_c_is_a_keyboard_interrupt_where_the_command_asks_for_it():
+    result = run("""
+        unwind_on_signals(keyboard_interrupt=True)
+        try:
+            os.kill(os.getpid(), signal.SIGINT)
+            sum(range(1000))
+        except KeyboardInterrupt:
+            print("interrupted")
+    """)
+    assert (result.returncode, result.stdout, result.stderr) == (0, "interrupted\n", "")
+
+
+def test_a_second_signal_does_not_interrupt_the_cleanup_of_the_first():
+    result = run("""
+        unwind_on_signals()
+        try:
+            os.kill(os.getpid(), signal.SIGINT)
+            sum(range(1000))
+        finally:
+            os.kill(os.getpid(), signal.SIGTERM)  # the pool's terminate, during cleanup
+            sum(range(1000))
+            print("cleaned up")
+    """)
+    assert (result.returncode, result.stdout, result.stderr) == (130, "cleaned up\n", "")
+
+
+def test_a_forked_child_before_exec_leaves_the_signal_to_its_parent():
+    result = run("""
+        unwind_on_signals()
+        pid = os.fork()
+        if pid == 0:  # like subprocess's child running at-fork hooks before exec
+            os.kill(os.getpid(), signal.SIGINT)
+            sum(range(1000))
+            os._exit(7)
+        print(os.waitstatus_to_exitcode(os.waitpid(pid, 0)[1]))
+    """)
+    assert (result.returncode, result.stdout, result.stderr) == (0, "7\n", "")
