@@ -77,7 +77,7 @@ def synthetic_line(folder: Path, features: int) -> Path:
 
 
 def load_seconds(line: Path) -> float:
-    from spl.resolver.line_validation import load_lines
+    from spl.line_validation import load_lines
 
     start = time.perf_counter()
     load_lines([line])

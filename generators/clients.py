@@ -14,6 +14,7 @@ from typing import Any
 from spl.diagnostics import Diagnostic, ModelError, location_of
 from spl.generators.expressions import IDENTIFIER
 from spl.generators.service import render, snake_case, store_context
+from spl.resolver.data_clients import client_package_name
 from spl.resolver.product import ResolvedProduct
 
 ROS_PACKAGE = re.compile(r"[a-z][a-z0-9_]*\Z")
@@ -21,11 +22,6 @@ MESSAGE_TYPE = re.compile(r"([A-Za-z][A-Za-z0-9_]*)/(?:msg/)?([A-Za-z][A-Za-z0-9
 DEFAULT_STORE_URL = "http://localhost:8000"
 KINDS = {"Writer": ("writer", "Subscriber", "writer_node"),
          "Reader": ("reader", "Publisher", "reader_node")}
-
-
-def client_package_name(node_name: str) -> str:
-    """ROS package and executable of a writer/reader: ``PositionWriter`` -> ``position_writer``."""
-    return snake_case(node_name)
 
 
 def client_nodes(system: Any) -> list[tuple[Any, Any]]:

@@ -37,7 +37,7 @@ from typing import Any
 
 from spl.diagnostics import Location, location_of
 from spl.metamodels import tsm
-from spl.resolver.engine import data_client_implementation
+from spl.resolver.data_clients import data_client_implementation
 from spl.resolver.line_checks import touched_elements
 from spl.resolver.placement import sharing_mode
 from spl.resolver.product import topic_ros_name

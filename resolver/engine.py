@@ -17,12 +17,12 @@ from typing import Any
 from spl.diagnostics import DiagnosticSink, Location, ModelError, location_of
 from spl.dsl import literals
 from spl.emf import copy_with_map
-from spl.generators.clients import client_package_name
 from spl.metamodels import tsm
 from spl.resolver import pruning, rewiring
 from spl.resolver.architecture_checks import check_architecture
 from spl.resolver.capabilities import CapabilityChoice, choose_features, merge_choices
 from spl.resolver.context import ResolutionContext, describe
+from spl.resolver.data_clients import implement_data_clients
 from spl.resolver.product import ResolvedProduct, node_keys
 from spl.resolver.product_line import ProductLine
 from spl.resolver.product_selection import ProductSelection
@@ -101,7 +101,7 @@ def _resolve(line: ProductLine, selection: ProductSelection) -> Resolution:
 
     before = node_keys(system)  # pruning removes nodes: named as the template names them
     pruning.prune_unkept(system, ctx.kept, trace)  # step 7
-    _implement_data_clients(system)
+    implement_data_clients(system)
     warnings = rewiring.rewire(system, trace, {m.node for m in ctx.migrations})
     pruning.prune_unused(system, trace)
 
@@ -232,25 +232,6 @@ def _apply_sharing(ctx: ResolutionContext, active: list[Any], selection: Product
                 f"sharing given for {feature}, which has no sharing attribute or no active "
                 "resolution element in this product",
             )
-
-
-def data_client_implementation(node: Any) -> str | None:
-    """``package/executable`` of a writer or reader the models leave unimplemented: the
-    ROS package generated for it (clients/<package>); None for any other node."""
-    T = tsm()
-    if isinstance(node, (T.Writer, T.Reader)) and not node.package:
-        name = client_package_name(node.name)
-        return f"{name}/{name}"
-    return None
-
-
-def _implement_data_clients(system: Any) -> None:
-    """Writers and readers run the ROS package generated for them (clients/<package>)."""
-    for container in system.containers:
-        for node in container.nodes:
-            implementation = data_client_implementation(node)
-            if implementation is not None:
-                node.package, node.executable = implementation.split("/")
 
 
 def summary_lines(resolution: Resolution) -> list[str]:

@@ -14,6 +14,7 @@ from service_runtime import write_files
 
 from spl.diagnostics import ModelError
 from spl.generators import clients
+from spl.resolver.data_clients import client_package_name
 
 EXPECTED = {
     "position_writer": ("writer_node", "rover_msgs", "PositionInSecond"),
@@ -29,9 +30,9 @@ def files() -> dict[str, bytes]:
 
 
 def test_client_package_names() -> None:
-    assert clients.client_package_name("PositionWriter") == "position_writer"
-    assert clients.client_package_name("EV3Reader") == "ev3_reader"
-    assert clients.client_package_name("commandReader2") == "command_reader2"
+    assert client_package_name("PositionWriter") == "position_writer"
+    assert client_package_name("EV3Reader") == "ev3_reader"
+    assert client_package_name("commandReader2") == "command_reader2"
 
 
 def test_one_ament_python_package_per_writer_and_reader(files, tmp_path: Path) -> None:

@@ -10,6 +10,7 @@ import yaml
 from service_models import PRODUCT_LINE
 
 from spl.generators import clients, deploy, service
+from spl.resolver.data_clients import client_package_name
 from spl.resolver.engine import resolve
 from spl.resolver.product_line import load_product_line
 from spl.resolver.product_selection import selection_from_list
@@ -77,5 +78,5 @@ def test_resolver_and_client_generator_agree_on_package_names(line) -> None:
     for container in product.system.containers:
         for node in container.nodes:
             if node.eClass.name in ("Writer", "Reader"):
-                assert node.package == clients.client_package_name(node.name)
+                assert node.package == client_package_name(node.name)
                 assert f"clients/{node.package}/package.xml" in clients.generate(product)

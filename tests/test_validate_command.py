@@ -11,7 +11,8 @@ from click.testing import CliRunner
 from lxml import etree
 
 from spl.cli import main
-from spl.resolver.line_validation import CaseResult, junit_xml
+from spl.junit_report import junit_xml
+from spl.line_validation import CaseResult
 
 ROOT = Path(__file__).resolve().parents[1]
 LINES = ROOT / "product_lines"
@@ -44,8 +45,9 @@ def failure_text(case: etree._Element) -> str:
 @pytest.fixture(scope="module")
 def shipped(tmp_path_factory):
     out = tmp_path_factory.mktemp("junit") / "shipped.xml"
-    result = run(LINES / "mapping3d", LINES / "data_acquisition", "--all", "--jobs", "2",
-                 "--junit", out)
+    # 61 products: the workers get them several at a time (chunks of 3)
+    result = run(LINES / "mapping3d", LINES / "data_acquisition", LINES / "orchard", "--all",
+                 "--jobs", "2", "--junit", out)
     return result, out
 
 
@@ -64,13 +66,13 @@ def broken(tmp_path_factory):
 def test_every_shipped_product_passes(shipped) -> None:
     result, out = shipped
     assert result.exit_code == 0, result.output
-    assert result.stdout.splitlines()[-1] == "32 passed, 0 failed"
+    assert result.stdout.splitlines()[-1] == "61 passed, 0 failed"
     assert "ok   mapping3d :: youbot_stereo_room" in result.stdout  # plain lines off a tty
     root = report(out)
     suites = {s.get("name"): s for s in root.iter("testsuite")}
     assert {name: s.get("tests") for name, s in suites.items()} == {
-        "mapping3d": "17", "data_acquisition": "15"}
-    assert root.get("tests") == "32" and root.get("failures") == "0"
+        "mapping3d": "17", "data_acquisition": "15", "orchard": "29"}
+    assert root.get("tests") == "61" and root.get("failures") == "0"
     names = {name for (line, name) in cases(root) if line == "mapping3d"}
     # listed products by their YAML name, generated ones by their features
     assert {"youbot_stereo_room", "roomba_stereo_corridor_private"} <= names

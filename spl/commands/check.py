@@ -9,40 +9,25 @@ check; warnings and infos are printed and exit 0, so CI can adopt the check earl
 
 from __future__ import annotations
 
-import importlib
 import json
 from pathlib import Path
 from typing import Any
 
 import click
 
-from spl.diagnostics import Diagnostic, Location, ModelError, counted
+from spl import pipeline
+from spl.diagnostics import Diagnostic, ModelError, counted
 
-# The language module for each model file kind. Each offers ``parse_file(path)`` (raising
-# ModelError with every problem found) and ``summary(model) -> str``.
 # The product count in the summary line is a courtesy: a bounded, exact count or "unknown".
 COUNT_SECONDS = 2.0
-LANGUAGES = {".tsm": "spl.dsl.tsm", ".fm": "spl.dsl.fm", ".rm": "spl.dsl.rm"}
-
-
-def model_summary(path: Path) -> str:
-    """Parse one model file; its one-line summary (ModelError with every problem)."""
-    module_name = LANGUAGES.get(path.suffix)
-    if module_name is None:
-        known = ", ".join(sorted(LANGUAGES))
-        raise ModelError(
-            [Diagnostic(Location(str(path), 1, 1), f"unknown model kind (expected {known})")]
-        )
-    language = importlib.import_module(module_name)
-    return language.summary(language.parse_file(path))
 
 
 def check_file(path: Path) -> str:
-    return f"{path}: ok: {model_summary(path)}"
+    return f"{path}: ok: {pipeline.model_summary(path)}"
 
 
 def model_files(directory: Path) -> list[Path]:
-    return sorted(p for p in directory.iterdir() if p.suffix in LANGUAGES and p.is_file())
+    return sorted(p for p in directory.iterdir() if p.suffix in pipeline.LANGUAGES and p.is_file())
 
 
 def check_target(target: Path) -> tuple[dict[str, Any], list[Diagnostic]]:
@@ -60,12 +45,12 @@ def check_target(target: Path) -> tuple[dict[str, Any], list[Diagnostic]]:
         raise click.UsageError(f"{target} holds no .tsm, .fm or .rm file")
     resolution_models = sum(p.suffix == ".rm" for p in files)
     line = _load_line(target) if target.is_dir() and resolution_models == 1 else None
-    summaries = _line_summaries(line) if line is not None else {}
+    summaries = pipeline.line_summaries(line) if line is not None else {}
     report: dict[str, Any] = {"target": str(target), "files": [], "diagnostics": []}
     found: list[Diagnostic] = []
     for path in files:
         try:
-            summary = summaries.get(path.resolve()) or model_summary(path)
+            summary = summaries.get(path.resolve()) or pipeline.model_summary(path)
             report["files"].append({"path": str(path), "ok": True, "summary": summary})
         except ModelError as exc:
             report["files"].append({"path": str(path), "ok": False, "summary": None})
@@ -93,31 +78,14 @@ def check_target(target: Path) -> tuple[dict[str, Any], list[Diagnostic]]:
 
 def _load_line(directory: Path) -> Any:
     """The product line in ``directory``, or None when its models do not load."""
-    from spl.resolver.product_line import load_product_line
-
     try:
-        return load_product_line(directory)
+        return pipeline.load_line(directory)
     except ModelError:
         return None  # the files are then parsed one by one to report each problem once
 
 
-def _line_summaries(line: Any) -> dict[Path, str]:
-    """The summaries of the files a loaded line parsed, by resolved path."""
-    from spl.dsl import fm, rm, tsm
-
-    models = line.models
-    base = models.path.parent
-    return {
-        models.path.resolve(): rm.summary(line.rm),
-        (base / line.rm.tsmPath).resolve(): tsm.summary(line.tsm),
-        (base / line.rm.fmPath).resolve(): fm.summary(line.fm),
-    }
-
-
 def _check_line(line: Any) -> dict[str, Any]:
-    from spl.resolver.line_checks import check_product_line
-
-    diagnostics = check_product_line(line)
+    diagnostics = pipeline.check_line(line)
     count = line.formula.count(COUNT_SECONDS)
     return {
         "name": line.name,

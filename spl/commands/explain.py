@@ -17,11 +17,11 @@ def command(directory: Path, features, sharing, settings, capabilities, element:
     """Say why ELEMENT (a node, topic, interface, container or feature) is present,
     absent, migrated or configured as it is in the selected product, naming the
     resolution elements and features responsible with their file locations."""
-    from spl.resolver.engine import resolve
-    from spl.resolver.product_line import load_product_line
+    from spl import pipeline
 
-    line = load_product_line(directory)
-    resolution = resolve(line, selection_from_options(features, sharing, settings, capabilities))
+    line = pipeline.load_line(directory)
+    selection = selection_from_options(features, sharing, settings, capabilities)
+    resolution = pipeline.resolve_product(line, selection)
     system = resolution.product.system
     placed = {n.name: c.name for c in system.containers for n in c.nodes}
     if element in placed:

@@ -73,15 +73,14 @@ def command(
 
     import graphviz
 
+    from spl import pipeline
     from spl.generators import diagrams
-    from spl.resolver.product_line import load_product_line
 
-    line = load_product_line(directory)
+    line = pipeline.load_line(directory)
     resolution = None
     if features:
-        from spl.resolver.engine import resolve
-
-        resolution = resolve(line, selection_from_options(features, sharing, settings))
+        selection = selection_from_options(features, sharing, settings)
+        resolution = pipeline.resolve_product(line, selection)
     if what == "fm":
         selected = set(resolution.product.features) if resolution else None
         graph = diagrams.feature_model_graph(line.fm, selected)

@@ -23,15 +23,15 @@ def command(
     atomically: on any error nothing is left. A file that needs a missing optional program
     (architecture.svg without Graphviz) is left out with a one-line warning; the rest of
     the bundle is written, exit 0."""
-    from spl.generators.bundle import build_bundle, write_bundle
-    from spl.resolver.engine import resolve, summary_lines
-    from spl.resolver.product_line import load_product_line
+    from spl import pipeline
+    from spl.resolver.engine import summary_lines
 
-    line = load_product_line(directory)
-    resolution = resolve(line, selection_from_options(features, sharing, settings, capabilities))
-    bundle = build_bundle(resolution.product)
+    line = pipeline.load_line(directory)
+    selection = selection_from_options(features, sharing, settings, capabilities)
+    derivation = pipeline.derive(line, selection)
+    resolution, bundle = derivation.resolution, derivation.bundle
     out = out or Path("build") / resolution.product.name
-    write_bundle(bundle.files, out)
+    pipeline.write(derivation, out)
     for line_text in summary_lines(resolution):
         click.echo(line_text)
     for warning in resolution.product.warnings:

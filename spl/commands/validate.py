@@ -61,7 +61,8 @@ def command(
     With --smoke every valid bundle is also started with the real ROS 1 and its live
     graph compared with the model (exit 2 when ROS 1 is not installed)."""
     from spl.commands.products import parse_sample
-    from spl.resolver.line_validation import junit_xml, load_lines, plan_cases, summary
+    from spl.junit_report import junit_xml
+    from spl.line_validation import load_lines, plan_cases, summary
 
     rehearse = _rehearsal() if smoke else None
     if smoke:  # the rehearsals' processes are stopped on Ctrl-C and SIGTERM alike
@@ -99,7 +100,7 @@ def command(
 
 def _run(lines, cases, jobs: int, rehearse, total: int) -> list:
     """Run the cases with a progress bar on a terminal, one line per product otherwise."""
-    from spl.resolver.line_validation import describe, run_cases
+    from spl.line_validation import describe, run_cases
 
     if sys.stderr.isatty():
         with click.progressbar(length=total, label="validating", file=sys.stderr) as bar:

@@ -28,11 +28,10 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Literal
 
-from lxml import etree
-
 from spl.diagnostics import ModelError
 from spl.lifetime import die_with_parent, raise_if_signalled, unwind_on_signals
-from spl.resolver.product_line import ProductLine, load_product_line
+from spl.pipeline import load_line
+from spl.resolver.product_line import ProductLine
 
 Outcome = Literal["passed", "failed", "error"]
 LINE_CASE = "(product line)"  # the test case of a line whose models do not load
@@ -80,7 +79,7 @@ def load_lines(directories: Iterable[Path]) -> list[LoadedLine]:
     for directory in directories:
         name = Path(directory).resolve().name
         try:
-            line = load_product_line(directory)
+            line = load_line(directory)
             line.formula.backbone()  # computed here, inherited by every worker
         except ModelError as exc:
             loaded.append(
@@ -143,9 +142,7 @@ def run_case(
 ) -> CaseResult:
     """Resolve one product, generate its bundle in memory and validate every file;
     then, when the files are valid, run ``rehearse`` on them."""
-    from spl.generators.bundle import build_bundle
-    from spl.generators.validation import validate_bundle
-    from spl.resolver.engine import resolve
+    from spl import pipeline
     from spl.resolver.product_selection import load_selection_file, selection_from_list
 
     start = time.perf_counter()
@@ -154,9 +151,9 @@ def run_case(
             selection = load_selection_file(case.selection_file)
         else:
             selection = selection_from_list(",".join(case.features), name="_".join(case.features))
-        product = resolve(line, selection).product
-        bundle = build_bundle(product)
-        problems = validate_bundle(bundle.files)
+        derivation = pipeline.derive(line, selection)
+        product, bundle = derivation.resolution.product, derivation.bundle
+        problems = pipeline.validate(derivation)
         warnings = tuple(str(w) for w in product.warnings)
         checked = ""
         if rehearse is not None and not problems:
@@ -201,6 +198,12 @@ def _run_in_worker(case: ProductCase) -> CaseResult:
     loaded = _LINES[case.line]
     assert loaded.line is not None
     return run_case(loaded.line, loaded.name, case, _REHEARSE)
+
+
+def _run_chunk_in_worker(cases: list[ProductCase]) -> list[CaseResult]:
+    """Several products per task: fewer round trips through the pool's pipes. (Pool's
+    own ``chunksize`` would hand back a generator without ``next(timeout)``.)"""
+    return [_run_in_worker(case) for case in cases]
 
 
 def run_cases(
@@ -250,81 +253,17 @@ def _results(cases: list[ProductCase], jobs: int) -> Iterator[CaseResult]:
     yield _run_in_worker(cases[0])
     rest = cases[1:]
     context = multiprocessing.get_context("fork")
+    size = max(1, min(16, len(rest) // (jobs * 8)))
+    chunks = [rest[i : i + size] for i in range(len(rest)) if i % size == 0]
     with context.Pool(min(jobs, len(rest)), initializer=_start_worker) as pool:
-        chunk = max(1, min(16, len(rest) // (jobs * 8)))
-        results = pool.imap(_run_in_worker, rest, chunksize=chunk)
+        results = pool.imap(_run_chunk_in_worker, chunks)
         while True:  # in steps, so a Ctrl-C that Python swallowed still ends the wait
             try:
-                yield results.next(timeout=0.2)
+                yield from results.next(timeout=0.2)
             except multiprocessing.TimeoutError:
                 raise_if_signalled()
             except StopIteration:
                 return
-
-
-# --- JUnit XML ------------------------------------------------------------------------
-
-
-def junit_xml(results: list[CaseResult]) -> bytes:
-    """The results as JUnit XML (the Ant/Jenkins format every CI system reads): one
-    ``testsuite`` per product line, one ``testcase`` per product (classname = line,
-    name = product), a ``failure`` carrying every located message, ``error`` for an
-    internal error. No times or host names: the same results give the same bytes."""
-    suites: dict[str, list[CaseResult]] = {}
-    for result in results:
-        suites.setdefault(result.classname, []).append(result)
-    root = etree.Element(
-        "testsuites",
-        name="spl validate",
-        tests=str(len(results)),
-        failures=str(_count(results, "failed")),
-        errors=str(_count(results, "error")),
-    )
-    for suite_name, cases in suites.items():
-        suite = etree.SubElement(
-            root,
-            "testsuite",
-            name=_xml_text(suite_name),
-            tests=str(len(cases)),
-            failures=str(_count(cases, "failed")),
-            errors=str(_count(cases, "error")),
-            skipped="0",
-        )
-        for result in cases:
-            case = etree.SubElement(
-                suite,
-                "testcase",
-                classname=_xml_text(result.classname),
-                name=_xml_text(result.name),
-            )
-            if result.outcome != "passed":
-                first = result.messages[0] if result.messages else "failed"
-                problem = etree.SubElement(
-                    case,
-                    "failure" if result.outcome == "failed" else "error",
-                    message=_xml_text(first),
-                    type="ModelError" if result.outcome == "failed" else "InternalError",
-                )
-                problem.text = _xml_text("\n".join(result.messages))
-            notes = result.warnings + result.skipped + ((result.checked,) if result.checked else ())
-            if notes:
-                etree.SubElement(case, "system-out").text = _xml_text("\n".join(notes))
-    return etree.tostring(root, xml_declaration=True, encoding="UTF-8", pretty_print=True)
-
-
-def _count(results: list[CaseResult], outcome: str) -> int:
-    return sum(1 for r in results if r.outcome == outcome)
-
-
-def _xml_text(text: str) -> str:
-    """Messages and folder names are user input; characters XML 1.0 cannot carry are
-    shown escaped instead of making lxml refuse the whole report."""
-    return "".join(
-        c
-        if c in "\t\n\r" or (" " <= c <= "\ud7ff") or ("\ue000" <= c <= "\ufffd") or c > "\uffff"
-        else f"\\x{ord(c):02x}"
-        for c in text
-    )
 
 
 def summary(results: list[CaseResult]) -> str:

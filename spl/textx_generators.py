@@ -25,13 +25,13 @@ def _emit(
 ) -> None:
     from spl.commands.selection_options import selection_from_options
     from spl.dsl import rm
-    from spl.resolver.engine import resolve
+    from spl.pipeline import resolve_product
     from spl.resolver.product_line import ProductLine
 
     rm_file = Path(model._tx_filename)
     try:
         line = ProductLine(rm_file.parent, rm.load(rm_file))
-        product = resolve(line, selection_from_options(features, (), ())).product
+        product = resolve_product(line, selection_from_options(features, (), ())).product
     except ModelError as exc:
         raise TextXError("\n".join(str(d) for d in exc.diagnostics)) from None
     out = Path(output_path) if output_path else rm_file.parent / "build" / product.name
