@@ -75,6 +75,11 @@ class SplGroup(click.Group):
             ctx.exit(1)
         except (click.exceptions.Exit, click.exceptions.Abort, click.ClickException):
             raise
+        except BrokenPipeError:
+            # the reader left (`spl products LINE | head`): what it wanted was written;
+            # stdout goes to /dev/null so Python's flush at exit does not fail again
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+            ctx.exit(141)  # 128 + SIGPIPE, as a shell tool killed by the signal
         except OSError as exc:
             name = getattr(exc, "filename", None)
             where = f"{name}: " if name else ""

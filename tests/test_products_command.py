@@ -89,3 +89,25 @@ def test_three_wise_on_busybox_is_refused_with_the_number() -> None:
     result = run(REAL_MODELS / "busybox_2010-05-02_14-17-07.uvl", "--sample", "t=3")
     assert result.exit_code == 1
     assert "622 free features means 319,309,920 combinations" in result.stderr
+
+
+def test_a_reader_that_leaves_early_ends_spl_quietly() -> None:
+    """`spl products LINE | head -1`: when the reader has gone, spl stops writing and
+    exits 141 (as a tool killed by SIGPIPE) with nothing on stderr."""
+    import os
+    import subprocess
+    import sys
+
+    read, write = os.pipe()
+    os.close(read)  # the reader is gone before the first line is written
+    try:
+        done = subprocess.run(
+            [sys.executable, "-m", "spl", "products", str(ROOT / "product_lines" / "orchard"),
+             "--json"],
+            stdout=write, stderr=subprocess.PIPE, text=True, timeout=60,
+        )  # fmt: skip
+    finally:
+        os.close(write)
+    assert done.returncode == 141
+    assert "error" not in done.stderr.lower()
+    assert "Exception" not in done.stderr
