@@ -14,7 +14,9 @@ this module only orders them.
 
 from __future__ import annotations
 
+import contextlib
 import importlib
+import json
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -76,6 +78,24 @@ def write(derivation: Derivation, out: Path) -> None:
     from spl.generators.bundle import write_bundle
 
     write_bundle(derivation.bundle.files, out)
+
+
+def read_bundle(bundle: Path) -> tuple[Any, str]:
+    """A written bundle's resolved architecture (its ``resolved.tsm``, parsed by spl's
+    own .tsm language, so the rehearsal sees what a user could edit and re-read) and its
+    product name (from the manifest, else the system's). ModelError when it is none."""
+    from spl.dsl.tsm import parse_text
+
+    model = bundle / "resolved.tsm"
+    if not model.is_file():
+        raise ModelError([Diagnostic(None, f"{bundle} is not an spl bundle: no resolved.tsm")])
+    system = parse_text(model.read_text(encoding="utf-8"), str(model))
+    product = system.name
+    manifest = bundle / "manifest.json"
+    if manifest.is_file():
+        with contextlib.suppress(ValueError, AttributeError):  # a damaged one hides nothing
+            product = json.loads(manifest.read_text(encoding="utf-8")).get("product", product)
+    return system, product
 
 
 def parse_model(path: Path) -> tuple[Any, Any]:

@@ -18,8 +18,6 @@ The stand-ins get a JSON rendering of the plan; the comparison with the live gra
 
 from __future__ import annotations
 
-import contextlib
-import json
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -135,17 +133,9 @@ def _namespace(container: Any) -> str:
 
 def load_plan(bundle: Path) -> SmokePlan:
     """The plan of the bundle in folder ``bundle``; a ModelError when it is not one."""
-    from spl.dsl.tsm import parse_text
+    from spl.pipeline import read_bundle
 
-    model = bundle / "resolved.tsm"
-    if not model.is_file():
-        raise ModelError([Diagnostic(None, f"{bundle} is not an spl bundle: no resolved.tsm")])
-    system = parse_text(model.read_text(encoding="utf-8"), str(model))
-    product = system.name
-    manifest = bundle / "manifest.json"
-    if manifest.is_file():
-        with contextlib.suppress(ValueError, AttributeError):
-            product = json.loads(manifest.read_text(encoding="utf-8")).get("product", product)
+    system, product = read_bundle(bundle)
     return SmokePlan(product, _containers(system, bundle))
 
 
