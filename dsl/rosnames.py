@@ -155,13 +155,3 @@ def is_type(text: str) -> bool:
 def is_package(name: str) -> bool:
     return problem_package(name) is None
 
-
-def package_name_of(name: str) -> str:
-    """The REP 144 package name a CamelCase model name gives: ``PositionStore`` ->
-    ``position_store``, ``EV3Writer`` -> ``ev3_writer``. Generated packages and modules are
-    named this way, so one rule decides them wherever they are named."""
-    if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", name):
-        raise ValueError(f"not an identifier: {name!r}")
-    words = re.sub(r"([a-z0-9])([A-Z])", r"\1_\2", name)
-    words = re.sub(r"([A-Z]+)([A-Z][a-z])", r"\1_\2", words)
-    return re.sub(r"_+", "_", words).strip("_").lower() or "x"

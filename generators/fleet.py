@@ -34,6 +34,7 @@ from spl import __version__
 from spl.diagnostics import Diagnostic, ModelError
 from spl.generators import ros1, ros2
 from spl.generators.bundle import bundle_files, manifest
+from spl.generators.launch_xml import serialize
 from spl.generators.rapyuta import configurations, render
 from spl.generators.rapyuta_rules import check_all
 from spl.resolver.fleet_deployment import FleetDeployment, SharedInstance
@@ -66,7 +67,7 @@ def _shared_launch(module: Any, deployment: FleetDeployment, instance: SharedIns
             root = document
         else:
             root.extend(document.findall("node"))
-    return ros1.serialize(root if root is not None else etree.Element("launch"))
+    return serialize(root if root is not None else etree.Element("launch"))
 
 
 def _ros1_instance(deployment: FleetDeployment, instance: SharedInstance) -> dict[str, bytes]:

@@ -8,13 +8,13 @@ from __future__ import annotations
 
 from typing import Any
 
-from spl.dsl.rosnames import package_name_of
 from spl.metamodels import tsm
+from spl.resolver.generated_names import snake_case
 
 
 def client_package_name(node_name: str) -> str:
     """ROS package and executable of a writer/reader: ``PositionWriter`` -> ``position_writer``."""
-    return package_name_of(node_name)
+    return snake_case(node_name)
 
 
 def data_client_implementation(node: Any) -> str | None:

@@ -68,7 +68,7 @@ def derive(line: ProductLine, selection: ProductSelection) -> Derivation:
 def validate(derivation: Derivation) -> list[str]:
     """Every problem of the bundle's files, checked by their consumers' rules (launch
     XSDs, Rapyuta schema and rules, Python compiled, resolved model re-parsed, ...)."""
-    from spl.generators.validation import validate_bundle
+    from spl.bundle_validation import validate_bundle
 
     return validate_bundle(derivation.bundle.files)
 
