@@ -1,7 +1,7 @@
 """SPL015: listed products (``products/*.yaml``) that are not a valid, complete selection.
 
-Reported as warnings at the product file: a listed product that does not resolve is a
-stale example, not a fault of the line itself.
+Each is a warning: located at the selected feature that contradicts the feature model,
+at the file's first line for a choice it leaves open, or where the file is malformed.
 """
 
 from __future__ import annotations
