@@ -3,10 +3,11 @@
 The encoding is the contract between the feature model and the SAT solver. Features get
 the variables ``1..n`` in tree pre-order (so the numbering, and everything derived from
 it, is deterministic); auxiliary variables (Tseitin definitions, cardinality encodings)
-come after them. Every clause belongs to exactly one :class:`Rule` — the root, a
-child-needs-parent edge, a mandatory child, a group, or a cross-tree constraint — and
-the rule keeps its model element and source location, so an unsatisfiable selection can
-be explained by naming the rules it violates, in the words the author wrote them.
+come after them. Every clause belongs to exactly one rule (:class:`~spl.resolver.fm_rules.Rule`:
+the root, a child-needs-parent edge, a mandatory child, a group, or a cross-tree
+constraint), so an unsatisfiable selection can be explained in the author's words.
+Tree and groups are encoded here; a cross-tree constraint's clauses come from
+:mod:`spl.resolver.constraint_clauses`.
 
 Semantics (SPEC section 3, metamodels/fm.ecore): the root is selected; a child implies
 its parent; a mandatory child is equivalent to its parent; an ``alternative`` group
@@ -19,73 +20,22 @@ from __future__ import annotations
 from collections.abc import Iterator
 from dataclasses import dataclass
 from functools import cached_property
-from typing import Any, NamedTuple
+from typing import Any
 
 from pysat.card import CardEnc, EncType
 
-from spl.diagnostics import Diagnostic, Location, ModelError, location_of
+from spl.diagnostics import Diagnostic, ModelError, location_of
 from spl.dsl.fm_plain import FeatureModel as PlainFeatureModel
 from spl.dsl.fm_printer import format_formula
+from spl.resolver.constraint_clauses import constraint_clauses
+from spl.resolver.fm_rules import Rule, group_bounds, group_kind
+from spl.resolver.formula_trees import formula_features, formula_tree
 
 Clause = tuple[int, ...]
 
 # Pairwise at-most-one is aux-free and propagates best; beyond this size its quadratic
 # clause count loses against a sequential counter.
 PAIRWISE_AMO_LIMIT = 12
-# A constraint whose CNF by distribution stays under this many clauses is encoded
-# directly (no auxiliary variables); bigger ones get Tseitin definitions.
-DIRECT_CNF_LIMIT = 16
-
-
-class Rule(NamedTuple):
-    """One model element's contribution to the formula; explanations quote ``text``.
-
-    ``features`` are the features the rule talks about: for tree rules (child, parent),
-    for a group (parent, *members); for a constraint its features in first-use order.
-    The wording and the location are built only when asked for, and the rule is a named
-    tuple: encoding a 2500-feature model must not pay for thousands of sentences nobody
-    reads.
-    """
-
-    index: int
-    kind: str  # root | parent | mandatory | group | constraint
-    element: Any
-    features: tuple[str, ...] = ()
-    bounds: tuple[int, int] = (0, -1)  # a group's (lower, upper as written, -1 = *)
-    formula: tuple | None = None  # constraints: the formula as a tree of tuples
-
-    @property
-    def location(self) -> Location | None:
-        """Where the rule is written (looked up on demand: most rules are never reported)."""
-        where = location_of(self.element)
-        if where is None and self.kind == "constraint":
-            where = location_of(self.element.formula)
-        return where
-
-    @property
-    def text(self) -> str:
-        kind, names = self.kind, self.features
-        if kind == "root":
-            return f"{names[0]} is the root feature and always selected"
-        if kind == "parent":
-            return f"{names[0]} needs its parent {names[1]}"
-        if kind == "mandatory":
-            return f"{names[0]} is mandatory in {names[1]}"
-        if kind == "constraint":
-            return format_formula(self.element.formula)
-        group = self.element
-        parent, listed = names[0], ", ".join(names[1:])
-        lower, upper = self.bounds
-        if group_kind(group) == "alternative":
-            return f"{parent}: exactly one of {listed}"
-        if group_kind(group) == "or":
-            return f"{parent}: at least one of {listed}"
-        if upper < 0:
-            return f"{parent}: at least {lower} of {listed}"
-        return f"{parent}: between {lower} and {upper} of {listed}"
-
-    def __str__(self) -> str:
-        return f"{self.text} ({self.location})" if self.location else self.text
 
 
 @dataclass
@@ -124,88 +74,12 @@ class FeatureModelCNF:
         return self.names[abs(literal) - 1]
 
 
-def group_kind(group: Any) -> str:
-    kind = group.kind
-    return kind.name if hasattr(kind, "name") else str(kind)
-
-
-def group_bounds(group: Any, kind: str | None = None, n: int | None = None) -> tuple[int, int]:
-    """(lower, upper) of a group, upper ``-1`` meaning unbounded."""
-    n = len(group.features) if n is None else n
-    kind = group_kind(group) if kind is None else kind
-    if kind == "mandatory":
-        return n, n
-    if kind == "optional":
-        return 0, n
-    if kind == "alternative":
-        return 1, 1
-    if kind == "or":
-        return 1, n
-    return int(group.lower or 0), int(group.upper if group.upper is not None else -1)
-
-
-def formula_tree(formula: Any) -> tuple:
-    """A constraint formula as plain tuples: ("ref", name) | ("not", t) | (op, l, r).
-
-    One pass over the pyecore objects; the CNF encoding and selection checking work on
-    the tuples, which is several times faster than attribute access through pyecore.
-    A plain model's trees (:mod:`spl.dsl.fm_plain`) have this shape plus a trailing
-    source position per node, which everything reading trees by index ignores.
-    """
-    cls = type(formula).__name__
-    if cls == "FeatureRef":
-        return ("ref", formula.feature.name)
-    if cls == "Not":
-        return ("not", formula_tree(formula.operand))
-    return (formula.operator, formula_tree(formula.left), formula_tree(formula.right))
-
-
-def formula_features(tree: tuple) -> tuple[str, ...]:
-    """The features a formula tree mentions, in first-use order (one pass: the long
-    or-chains of kernel models made the recursive concatenation quadratic)."""
-    found: dict[str, None] = {}
-    stack = [tree]
-    while stack:
-        node = stack.pop()
-        head = node[0]
-        if head == "ref":
-            found[node[1]] = None
-        elif head == "not":
-            stack.append(node[1])
-        else:
-            stack.append(node[2])
-            stack.append(node[1])
-    return tuple(found)
-
-
-def evaluate(tree: tuple, product: set[str] | frozenset[str]) -> bool:
-    """The truth of a formula tree in a product (a set of feature names)."""
-    head = tree[0]
-    if head == "ref":
-        return tree[1] in product
-    if head == "not":
-        return not evaluate(tree[1], product)
-    a, b = evaluate(tree[1], product), evaluate(tree[2], product)
-    if head == "and":
-        return a and b
-    if head == "or":
-        return a or b
-    if head in ("implies", "requires"):
-        return (not a) or b
-    if head == "excludes":
-        return not (a and b)
-    if head == "iff":
-        return a == b
-    raise ValueError(f"unknown operator {head!r}")
-
-
 class _Builder:
     def __init__(self, model: Any) -> None:
         self.model = model
         self.rule_data: list[tuple] = []
         self.rule_clauses: list[list[Clause]] = []
         self.modelled_mandatory: set[str] = set()
-        self.definitions: list[Clause] = []
         # one pass over the pyecore tree (attribute access there is the slow part)
         root = model.root
         self.root = root
@@ -266,10 +140,6 @@ class _Builder:
     ) -> None:
         self.rule_data.append((kind, element, features, bounds, tree))
         self.rule_clauses.append(clauses)
-
-    def fresh(self) -> int:
-        self.top += 1
-        return self.top
 
     def build(self) -> FeatureModelCNF:
         self.rule("root", self.root, (self.names[0],), [(1,)])
@@ -374,161 +244,8 @@ class _Builder:
                     for name in unknown
                 ]
             )
-        binary = _binary_clause(tree)
-        if binary is not None:  # most real constraints: requires, excludes, A => B, ...
-            a, b = self.var[binary[0][1]], self.var[binary[1][1]]
-            a, b = (a if binary[0][0] else -a), (b if binary[1][0] else -b)
-            clauses = [(a, b)] if a != -b else []
-            self.rule(
-                "constraint",
-                constraint,
-                tuple(dict.fromkeys((binary[0][1], binary[1][1]))),
-                [(a,)] if a == b else clauses,
-                (0, -1),
-                tree,
-            )
-            return
-        nnf = self.nnf(tree, True)
-        try:
-            clauses = _distribute(nnf)
-        except _TooBig:
-            clauses = []
-            for part in _flat(nnf, "and"):  # a conjunction needs no variable of its own
-                try:
-                    clauses.extend(_distribute(part))
-                except _TooBig:
-                    clauses.append((self.tseitin(part),))
-            clauses.extend(self.definitions)
-            self.definitions = []
-        self.rule("constraint", constraint, features, _simplify(clauses), (0, -1), tree)
-
-    # --- formulas -------------------------------------------------------------------
-    def nnf(self, tree: tuple, positive: bool) -> tuple:
-        """Negation normal form as nested tuples: ("lit", l) | ("and"|"or", [parts])."""
-        op = tree[0]
-        if op == "ref":
-            v = self.var[tree[1]]
-            return ("lit", v if positive else -v)
-        if op == "not":
-            return self.nnf(tree[1], not positive)
-        a, b = tree[1], tree[2]
-        if op == "and":
-            parts, junctor = [self.nnf(a, positive), self.nnf(b, positive)], "and"
-        elif op == "or":
-            parts, junctor = [self.nnf(a, positive), self.nnf(b, positive)], "or"
-        elif op in ("implies", "requires"):
-            parts, junctor = [self.nnf(a, not positive), self.nnf(b, positive)], "or"
-        elif op == "excludes":
-            parts, junctor = [self.nnf(a, not positive), self.nnf(b, not positive)], "or"
-        elif op == "iff":
-            if positive:
-                return (
-                    "or",
-                    [
-                        ("and", [self.nnf(a, True), self.nnf(b, True)]),
-                        ("and", [self.nnf(a, False), self.nnf(b, False)]),
-                    ],
-                )
-            return (
-                "or",
-                [
-                    ("and", [self.nnf(a, True), self.nnf(b, False)]),
-                    ("and", [self.nnf(a, False), self.nnf(b, True)]),
-                ],
-            )
-        else:
-            raise ValueError(f"unknown operator {op!r}")
-        if not positive:
-            junctor = "or" if junctor == "and" else "and"
-        return (junctor, parts)
-
-    def tseitin(self, node: tuple) -> int:
-        """A literal equivalent to ``node``; full equivalences keep auxiliaries determined.
-
-        Nested operands of the same junctor share one variable (``a | (b | c)`` is one
-        three-way or): the long or-chains of kernel models would otherwise get a variable
-        per operator, and every solver call pays for each variable.
-        """
-        if node[0] == "lit":
-            return node[1]
-        lits = [self.tseitin(part) for part in _flat(node, node[0])]
-        x = self.fresh()
-        if node[0] == "and":
-            self.definitions.extend((-x, lit) for lit in lits)
-            self.definitions.append((x, *(-lit for lit in lits)))
-        else:
-            self.definitions.append((-x, *lits))
-            self.definitions.extend((x, -lit) for lit in lits)
-        return x
-
-
-class _TooBig(Exception):
-    pass
-
-
-def _flat(node: tuple, junctor: str) -> list[tuple]:
-    """The operands of ``node`` with nested ``junctor`` nodes opened, in order."""
-    if node[0] != junctor:
-        return [node]
-    out: list[tuple] = []
-    stack = list(reversed(node[1]))
-    while stack:
-        part = stack.pop()
-        if part[0] == junctor:
-            stack.extend(reversed(part[1]))
-        else:
-            out.append(part)
-    return out
-
-
-def _binary_clause(tree: tuple) -> tuple[tuple[bool, str], tuple[bool, str]] | None:
-    """``((sign, name), (sign, name))`` when the formula is one two-literal clause."""
-    op = tree[0]
-    if op == "not":
-        inner = tree[1]
-        if inner[0] == "and" and inner[1][0] == "ref" and inner[2][0] == "ref":
-            return (False, inner[1][1]), (False, inner[2][1])
-        return None
-    if (
-        op not in ("implies", "requires", "excludes", "or")
-        or tree[1][0] != "ref"
-        or tree[2][0] != "ref"
-    ):
-        return None
-    left, right = tree[1][1], tree[2][1]
-    if op == "or":
-        return (True, left), (True, right)
-    if op == "excludes":
-        return (False, left), (False, right)
-    return (False, left), (True, right)
-
-
-def _distribute(node: tuple) -> list[Clause]:
-    if node[0] == "lit":
-        return [(node[1],)]
-    parts = [_distribute(part) for part in node[1]]
-    if node[0] == "and":
-        out = [c for part in parts for c in part]
-    else:
-        out = [()]
-        for part in parts:
-            out = [a + b for a in out for b in part]
-            if len(out) > DIRECT_CNF_LIMIT:
-                raise _TooBig
-    if len(out) > DIRECT_CNF_LIMIT:
-        raise _TooBig
-    return out
-
-
-def _simplify(clauses: list[Clause]) -> list[Clause]:
-    """Drop duplicate literals and tautologies (``A or not A``), keeping literal order."""
-    out: list[Clause] = []
-    for clause in clauses:
-        unique = dict.fromkeys(clause)
-        if any(-lit in unique for lit in unique):
-            continue  # a literal and its negation: always true
-        out.append(clause if len(unique) == len(clause) else tuple(unique))
-    return out
+        clauses, self.top = constraint_clauses(tree, self.var, self.top)
+        self.rule("constraint", constraint, features, clauses, (0, -1), tree)
 
 
 def encode(model: Any) -> FeatureModelCNF:

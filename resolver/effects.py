@@ -21,12 +21,12 @@ server of C         ``connect NODE.C to server S`` and service   the .tsm bindin
 ==================  ===========================================  =======================
 
 A node is present when it is stable, or when an active element requires or transforms
-it (:func:`spl.resolver.line_checks.touched_elements`, the engine's ``keep``). Within
-one product two active elements never give one aspect two values (the engine refuses
-that, SPL020), so an aspect's value is that of *the* active effect, or the template's.
-Values are those the resolved model shows, so a prediction can be compared with a
-resolution (:func:`observed`) and, in the fleet analysis, with what other robots'
-resolved products ask.
+it (:func:`spl.resolver.line_checks.unreachable_optionals.touched_elements`, the
+engine's ``keep``). Within one product two active elements never give one aspect two
+values (the engine refuses that, SPL020), so an aspect's value is that of *the* active
+effect, or the template's. Values are those the resolved model shows, so a prediction
+can be compared with a resolution (:func:`observed`) and, in the fleet analysis, with
+what other robots' resolved products ask.
 """
 
 from __future__ import annotations
@@ -38,7 +38,7 @@ from typing import Any
 from spl.diagnostics import Location, location_of
 from spl.metamodels import tsm
 from spl.resolver.data_clients import data_client_implementation
-from spl.resolver.line_checks import touched_elements
+from spl.resolver.line_checks.unreachable_optionals import touched_elements
 from spl.resolver.placement import sharing_mode
 from spl.resolver.product import topic_ros_name
 from spl.resolver.transformations.parameter import canonical_text

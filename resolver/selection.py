@@ -27,7 +27,8 @@ from pysat.solvers import Solver
 
 from spl.diagnostics import Diagnostic, Location, ModelError
 from spl.resolver.analysis import FeatureModelFormula, formula_of
-from spl.resolver.cnf import Rule, evaluate
+from spl.resolver.fm_rules import Rule
+from spl.resolver.formula_trees import evaluate
 
 Status = Literal["complete", "incomplete", "invalid"]
 

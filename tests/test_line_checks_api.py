@@ -1,4 +1,4 @@
-"""Line checks as functions over a ProductLine (resolver/line_checks.py): every finding
+"""Line checks as functions over a ProductLine (resolver/line_checks/): every finding
 of the broken line, located and worded, witnesses the engine agrees with, and no report
 for conflicts the feature model rules out."""
 

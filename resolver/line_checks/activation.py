@@ -1,7 +1,7 @@
 """Which resolution elements can be active together: SAT questions about a product line.
 
-The product-line checks (:mod:`spl.resolver.line_checks`, :mod:`spl.resolver.lookup_checks`)
-ask them about the activation literals of resolution elements (``F`` for ``when F
+The product-line checks (:mod:`spl.resolver.line_checks`, one module a check family) ask
+them about the activation literals of resolution elements (``F`` for ``when F
 selected``, ``-F`` for ``when F not selected``) under assumptions, so their cost grows
 with the number of elements and questions, never with the number of products.
 """

@@ -29,7 +29,7 @@ from spl.dsl.rm_names import (
     not_served_here,
     same_container_bridge,
 )
-from spl.resolver.activation import ActivationSolver
+from spl.resolver.line_checks.activation import ActivationSolver
 from spl.resolver.product_line import ProductLine
 
 PRODUCT_DEPENDENT = "SPL016"

@@ -1,0 +1,66 @@
+"""Checks of a product line as a whole (SPEC section 8), before any product is derived.
+
+The engine finds a conflict only in the one product it resolves; a CI job wants to
+know that *no* product of the line can hit one, without deriving them all. Each check
+here asks the SAT solver about the activation literals of resolution elements
+(``F`` for ``when F selected``, ``-F`` for ``when F not selected``) under assumptions,
+so the cost grows with the number of elements and of candidate pairs, never with the
+number of products:
+
+========  ========  ==================================================================
+code      severity  finding
+========  ========  ==================================================================
+SPL010    error     a resolution element that can never be active (its feature is dead,
+                    or core for ``not selected``), with the feature-model rules why
+SPL011    warning   an optional node or store no product can contain: no element that
+                    can be active requires or transforms it
+SPL012    error     two transformations of elements that can be active in one product
+                    decide one thing differently (implementation, parameter value,
+                    refinement period, migration target, topic, server, sharing mode);
+                    the message names a witness product
+SPL013    error     a migration to a missing container or to the node's own container
+                    (found by the .rm parser, ``spl.dsl.rm.MIGRATION_TARGET``, so
+                    ``spl check DIR`` reports it on parsing)
+SPL014    info      a concrete leaf feature with no effect: no resolution element,
+                    attribute, sharing mode or constraint mentions it
+SPL015    warning   a listed product (``products/*.yaml``) that is not a valid, complete
+                    selection
+SPL016    error     a statement that fails in some product activating its element: a
+                    topic missing where the node is at that point, a client and server
+                    apart, ... (:mod:`.lookups`, docs/semantics.md C3);
+                    the message names a witness product
+========  ========  ==================================================================
+
+One module a check family; this package runs them all. :class:`ActivationSolver`
+(:mod:`.activation`) answers the SAT questions of every check but SPL014 and SPL015.
+"""
+
+from __future__ import annotations
+
+from spl.diagnostics import Diagnostic, Location
+from spl.resolver.line_checks.activation import ActivationSolver
+from spl.resolver.line_checks.conflicts import reachable_conflicts
+from spl.resolver.line_checks.dead_elements import never_active_elements
+from spl.resolver.line_checks.listed_products import unresolvable_products
+from spl.resolver.line_checks.lookups import product_dependent_statements
+from spl.resolver.line_checks.no_effect import features_without_effect
+from spl.resolver.line_checks.unreachable_optionals import unreachable_optional_elements
+from spl.resolver.product_line import ProductLine
+
+
+def check_product_line(line: ProductLine, products: bool = True) -> list[Diagnostic]:
+    """Every line check, sorted by location; ``products`` includes the listed products."""
+    with ActivationSolver(line) as solver:
+        found = never_active_elements(line, solver)
+        found += unreachable_optional_elements(line, solver)
+        found += reachable_conflicts(line, solver)
+        found += product_dependent_statements(line, solver)
+    found += features_without_effect(line)
+    if products:
+        found += unresolvable_products(line)
+    return sorted(found, key=diagnostic_order)
+
+
+def diagnostic_order(d: Diagnostic) -> tuple:
+    loc = d.location or Location("")
+    return (loc.file, loc.line, loc.col, d.code or "", d.message)

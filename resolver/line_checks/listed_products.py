@@ -1,0 +1,57 @@
+"""SPL015: listed products (``products/*.yaml``) that are not a valid, complete selection.
+
+Each is a warning: located at the selected feature that contradicts the feature model,
+at the file's first line for a choice it leaves open, or where the file is malformed.
+"""
+
+from __future__ import annotations
+
+from spl.diagnostics import Diagnostic, Location, ModelError
+from spl.resolver.product_line import ProductLine
+from spl.resolver.product_selection import load_selection_file
+from spl.resolver.selection import check_selection
+
+UNRESOLVABLE_PRODUCT = "SPL015"
+
+
+def unresolvable_products(line: ProductLine) -> list[Diagnostic]:
+    """Listed products that are not a valid, complete selection of the feature model."""
+    found = []
+    for path in line.product_files():
+        try:
+            selection = load_selection_file(path)
+            check = check_selection(
+                line.formula,
+                selection.features,
+                selection.deselected,
+                selection.locations,
+                Location(str(path), 1, 1),
+            )
+        except ModelError as exc:
+            found.extend(_as_warnings(exc.diagnostics, f"product {path.stem}: "))
+            continue
+        if check.status == "invalid":  # located at the selected feature that contradicts
+            found.extend(
+                _as_warnings(
+                    [d for d in check.diagnostics if d.severity == "error"],
+                    f"product {selection.name} does not resolve: ",
+                )
+            )
+        elif check.status == "incomplete":
+            found.append(
+                Diagnostic(
+                    Location(str(path), 1, 1),
+                    f"product {selection.name} does not resolve: open choice: "
+                    f"{check.explanation()}",
+                    "warning",
+                    UNRESOLVABLE_PRODUCT,
+                )
+            )
+    return found
+
+
+def _as_warnings(diagnostics: list[Diagnostic], prefix: str) -> list[Diagnostic]:
+    return [
+        Diagnostic(d.location, prefix + d.message, "warning", UNRESOLVABLE_PRODUCT)
+        for d in diagnostics
+    ]
