@@ -31,6 +31,7 @@ from spl.diagnostics import Diagnostic, Location, ModelError, unsaved_texts
 MODEL_SUFFIXES = (".tsm", ".fm", ".rm")
 FEATURE_MODEL_SUFFIXES = (".uvl", ".xml")
 SUFFIXES = MODEL_SUFFIXES + FEATURE_MODEL_SUFFIXES
+_FEATUREIDE_ROOT = re.compile(r"<(featureModel|extendedFeatureModel)[\s>]")
 _XML_ENCODING = re.compile(rb"""^<\?xml[^>]*encoding\s*=\s*["']([A-Za-z0-9._\-]+)["']""")
 
 
@@ -56,6 +57,11 @@ def product_line(path: str) -> str | None:
     except OSError:
         return None
     return folder if len(models) == 1 else None
+
+
+def is_featureide(text: str) -> bool:
+    """Whether an .xml text is a FeatureIDE feature model (other XML is not spl's)."""
+    return _FEATUREIDE_ROOT.search(text[:4096]) is not None
 
 
 def check_file(path: str, texts: Mapping[str, str]) -> FileCheck:

@@ -51,6 +51,7 @@ class Project:
     def __init__(self) -> None:
         self.documents: dict[str, Document] = {}  # by absolute path
         self.models: dict[str, tuple[str, Any]] = {}  # path -> (text parsed, model)
+        self.read_texts: dict[str, str] = {}  # path -> the text last checked, parsed or not
         self._lock = threading.Lock()
         self.encoding = UTF16  # the position encoding the client and server agreed on
         self._tokens: dict[str, tuple[str, Tokens]] = {}

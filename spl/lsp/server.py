@@ -108,9 +108,12 @@ class SplLanguageServer(LanguageServer):
     def active_units(self) -> list[Unit]:
         """One check per open document: its product line's, or its own."""
         units: list[Unit] = []
-        for path in self.project.documents:
-            if os.path.splitext(path)[1].lower() not in checking.SUFFIXES:
+        for path, document in self.project.documents.items():
+            suffix = os.path.splitext(path)[1].lower()
+            if suffix not in checking.SUFFIXES:
                 continue
+            if suffix == ".xml" and not checking.is_featureide(document.text):
+                continue  # a launch file or any other XML: not a feature model
             folder = checking.product_line(path)
             units.append(("line", folder) if folder else ("file", path))
         return list(dict.fromkeys(units))
@@ -145,7 +148,7 @@ class SplLanguageServer(LanguageServer):
             loop.call_soon_threadsafe(self.publish, unit, found)
         for path in self._model_files(texts):
             text = self.project.text(path)
-            if text is not None and self.project.parsed_text(path) != text:
+            if text is not None and self.project.read_texts.get(path) != text:
                 try:
                     result = checking.check_file(path, texts)
                 except Exception:
@@ -179,6 +182,8 @@ class SplLanguageServer(LanguageServer):
 
     def _keep_models(self, result: checking.FileCheck, texts: dict[str, str], text: Any) -> None:
         model = result.model
+        if text is not None:
+            self.project.read_texts[result.path] = text  # parsed (or refused): not again
         if model is None or text is None:
             return
         if hasattr(model, "rm"):  # a .rm loaded with its .tsm and .fm: keep those too
@@ -192,7 +197,8 @@ class SplLanguageServer(LanguageServer):
 
     def _model_files(self, texts: dict[str, str]) -> list[str]:
         """The files whose models requests need: open ones and those open .rm files name."""
-        found = [p for p in texts if p.endswith((".tsm", ".fm", ".uvl", ".xml"))]
+        found = [p for p in texts if p.endswith((".tsm", ".fm", ".uvl"))]
+        found += [p for p in texts if p.endswith(".xml") and checking.is_featureide(texts[p])]
         for path in texts:
             if path.endswith(".rm"):
                 found += header_paths(path, self.project.tokens(path)).values()
