@@ -15,6 +15,7 @@ import asyncio
 import contextlib
 import logging
 import os
+import threading
 import traceback
 from collections.abc import Iterable
 from concurrent.futures import ThreadPoolExecutor
@@ -26,12 +27,13 @@ from pygls.uris import from_fs_path, to_fs_path
 
 from spl import __version__
 from spl.diagnostics import Diagnostic
-from spl.lsp import checking, completion, formatting, hover, outline
+from spl.lsp import checking
 from spl.lsp.positions import LineIndex
-from spl.lsp.project import Document, Project, header_paths
+from spl.lsp.project import Project, header_paths
 from spl.lsp.symbols import Decl
 
 DEBOUNCE_SECONDS = 0.15  # quiet time after a change before the check starts
+CHECK_STACK_BYTES = 64 * 1024 * 1024
 SETTLE_SECONDS = 2.0  # how long navigation waits for the models of a change
 SEVERITIES = {
     "error": types.DiagnosticSeverity.Error,
@@ -55,6 +57,9 @@ class SplLanguageServer(LanguageServer):
     def __init__(self) -> None:
         super().__init__("spl", __version__)
         self.project = Project()
+        # deep models recurse deeply in textX and the analysis: the checking thread gets
+        # the stack of a main thread, not a small thread default
+        threading.stack_size(CHECK_STACK_BYTES)
         self.checker = ThreadPoolExecutor(max_workers=1, thread_name_prefix="spl-check")
         self.changed: set[str] = set()
         self.last_change = 0.0
@@ -87,9 +92,12 @@ class SplLanguageServer(LanguageServer):
                 await asyncio.sleep(quiet)
             self.wake.clear()
             changed, self.changed = self.changed, set()
-            units = self.units_reading(changed)
-            texts = self.project.open_texts()
-            await loop.run_in_executor(self.checker, self._check, units, texts, loop)
+            try:
+                units = self.units_reading(changed)
+                texts = self.project.open_texts()
+                await loop.run_in_executor(self.checker, self._check, units, texts, loop)
+            except Exception:  # never the end of checking: the next change checks again
+                logger.error("checking failed:\n%s", traceback.format_exc())
             if not self.changed:
                 self._settled().set()
 
@@ -125,7 +133,10 @@ class SplLanguageServer(LanguageServer):
             rms = [where] if where.endswith(".rm") else []
             found = {where}
         else:
-            found = {os.path.join(where, e.name) for e in os.scandir(where)}
+            try:
+                found = {os.path.join(where, e.name) for e in os.scandir(where)}
+            except OSError:  # the folder is gone: its open files are all there is
+                found = {p for p in self.project.documents if os.path.dirname(p) == where}
             rms = [p for p in found if p.endswith(".rm")]
         for rm in rms:
             found |= set(header_paths(rm, self.project.tokens(rm)).values())
@@ -157,7 +168,8 @@ class SplLanguageServer(LanguageServer):
                 self._keep_models(result, texts, text)
 
     def _first_open(self, folder: str) -> str:
-        return next(p for p in self.project.documents if os.path.dirname(p) == folder)
+        found = [p for p in list(self.project.documents) if os.path.dirname(p) == folder]
+        return found[0] if found else os.path.join(folder, ".")
 
     def _findings(self, unit: Unit, texts: dict[str, str]) -> dict[str, tuple[Diagnostic, ...]]:
         kind, where = unit
@@ -260,135 +272,9 @@ class SplLanguageServer(LanguageServer):
         return types.Location(uri=uri_of(decl.file), range=lines.range(start, end))
 
 
-def _path_and_offset(ls: SplLanguageServer, document: Any, position: Any) -> tuple[str, int]:
-    path = path_of(document.uri)
-    return path, ls.lines(path).offset(position)
-
-
-def build_server() -> SplLanguageServer:
-    """The server with every feature registered."""
-    server = SplLanguageServer()
-
-    @server.feature(types.INITIALIZED)
-    def initialized(ls: SplLanguageServer, params: types.InitializedParams) -> None:
-        ls.project.encoding = str(ls.workspace.position_encoding or "utf-16")
-
-    @server.feature(types.TEXT_DOCUMENT_DID_OPEN)
-    def did_open(ls: SplLanguageServer, params: types.DidOpenTextDocumentParams) -> None:
-        item = params.text_document
-        path = path_of(item.uri)
-        ls.project.documents[path] = Document(item.uri, path, item.version, item.text)
-        ls.note_change(path)
-
-    @server.feature(types.TEXT_DOCUMENT_DID_CHANGE)
-    def did_change(ls: SplLanguageServer, params: types.DidChangeTextDocumentParams) -> None:
-        path = path_of(params.text_document.uri)
-        document = ls.workspace.get_text_document(params.text_document.uri)
-        ls.project.documents[path] = Document(
-            document.uri, path, params.text_document.version, document.source
-        )
-        ls.note_change(path)
-
-    @server.feature(types.TEXT_DOCUMENT_DID_SAVE)
-    def did_save(ls: SplLanguageServer, params: types.DidSaveTextDocumentParams) -> None:
-        ls.note_change(path_of(params.text_document.uri))  # files not open read it from disk
-
-    @server.feature(types.TEXT_DOCUMENT_DID_CLOSE)
-    def did_close(ls: SplLanguageServer, params: types.DidCloseTextDocumentParams) -> None:
-        path = path_of(params.text_document.uri)
-        ls.project.documents.pop(path, None)
-        ls.flush()  # a check no open document needs any more is forgotten
-        ls.note_change(path)  # the saved file now stands for it
-
-    @server.feature(types.TEXT_DOCUMENT_DEFINITION)
-    async def definition(ls: SplLanguageServer, params: types.DefinitionParams) -> Any:
-        await ls.wait_settled()
-        path, offset = _path_and_offset(ls, params.text_document, params.position)
-        occurrence, _ = ls.project.names_at(path, offset)
-        if occurrence is None:
-            return None
-        return [ls.location(d) for d in occurrence.decls if d.file]
-
-    @server.feature(types.TEXT_DOCUMENT_REFERENCES)
-    async def references(ls: SplLanguageServer, params: types.ReferenceParams) -> Any:
-        await ls.wait_settled()
-        path, offset = _path_and_offset(ls, params.text_document, params.position)
-        occurrence, _ = ls.project.names_at(path, offset)
-        if occurrence is None:
-            return None
-        wanted = occurrence.decls
-        found = []
-        for file, other in ls.project.references(path, wanted):
-            if other.declaration and not params.context.include_declaration:
-                continue
-            lines = ls.lines(file)
-            found.append(
-                types.Location(uri=uri_of(file), range=lines.range(other.start, other.end))
-            )
-        return found
-
-    @server.feature(types.TEXT_DOCUMENT_HOVER)
-    async def on_hover(ls: SplLanguageServer, params: types.HoverParams) -> Any:
-        await ls.wait_settled()
-        path, offset = _path_and_offset(ls, params.text_document, params.position)
-        occurrence, index = ls.project.names_at(path, offset)
-        if occurrence is None:
-            return None
-        text = hover.describe(occurrence.decls, index)
-        if not text:
-            return None
-        return types.Hover(
-            contents=types.MarkupContent(kind=types.MarkupKind.Markdown, value=text),
-            range=ls.lines(path).range(occurrence.start, occurrence.end),
-        )
-
-    @server.feature(
-        types.TEXT_DOCUMENT_COMPLETION, types.CompletionOptions(trigger_characters=["."])
-    )
-    async def on_completion(ls: SplLanguageServer, params: types.CompletionParams) -> Any:
-        path, offset = _path_and_offset(ls, params.text_document, params.position)
-        tsm, fm, _ = ls.project.family(path)
-        if not any(ls.project.model(p) for p in (tsm, fm) if p):
-            await ls.wait_settled()  # just opened: its models are being read
-        index = ls.project.index(tsm, fm)
-        items = completion.complete(path, ls.project.tokens(path), offset, index)
-        return types.CompletionList(is_incomplete=False, items=items)
-
-    @server.feature(types.TEXT_DOCUMENT_DOCUMENT_SYMBOL)
-    async def document_symbol(ls: SplLanguageServer, params: types.DocumentSymbolParams) -> Any:
-        await ls.wait_settled()
-        path = path_of(params.text_document.uri)
-        return outline.symbols(path, ls.project)
-
-    @server.feature(types.TEXT_DOCUMENT_FORMATTING)
-    async def on_formatting(ls: SplLanguageServer, params: types.DocumentFormattingParams) -> Any:
-        path = path_of(params.text_document.uri)
-        text = ls.project.text(path) or ""
-        texts = {**ls.project.open_texts(), path: text}
-        loop = asyncio.get_running_loop()
-        parsed = await loop.run_in_executor(ls.checker, checking.check_file, path, texts)
-        formatted, reason = formatting.formatted(path, text, parsed.model)
-        if formatted is None:
-            ls.window_show_message(
-                types.ShowMessageParams(type=types.MessageType.Warning, message=reason)
-            )
-            return None
-        if formatted == text:
-            return []
-        lines = ls.lines(path)
-        return [types.TextEdit(range=lines.range(0, len(text)), new_text=formatted)]
-
-    @server.feature(types.SHUTDOWN)
-    def shutdown(ls: SplLanguageServer, params: Any) -> None:
-        ls.stopping = True  # no check starts after this
-        if ls.check_task is not None:
-            ls.check_task.cancel()
-        ls.checker.shutdown(wait=False, cancel_futures=True)
-
-    return server
-
-
 def serve() -> None:
     """Serve one client over stdin and stdout until it says exit."""
+    from spl.lsp.requests import build_server
+
     logging.basicConfig(level=logging.WARNING, format="spl lsp: %(levelname)s: %(message)s")
     build_server().start_io()
