@@ -4,6 +4,7 @@ hover, outline, formatting, robustness and a clean shutdown."""
 
 from __future__ import annotations
 
+import asyncio
 import json
 import shutil
 import subprocess
@@ -14,6 +15,7 @@ import pytest
 import pytest_lsp
 from lsp_client import SERVER, change, close, diagnostics, open_file, position_of, start, uri
 from lsprotocol import types
+from pygls.lsp.client import LanguageClient as BaseLanguageClient
 from pytest_lsp import LanguageClient
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -387,3 +389,34 @@ async def test_an_unknown_request_is_answered_with_an_error_and_serving_goes_on(
     open_file(client, rm)
     await diagnostics(client, rm, lambda d: d == [])
     close(client, rm)
+
+
+class _Watched(BaseLanguageClient):
+    """pygls's client, keeping how the server process ended."""
+
+    returncode: int | None = None
+    stderr = b""
+
+    async def server_exit(self, server) -> None:
+        self.returncode = server.returncode
+        self.stderr = await server.stderr.read()
+
+
+async def test_shutdown_and_exit_end_the_server_cleanly(tmp_path: Path):
+    client = _Watched("test", "1")
+    published = asyncio.Event()
+    client.feature(types.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)(lambda *_: published.set())
+    await client.start_io(sys.executable, "-m", "spl", "lsp")
+    await client.initialize_async(
+        types.InitializeParams(capabilities=types.ClientCapabilities(), root_uri=tmp_path.as_uri())
+    )
+    client.initialized(types.InitializedParams())
+    fm = tmp_path / "shop.fm"
+    fm.write_text("feature model Shop\nroot Shop { optional Search }\n", encoding="utf-8")
+    open_file(client, fm)  # the checking thread is running
+    await asyncio.wait_for(published.wait(), 60)
+    assert await client.shutdown_async(None) is None
+    client.exit(None)
+    await asyncio.wait_for(client.stop(), 60)
+    assert client.returncode == 0
+    assert b"Traceback" not in client.stderr and b"ERROR" not in client.stderr

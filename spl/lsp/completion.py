@@ -19,7 +19,7 @@ from spl.lsp.occurrences import FM_KEYWORDS, RM_STATEMENTS, TSM_STATEMENTS
 from spl.lsp.symbols import Decl, SymbolIndex
 from spl.lsp.tokens import Token, Tokens
 
-_WORD_BEFORE = re.compile(r"[A-Za-z_][A-Za-z0-9_]*(?:\.[A-Za-z_][A-Za-z0-9_]*)*\.?$|$")
+_WORD_BEFORE = re.compile(r"[A-Za-z_][A-Za-z0-9_]*(?:\.[A-Za-z_][A-Za-z0-9_]*)*\.?\Z|\Z")
 KINDS = {
     "container": types.CompletionItemKind.Module,
     "node": types.CompletionItemKind.Class,

@@ -136,7 +136,7 @@ class SplLanguageServer(LanguageServer):
             try:
                 found = {os.path.join(where, e.name) for e in os.scandir(where)}
             except OSError:  # the folder is gone: its open files are all there is
-                found = {p for p in self.project.documents if os.path.dirname(p) == where}
+                found = {p for p in list(self.project.documents) if os.path.dirname(p) == where}
             rms = [p for p in found if p.endswith(".rm")]
         for rm in rms:
             found |= set(header_paths(rm, self.project.tokens(rm)).values())
