@@ -1,0 +1,1 @@
+"""``spl lsp``: a language server for the .tsm, .fm and .rm languages."""

@@ -1,0 +1,137 @@
+"""Every call of the language server into spl's checking, in one module.
+
+The editor must report what ``spl check`` prints, so this module calls what
+:mod:`spl.commands.check` calls, with the editor's unsaved texts standing in for the
+files (:func:`spl.diagnostics.unsaved_texts`):
+
+* a model file in a product-line folder (one holding exactly one .rm) is checked as
+  ``spl check FOLDER`` checks it (its parse errors, then the product-line checks SPL0xx
+  of the whole line), and shows the findings located in it;
+* any other .tsm, .fm or .rm is checked as ``spl check FILE`` (a .rm with the .tsm and
+  .fm it names);
+* a UVL or FeatureIDE .xml feature model as ``spl analyze`` and ``spl convert`` read it.
+
+When spl gains one pipeline (load line, check selection, resolve, emit), this is the
+one module to re-point.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import importlib
+import os
+import re
+from collections.abc import Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from spl.diagnostics import Diagnostic, Location, ModelError, unsaved_texts
+
+MODEL_SUFFIXES = (".tsm", ".fm", ".rm")
+FEATURE_MODEL_SUFFIXES = (".uvl", ".xml")
+SUFFIXES = MODEL_SUFFIXES + FEATURE_MODEL_SUFFIXES
+_FEATUREIDE_ROOT = re.compile(r"<(featureModel|extendedFeatureModel)[\s>]")
+_XML_ENCODING = re.compile(rb"""^<\?xml[^>]*encoding\s*=\s*["']([A-Za-z0-9._\-]+)["']""")
+
+
+@dataclass(frozen=True)
+class FileCheck:
+    """What checking one file found: every diagnostic (a .rm's include those of the
+    models it names, located there) and the model when it parsed."""
+
+    path: str
+    diagnostics: tuple[Diagnostic, ...]
+    model: Any = None  # tsm System, fm FeatureModel, or rm ResolutionModelFiles
+
+
+def product_line(path: str) -> str | None:
+    """The product-line folder ``spl check`` checks ``path`` with: its folder when
+    that holds exactly one .rm (and ``path`` is one of its .tsm, .fm or .rm files)."""
+    if os.path.splitext(path)[1] not in MODEL_SUFFIXES:
+        return None
+    folder = os.path.dirname(path)
+    try:
+        with os.scandir(folder) as entries:
+            models = [e.name for e in entries if e.name.endswith(".rm") and e.is_file()]
+    except OSError:
+        return None
+    return folder if len(models) == 1 else None
+
+
+def is_featureide(text: str) -> bool:
+    """Whether an .xml text is a FeatureIDE feature model (other XML is not spl's)."""
+    return _FEATUREIDE_ROOT.search(text[:4096]) is not None
+
+
+def check_file(path: str, texts: Mapping[str, str]) -> FileCheck:
+    """``spl check FILE`` (or the feature-model reading of ``spl analyze``) on ``path``,
+    reading the open files from ``texts``."""
+    suffix = os.path.splitext(path)[1].lower()
+    try:
+        with unsaved_texts(texts):
+            if suffix in MODEL_SUFFIXES:
+                return FileCheck(path, (), _parse_model(path, suffix))
+            if suffix == ".xml" and path in texts:
+                return FileCheck(path, (), _parse_featureide(path, texts[path]))
+            from spl.dsl.fm_formats import load_feature_model
+
+            return FileCheck(path, (), load_feature_model(path))
+    except ModelError as exc:
+        return FileCheck(path, tuple(dict.fromkeys(exc.diagnostics)))
+
+
+def _parse_model(path: str, suffix: str) -> Any:
+    from spl.pipeline import LANGUAGES
+
+    language = importlib.import_module(LANGUAGES[suffix])
+    if suffix == ".rm":
+        return language.load(path)  # what parse_file does, keeping the .tsm and .fm
+    return language.parse_file(path)
+
+
+def _parse_featureide(path: str, text: str) -> Any:
+    """An open FeatureIDE file: its text encoded as its XML declaration says, as the
+    file on disk would be."""
+    from spl.dsl.featureide import parse_featureide
+
+    data = text.encode("utf-8")
+    declared = _XML_ENCODING.match(data)
+    if declared:
+        with contextlib.suppress(LookupError):  # an unknown encoding: the parser says so
+            data = text.encode(declared.group(1).decode("ascii"), "xmlcharrefreplace")
+    return parse_featureide(data, path, default_name=Path(path).stem)
+
+
+def check_line(folder: str, texts: Mapping[str, str]) -> tuple[Diagnostic, ...]:
+    """``spl check FOLDER``: every finding, in every file of the line."""
+    from spl.pipeline import NothingToCheck, check_models
+
+    with unsaved_texts(texts):
+        try:
+            _, found = check_models(Path(folder), count=False)
+        except ModelError as exc:
+            found = exc.diagnostics
+        except NothingToCheck:
+            found = []
+    return tuple(found)
+
+
+def internal_error(path: str, error: BaseException) -> Diagnostic:
+    """An spl bug met while checking ``path``, said as ``spl`` says it (exit status 3)."""
+    from spl import __version__
+
+    return Diagnostic(
+        Location(path, 1, 1),
+        f"internal error in spl {__version__}: {type(error).__name__}: {error} "
+        "(run spl check with SPL_DEBUG=1 for a traceback and report it)",
+    )
+
+
+def referenced_models(model: Any) -> list[str]:
+    """The .tsm and .fm paths a parsed .rm names (absolute)."""
+    base = os.path.dirname(str(model.path))
+    return [
+        os.path.normpath(os.path.join(base, relative))
+        for relative in (model.rm.tsmPath, model.rm.fmPath)
+    ]

@@ -1,0 +1,168 @@
+"""The editor and the terminal agree: for every model file of the shipped product lines
+and of the bad-input models the tests keep (tests/models), the diagnostics ``spl lsp``
+publishes are those ``spl check --json`` prints (same line, column, severity, code and
+text), and for UVL and FeatureIDE files those ``spl analyze`` prints. Edited lines are
+checked from the editor's unsaved text against the same edit saved in another folder.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+import pytest_lsp
+from lsp_client import SERVER, change, close, diagnostics, open_file, start
+from lsprotocol import types
+from pytest_lsp import LanguageClient
+
+ROOT = Path(__file__).resolve().parents[1]
+MODEL_SUFFIXES = {".tsm", ".fm", ".rm"}
+FEATURE_MODEL_SUFFIXES = {".uvl", ".xml"}
+LOCATED = re.compile(r"^(.*?):(\d+):(\d+): (error|warning|info): (.*?)(?: \[(SPL\d+)\])?$")
+pytestmark = pytest.mark.asyncio(loop_scope="module")
+
+
+def folders() -> list[Path]:
+    found = sorted((ROOT / "product_lines").iterdir())
+    found += sorted({p.parent for p in (ROOT / "tests" / "models").rglob("*") if p.is_file()})
+    return [
+        f
+        for f in found
+        if f.is_dir()
+        and any(p.suffix in MODEL_SUFFIXES | FEATURE_MODEL_SUFFIXES for p in f.iterdir())
+    ]
+
+
+@pytest_lsp.fixture(config=SERVER, scope="module")
+async def client(lsp_client: LanguageClient, tmp_path_factory):
+    await start(lsp_client, tmp_path_factory.getbasetemp())
+    yield
+    await lsp_client.shutdown_session()
+
+
+def spl_check(folder: Path) -> dict[Path, list[tuple]]:
+    """``spl check FOLDER --json``: its diagnostics by file (the folder's files each
+    checked alone when the folder is not a product line, as ``spl check FILE`` does)."""
+    done = subprocess.run(
+        [sys.executable, "-m", "spl", "check", "--json", str(folder)],
+        capture_output=True,
+        text=True,
+        cwd=ROOT,
+    )
+    found: dict[Path, list[tuple]] = {}
+    for d in json.loads(done.stdout)["diagnostics"]:
+        key = (d["line"], d["col"], d["severity"], d["code"], d["message"])
+        found.setdefault(Path(d["file"]).resolve(), []).append(key)
+    return found
+
+
+def spl_analyze(path: Path) -> list[tuple]:
+    """The located findings ``spl analyze FILE`` prints for a UVL or FeatureIDE file."""
+    done = subprocess.run(
+        [sys.executable, "-m", "spl", "analyze", "--count-seconds", "0", str(path)],
+        capture_output=True,
+        text=True,
+        cwd=ROOT,
+    )
+    found = []
+    for line in done.stderr.splitlines():
+        match = LOCATED.match(line)
+        if match:
+            _, row, col, severity, message, code = match.groups()
+            found.append((int(row), int(col), severity, code, message))
+    return found
+
+
+def as_spl(diagnostic: types.Diagnostic, text: str) -> tuple:
+    line = diagnostic.range.start.line
+    lines = text.split("\n")
+    prefix = lines[line].encode("utf-16-le")[: 2 * diagnostic.range.start.character]
+    severity = {1: "error", 2: "warning", 3: "info"}[diagnostic.severity]
+    column = len(prefix.decode("utf-16-le")) + 1
+    return (line + 1, column, severity, diagnostic.code, diagnostic.message)
+
+
+async def agree(client: LanguageClient, path: Path, text: str, wanted: list[tuple]) -> None:
+    def same(found: list[types.Diagnostic]) -> bool:
+        return sorted(as_spl(d, text) for d in found) == sorted(wanted)
+
+    try:
+        await diagnostics(client, path, same, timeout=60)
+    except AssertionError:
+        shown = [as_spl(d, text) for d in client.diagnostics.get(path.resolve().as_uri(), [])]
+        assert sorted(shown) == sorted(wanted), path
+
+
+@pytest.mark.parametrize("folder", folders(), ids=lambda f: str(f.relative_to(ROOT)))
+async def test_every_file_gets_the_diagnostics_of_spl_check(
+    client: LanguageClient, folder: Path, tmp_path: Path
+):
+    copy = tmp_path / folder.name
+    shutil.copytree(folder, copy)
+    files = sorted(p for p in copy.iterdir() if p.suffix in MODEL_SUFFIXES | FEATURE_MODEL_SUFFIXES)
+    checked = spl_check(copy) if any(p.suffix in MODEL_SUFFIXES for p in files) else {}
+    for path in files:
+        open_file(client, path, path.read_text(encoding="utf-8"))
+    for path in files:
+        text = path.read_text(encoding="utf-8")
+        if path.suffix in MODEL_SUFFIXES:
+            wanted = checked.get(path.resolve(), [])
+        else:
+            wanted = spl_analyze(path)
+        await agree(client, path, text, wanted)
+    close(client, *files)
+
+
+EDITS = [  # (file, old, new): slips a user makes while typing
+    ("mapping3d/mapping.rm", "require RGBCameraL", "require RGBCamera"),
+    ("mapping3d/mapping.rm", "migrate MapOptimizer to Robot", "migrate MapOptimizer to Robot2"),
+    ("mapping3d/mapping.tsm", "node StereoVision", "node Stereo_Vision"),
+    ("mapping3d/mapping.fm", "Roomba excludes AdditionalPC", "Roomba excludes AdditionalPCs"),
+    ("orchard/orchard.rm", "when SoftGripper selected {", "when VacuumGripper selected {"),
+    (
+        "orchard/orchard.rm",
+        "connect YieldMapper.image to topic ScoutImage",
+        "connect YieldMapper.image to topic",
+    ),
+    (
+        "orchard/orchard.tsm",
+        "    topic Odom   : nav_msgs/Odometry",
+        "    topic Odom   : nav_msgs/Odometry   topic",
+    ),
+    ("data_acquisition/data.tsm", "every 5 s", "every 5"),
+]
+
+
+@pytest.mark.parametrize("file,old,new", EDITS, ids=[f"{e[0]}:{e[2]}" for e in EDITS])
+async def test_unsaved_edit_gets_the_diagnostics_of_the_saved_edit(
+    client: LanguageClient, file: str, old: str, new: str, tmp_path: Path
+):
+    source = ROOT / "product_lines" / file
+    editor, saved = tmp_path / "editor", tmp_path / "saved"
+    shutil.copytree(source.parent, editor / source.parent.name)
+    shutil.copytree(source.parent, saved / source.parent.name)
+    text = source.read_text(encoding="utf-8")
+    assert old in text
+    edited = text.replace(old, new, 1)
+    (saved / file).write_text(edited, encoding="utf-8")
+    wanted = spl_check(saved / source.parent.name)
+    siblings = sorted(
+        p for p in (editor / source.parent.name).iterdir() if p.suffix in MODEL_SUFFIXES
+    )
+    for path in siblings:
+        open_file(client, path)
+    change(client, editor / file, edited, 2)
+    for path in siblings:
+        expected = [
+            (*d[:4], d[4].replace(str(saved.resolve()), str(editor.resolve())))
+            for d in wanted.get((saved / path.relative_to(editor)).resolve(), [])
+        ]
+        shown = edited if path == editor / file else path.read_text(encoding="utf-8")
+        await agree(client, path, shown, expected)
+    assert any(wanted.values())  # every edit is a mistake spl reports
+    close(client, *siblings)
