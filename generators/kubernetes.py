@@ -1,281 +1,103 @@
-"""Kubernetes manifests for a product's cloud side: ``kubernetes/``, applied with
-``kubectl apply -k``.
+"""``kubernetes/``: the product's cloud side as Kubernetes manifests, applied with
+``kubectl apply -k kubernetes/``.
 
 Placement is :mod:`spl.resolver.placement`'s rule, the one the Rapyuta generator
 follows (SPEC 5.2): each partition of a cloud container that a robot uses becomes one
 *instance*, ``<C>_<robotID>`` for its private nodes (one per robot), ``<C>_<group>``
 for its protected nodes (one per group) and ``<C>_public`` for its public nodes. Each
-instance gets, in ``kubernetes/<name>.yaml``:
-
-- a ``ConfigMap`` ``<name>-config`` holding the ROS 2 launch file of exactly that
-  instance's nodes (``launch.xml``) and, when data crosses its boundary, its
-  ``zenoh-bridge-ros2dds`` configuration (``zenoh-bridge.json5``, see
-  :mod:`spl.generators.zenoh_bridge`);
-- a ``Deployment`` ``<name>`` running ``ros2 launch`` of that file in the product's
-  ROS image (the official image's entrypoint sources ROS, so the launch command is
-  given as ``args``), with the cloud container's ``cpu`` and ``memory`` (MiB) as
-  requests and limits, and the bridge as a second container when data crosses;
-- a ``Service`` ``<name>`` on the bridge's Zenoh port where something connects to it
-  (the Zenoh router does, to every instance with a bridge).
-
-Data crossing the robot/cloud boundary travels over Zenoh: ``zenoh-router.yaml`` runs
-a Zenoh router (``zenohd``) that robots connect to (a ``LoadBalancer`` Service on port
-7447) and that connects to every instance's bridge. Robots authenticate with the user
-of their endpoint and the password named by ``password env "VAR"``: the router reads
-each password from a ``Secret`` key (``secretKeyRef``), never from a file spl writes.
-The generated ``README.md`` lists the Secret's keys and the commands.
-
-Labels name the product, TSM container, instance (placement tag) and sharing mode; the
-nodes' containers both set ``ROS_LOCALHOST_ONLY=1`` so DDS discovery stays inside the
-pod, where the bridge carries exactly the crossing topics and services. Objects are
-written in a fixed order with fixed key order: the same product gives the same bytes.
+instance gets ``kubernetes/<name>.yaml`` (ConfigMap, Deployment and, when data crosses
+its boundary, Service: :mod:`spl.generators.kubernetes_objects`); ``zenoh-router.yaml``
+runs the Zenoh router robots connect to when any data crosses (the bridges'
+configurations come from :mod:`spl.generators.zenoh_bridge`); ``kustomization.yaml``
+lists the files and ``README.md`` says how to apply them, which Secret to create and
+how to set the image. Names are derived and checked by
+:mod:`spl.generators.kubernetes_names`: a model whose names cannot map is refused with
+a located error, nothing is emitted.
 """
 
 from __future__ import annotations
 
-from typing import Any
-
-import yaml
-
 from spl import __version__
 from spl.diagnostics import Diagnostic, ModelError
 from spl.generators import ros2
-from spl.generators.kubernetes_names import (
-    CONFIG_SUFFIX,
-    ROUTER,
-    instance_names,
-    label_value,
+from spl.generators.kubernetes_names import CONFIG_SUFFIX, ROUTER, instance_names
+from spl.generators.kubernetes_objects import (
+    ROS_IMAGE,
+    instance_documents,
+    render,
+    router_documents,
+    secret_key,
+    secret_name,
+    title,
 )
 from spl.generators.zenoh_bridge import ZENOH_PORT, Transport, transport
 from spl.resolver.placement import Instance, Placement
 from spl.resolver.product import ResolvedProduct
 
-ROS_IMAGE = "ros:jazzy-ros-core"
-BRIDGE_IMAGE = "eclipse/zenoh-bridge-ros2dds:1.4.0"
-ROUTER_IMAGE = "eclipse/zenoh:1.4.0"
-CONFIG_DIR = "/etc/spl"
-LABEL = "spl.robotics"
-MANAGED_BY = {"app.kubernetes.io/managed-by": "spl-robotics"}
 
-
-class _Literal(str):
-    """A multi-line string written as a YAML literal block (launch files, configs)."""
-
-
-class _Dumper(yaml.SafeDumper):
-    """Safe YAML without anchors: every object is written out in full."""
-
-    def ignore_aliases(self, data: Any) -> bool:
-        return True
-
-
-_Dumper.add_representer(
-    _Literal, lambda dumper, text: dumper.represent_scalar("tag:yaml.org,2002:str", text, "|")
-)
-
-
-def render(documents: list[dict[str, Any]], header: str) -> bytes:
-    """Documents as one YAML stream, keys in the order built, a comment header."""
-    body = yaml.dump_all(
-        documents, Dumper=_Dumper, sort_keys=False, default_flow_style=False, width=2**16
+def readme(product_name: str, rows: list[tuple[str, Instance]], wiring: Transport | None) -> bytes:
+    """How to apply the folder: the instances, the Secret's keys, the images."""
+    table = "\n".join(
+        f"| `{name}.yaml` | {instance.place.tag} | {instance.place.container} | "
+        f"{instance.place.kind} | {', '.join(n.name for n in instance.nodes)} | "
+        f"{', '.join(instance.robots)} |"
+        for name, instance in rows
     )
-    return f"# {header}\n{body}".encode()
-
-
-def _header(product_name: str, what: str) -> str:
-    return (
-        f"Generated by spl-robotics {__version__} for product {label_value(product_name)}, "
-        f"{what}. Edit the models, not this file."
-    )
-
-
-def instance_labels(product_name: str, instance: Instance, name: str) -> dict[str, str]:
-    """The labels of an instance's objects; ``name`` alone selects its pod."""
-    place = instance.place
-    return {
-        "app.kubernetes.io/name": name,
-        "app.kubernetes.io/part-of": label_value(product_name),
-        **MANAGED_BY,
-        f"{LABEL}/container": label_value(place.container),
-        f"{LABEL}/placement": label_value(place.tag),
-        f"{LABEL}/sharing": place.kind,
-    }
-
-
-def _resources(cloud: Any) -> dict[str, Any]:
-    amounts = {}
-    if cloud.cpu is not None:
-        amounts["cpu"] = str(cloud.cpu)
-    if cloud.memory is not None:
-        amounts["memory"] = f"{cloud.memory}Mi"
-    return {"requests": dict(amounts), "limits": dict(amounts)} if amounts else {}
-
-
-def _localhost_env() -> list[dict[str, str]]:
-    return [{"name": "ROS_LOCALHOST_ONLY", "value": "1"}]
-
-
-def instance_documents(
-    product_name: str,
-    instance: Instance,
-    name: str,
-    launch_xml: bytes,
-    bridge_config: str | None,
-) -> list[dict[str, Any]]:
-    """ConfigMap, Deployment and (with a bridge) Service of one cloud instance."""
-    labels = instance_labels(product_name, instance, name)
-    metadata = {
-        "name": name,
-        "labels": labels,
-        "annotations": {
-            f"{LABEL}/product": product_name,
-            f"{LABEL}/nodes": ", ".join(node.name for node in instance.nodes),
-            f"{LABEL}/robots": ", ".join(instance.robots),
-        },
-    }
-    data = {"launch.xml": _Literal(launch_xml.decode("utf-8"))}
-    if bridge_config is not None:
-        data["zenoh-bridge.json5"] = _Literal(bridge_config)
-    config_map = {
-        "apiVersion": "v1",
-        "kind": "ConfigMap",
-        "metadata": {"name": name + CONFIG_SUFFIX, "labels": labels},
-        "data": data,
-    }
-    mount = [{"name": "config", "mountPath": CONFIG_DIR, "readOnly": True}]
-    ros = {
-        "name": "ros",
-        "image": ROS_IMAGE,
-        "args": ["ros2", "launch", f"{CONFIG_DIR}/launch.xml"],
-        "env": _localhost_env(),
-        "volumeMounts": mount,
-    }
-    resources = _resources(instance.container)
-    if resources:
-        ros["resources"] = resources
-    containers = [ros]
-    if bridge_config is not None:
-        containers.append(
-            {
-                "name": "zenoh-bridge",
-                "image": BRIDGE_IMAGE,
-                "args": ["-c", f"{CONFIG_DIR}/zenoh-bridge.json5"],
-                "env": _localhost_env(),
-                "ports": [{"name": "zenoh", "containerPort": ZENOH_PORT, "protocol": "TCP"}],
-                "volumeMounts": mount,
-            }
+    if wiring is None:
+        transport_text = "No data crosses between robots and these instances: no Zenoh router.\n"
+    elif not wiring.carried:
+        transport_text = (
+            "Data crossing the robot/cloud boundary is NOT carried: Zenoh cannot carry this "
+            f"product ({wiring.reason}). The instances run without bridges.\n"
         )
-    deployment = {
-        "apiVersion": "apps/v1",
-        "kind": "Deployment",
-        "metadata": metadata,
-        "spec": {
-            "replicas": 1,
-            "selector": {"matchLabels": {"app.kubernetes.io/name": name}},
-            "template": {
-                "metadata": {"labels": labels},
-                "spec": {
-                    "containers": containers,
-                    "volumes": [{"name": "config", "configMap": {"name": name + CONFIG_SUFFIX}}],
-                },
-            },
-        },
-    }
-    documents = [config_map, deployment]
-    if bridge_config is not None:
-        documents.append(_service(name, labels, "ClusterIP"))
-    return documents
+    else:
+        keys = "\n".join(
+            f"    #   {secret_key(variable)}: the password of robot user {user} "
+            f"(password env {variable} in the model)"
+            for user, variable in wiring.credentials
+        )
+        literals = " ".join(
+            f'--from-literal={secret_key(variable)}="${variable}"'
+            for _, variable in wiring.credentials
+        )
+        transport_text = f"""Robots reach the instances through `{ROUTER}` (Service type
+LoadBalancer, port {ZENOH_PORT}; point each robot endpoint's host at it), which connects
+to every instance's zenoh-bridge-ros2dds sidecar (`../zenoh/` has the robots' bridges).
+The router authenticates robots with passwords it reads from the Secret
+`{secret_name()}` (`secretKeyRef`); no password is in any generated file.
+Create the Secret before applying:
+
+{keys or "    #   (no robot authenticates)"}
+    kubectl create secret generic {secret_name()} {literals}
+"""
+    text = f"""# Kubernetes manifests of product {product_name}
+
+Generated by spl-robotics {__version__}. One Deployment per cloud instance, placed as
+the Rapyuta configuration places them (private: one per robot; protected: one per
+group; public: one for all), each running `ros2 launch` of a launch file holding
+exactly its nodes (ConfigMap `<name>{CONFIG_SUFFIX}`).
+
+| file | instance | container | sharing | nodes | robots |
+| --- | --- | --- | --- | --- | --- |
+{table or "| (none) | | | | | |"}
+
+{transport_text}
+Apply the folder as it is (in the namespace of your choice):
+
+    kubectl apply -k kubernetes/
+
+The nodes run in `{ROS_IMAGE}`, which must hold the nodes' packages: build an image
+from it with them and set it without editing the manifests, in kustomization.yaml:
+
+    images:
+    - name: {ROS_IMAGE.partition(":")[0]}
+      newName: registry.example.org/my-robot-cloud
+      newTag: "1.0"
+"""
+    return text.encode("utf-8")
 
 
-def _service(name: str, labels: dict[str, str], kind: str) -> dict[str, Any]:
-    return {
-        "apiVersion": "v1",
-        "kind": "Service",
-        "metadata": {"name": name, "labels": labels},
-        "spec": {
-            "type": kind,
-            "selector": {"app.kubernetes.io/name": name},
-            "ports": [
-                {"name": "zenoh", "port": ZENOH_PORT, "targetPort": "zenoh", "protocol": "TCP"}
-            ],
-        },
-    }
-
-
-def secret_name() -> str:
-    """The Secret holding the robots' passwords, one key per ``password env`` variable."""
-    return f"{ROUTER}-credentials"
-
-
-def secret_key(variable: str) -> str:
-    """A Secret key for an environment variable (keys allow ``A-Z a-z 0-9 - _ .``)."""
-    return variable.lower().replace("_", "-")
-
-
-def router_documents(product_name: str, wiring: Transport) -> list[dict[str, Any]]:
-    """The Zenoh router robots connect to, with its users' passwords from a Secret."""
-    labels = {
-        "app.kubernetes.io/name": ROUTER,
-        "app.kubernetes.io/part-of": label_value(product_name),
-        **MANAGED_BY,
-    }
-    config_map = {
-        "apiVersion": "v1",
-        "kind": "ConfigMap",
-        "metadata": {"name": ROUTER + CONFIG_SUFFIX, "labels": labels},
-        "data": {"zenoh-router.json5": _Literal(wiring.router_config)},
-    }
-    env = [
-        {
-            "name": variable,
-            "valueFrom": {"secretKeyRef": {"name": secret_name(), "key": secret_key(variable)}},
-        }
-        for _, variable in wiring.credentials
-    ]
-    # The router reads its users from a dictionary file ("user:password" lines); the
-    # file is written at start from the Secret's values, in memory-backed storage.
-    lines = " ".join(f"'{user}' \"${variable}\"" for user, variable in wiring.credentials)
-    start = (
-        f"printf '%s:%s\\n' {lines} > /run/zenoh/users && "
-        f"exec /zenohd -c {CONFIG_DIR}/zenoh-router.json5"
-        if wiring.credentials
-        else f"exec /zenohd -c {CONFIG_DIR}/zenoh-router.json5"
-    )
-    container = {
-        "name": "zenohd",
-        "image": ROUTER_IMAGE,
-        "command": ["/bin/sh", "-c", start],
-        "ports": [{"name": "zenoh", "containerPort": ZENOH_PORT, "protocol": "TCP"}],
-        "volumeMounts": [
-            {"name": "config", "mountPath": CONFIG_DIR, "readOnly": True},
-            {"name": "users", "mountPath": "/run/zenoh"},
-        ],
-    }
-    if env:
-        container["env"] = env
-    deployment = {
-        "apiVersion": "apps/v1",
-        "kind": "Deployment",
-        "metadata": {"name": ROUTER, "labels": labels},
-        "spec": {
-            "replicas": 1,
-            "selector": {"matchLabels": {"app.kubernetes.io/name": ROUTER}},
-            "template": {
-                "metadata": {"labels": labels},
-                "spec": {
-                    "containers": [container],
-                    "volumes": [
-                        {"name": "config", "configMap": {"name": ROUTER + CONFIG_SUFFIX}},
-                        {"name": "users", "emptyDir": {"medium": "Memory"}},
-                    ],
-                },
-            },
-        },
-    }
-    return [config_map, deployment, _service(ROUTER, labels, "LoadBalancer")]
-
-
-def kustomization(files: list[str], labels: dict[str, str]) -> bytes:
+def kustomization(files: list[str]) -> bytes:
     """``kustomization.yaml`` listing the manifests, so ``kubectl apply -k`` takes the folder."""
     document = {
         "apiVersion": "kustomize.config.k8s.io/v1beta1",
@@ -306,13 +128,17 @@ def generate(product: ResolvedProduct) -> dict[str, bytes]:
         )
         bridge = wiring.cloud_configs.get(instance.place.tag) if wiring.carried else None
         documents = instance_documents(product.name, instance, name, launch, bridge)
-        header = _header(product.name, f"{instance.place.describe()} as {instance.place.tag}")
+        header = title(product.name, f"{instance.place.describe()} as {instance.place.tag}")
         files[f"kubernetes/{name}.yaml"] = render(documents, header)
     if wiring.carried and wiring.cloud_configs:
         files[f"kubernetes/{ROUTER}.yaml"] = render(
-            router_documents(product.name, wiring), _header(product.name, "Zenoh router")
+            router_documents(product.name, wiring), title(product.name, "Zenoh router")
         )
     files["kubernetes/kustomization.yaml"] = kustomization(
-        [path.removeprefix("kubernetes/") for path in files], {}
+        [path.removeprefix("kubernetes/") for path in files]
+    )
+    crossing = wiring if (not wiring.carried or wiring.cloud_configs) else None
+    files["kubernetes/README.md"] = readme(
+        product.name, [(names[i.place.tag], i) for i in instances], crossing
     )
     return {path: files[path] for path in sorted(files)}
