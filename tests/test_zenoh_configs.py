@@ -1,0 +1,225 @@
+"""zenoh-bridge-ros2dds configurations: read back with a real JSON5 reader, only keys
+the bridge (and zenoh) document, allow lists derived by hand for the paper's product,
+and for every product exactly the names that cross, nothing robot-local."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import json5
+import pytest
+
+from spl.dsl import tsm as tsm_language
+from spl.generators import kubernetes, zenoh
+from spl.generators.bundle import Skipped, build_bundle
+from spl.metamodels import tsm
+from spl.resolver.analysis import enumerate_products
+from spl.resolver.engine import resolve
+from spl.resolver.product import ResolvedProduct, topic_ros_name
+from spl.resolver.product_line import load_product_line
+from spl.resolver.product_selection import ProductSelection, selection_from_list
+
+ROOT = Path(__file__).resolve().parents[1]
+LINES = sorted(p for p in (ROOT / "product_lines").iterdir() if p.is_dir())
+MAPPING = ROOT / "product_lines" / "mapping3d"
+
+# Every key path the configurations may use, as documented in
+# eclipse-zenoh/zenoh-plugin-ros2dds DEFAULT_CONFIG.json5 (commit 0b277b7c): the bridge's
+# plugins.ros2dds keys and the zenoh keys it shows; and, for authentication, zenoh's own
+# DEFAULT_CONFIG.json5 (eclipse-zenoh/zenoh, transport.auth.usrpwd).
+KINDS = (
+    "publishers",
+    "subscribers",
+    "service_servers",
+    "service_clients",
+    "action_servers",
+    "action_clients",
+)
+DOCUMENTED = {
+    *(
+        f"plugins.ros2dds.{key}"
+        for key in (
+            "nodename",
+            "namespace",
+            "domain",
+            "ros_localhost_only",
+            "shm_enabled",
+            "pub_max_frequencies",
+            "pub_priorities",
+            "reliable_routes_blocking",
+            "queries_timeout",
+            "work_thread_num",
+            "max_block_thread_num",
+        )
+    ),
+    *(f"plugins.ros2dds.{block}.{kind}" for block in ("allow", "deny") for kind in KINDS),
+    "plugins.rest.http_port",
+    "mode",
+    "connect.endpoints",
+    "listen.endpoints",
+    *(
+        f"scouting.multicast.{key}"
+        for key in ("enabled", "address", "interface", "autoconnect", "listen")
+    ),
+    *(f"scouting.gossip.{key}" for key in ("enabled", "multihop", "autoconnect")),
+    *(f"transport.auth.usrpwd.{key}" for key in ("user", "password", "dictionary_file")),
+}
+
+
+def leaf_keys(document: dict, prefix: str = "") -> set[str]:
+    keys = set()
+    for key, value in document.items():
+        path = f"{prefix}{key}"
+        if isinstance(value, dict) and value:
+            keys |= leaf_keys(value, path + ".")
+        else:
+            keys.add(path)
+    return keys
+
+
+def configs(files: dict[str, bytes]) -> dict[str, dict]:
+    """Every JSON5 file of ``zenoh/``, read by the json5 reader (comments and all)."""
+    return {
+        path.removeprefix("zenoh/").removesuffix(".json5"): json5.loads(data.decode("utf-8"))
+        for path, data in files.items()
+        if path.endswith(".json5")
+    }
+
+
+def allow(document: dict) -> dict[str, list[str]]:
+    return document["plugins"]["ros2dds"]["allow"]
+
+
+def test_paper_product_allow_lists_derived_by_hand():
+    line = load_product_line(MAPPING)
+    product = resolve(line, selection_from_list("YouBot,Stereo,AdditionalPC,Room")).product
+    found = configs(zenoh.generate(product))
+    assert sorted(found) == [
+        "MappingCloud_mappers",
+        "MappingCloud_robot_1",
+        "robot_1",
+        "zenoh-router",
+    ]
+    # On the robot: the stereo pipeline's images go to VisualOdometry (private, in the
+    # cloud), the map optimizer (migrated on board) sends its poses to StrategyPlanner
+    # and calls the Database (both protected); keyframes come back from VisualOdometry.
+    # /cmd_vel, the camera topics /stereo/left|right and /planning/trajectory stay.
+    assert allow(found["robot_1"]) == {
+        "publishers": ["/camera/depth/image", "/camera/rgb/image", "/mapping/pose_updated"],
+        "subscribers": ["/mapping/keyframes"],
+        "service_servers": [],
+        "service_clients": [
+            "/exploration/next_target",
+            "/mapping/db/add_keyframe",
+            "/mapping/db/update_poses",
+        ],
+        "action_servers": [],
+        "action_clients": [],
+    }
+    assert allow(found["MappingCloud_robot_1"]) == {
+        "publishers": ["/mapping/keyframes"],
+        "subscribers": ["/camera/depth/image", "/camera/rgb/image"],
+        **{kind: [] for kind in KINDS[2:]},
+    }
+    # get_map is called inside the protected instance only: it does not cross
+    assert allow(found["MappingCloud_mappers"]) == {
+        "publishers": [],
+        "subscribers": ["/mapping/pose_updated"],
+        "service_servers": [
+            "/exploration/next_target",
+            "/mapping/db/add_keyframe",
+            "/mapping/db/update_poses",
+        ],
+        **{kind: [] for kind in KINDS[3:]},
+    }
+    robot = found["robot_1"]
+    assert robot["mode"] == "client"
+    assert robot["connect"]["endpoints"] == ["tcp/cloud.example.org:7447"]
+    assert robot["transport"]["auth"]["usrpwd"] == {"user": "mapper", "password": "${RCE_PASSWORD}"}
+    assert found["MappingCloud_mappers"]["mode"] == "router"
+    router = found["zenoh-router"]
+    assert router["connect"]["endpoints"] == [
+        "tcp/mappingcloud-mappers:7447",
+        "tcp/mappingcloud-robot-1:7447",
+    ]
+    # the files the Kubernetes pods mount are these very configurations
+    manifests = kubernetes.generate(product)
+    assert b"/camera/depth/image" in manifests["kubernetes/mappingcloud-robot-1.yaml"]
+
+
+def names_outside(system, robot) -> set[str]:
+    """ROS names of the topics and services nodes of other containers use."""
+    T = tsm()
+    names = set()
+    for container in system.containers:
+        if container is robot:
+            continue
+        for node in container.nodes:
+            for interface in node.interfaces:
+                if isinstance(interface, T.Publisher | T.Subscriber) and interface.topic:
+                    names.add(topic_ros_name(interface.topic))
+                elif isinstance(interface, T.ServiceServer) and interface.rosName:
+                    names.add(interface.rosName)
+    return names
+
+
+@pytest.mark.parametrize("directory", LINES, ids=lambda p: p.name)
+def test_every_product_configuration_reads_back_with_documented_keys(directory):
+    line = load_product_line(directory)
+    carried = 0
+    for features in enumerate_products(line.fm):
+        product = resolve(line, ProductSelection("p", sorted(features))).product
+        files = zenoh.generate(product)
+        if list(files) == ["zenoh/"]:
+            assert isinstance(files["zenoh/"], Skipped)
+            assert "Zenoh cannot carry this product" in files["zenoh/"].reason
+            continue
+        carried += 1
+        found = configs(files)
+        for name, document in found.items():
+            assert leaf_keys(document) <= DOCUMENTED, name
+        places = {n: d for n, d in found.items() if n != "zenoh-router"}
+        # what one side routes out, another routes in: both ends of every crossing
+        for out_kind, in_kind in (
+            ("publishers", "subscribers"),
+            ("service_clients", "service_servers"),
+        ):
+            sent = {x for d in places.values() for x in allow(d)[out_kind]}
+            received = {x for d in places.values() for x in allow(d)[in_kind]}
+            assert sent == received, (features, out_kind)
+        # a robot's bridge carries only names some node elsewhere uses
+        for robot in product.system.containers:
+            if robot.eClass.name != "RobotContainer":
+                continue
+            lists = allow(found[robot.endpoint.robotId])
+            used = {x for kind in KINDS for x in lists[kind]}
+            assert used <= names_outside(product.system, robot), (features, robot.name)
+    assert carried >= 8
+
+
+def test_a_product_zenoh_cannot_carry_is_skipped_with_the_reason():
+    line = load_product_line(ROOT / "product_lines" / "orchard")
+    selection = selection_from_list("CloudDetection,CloudPlanning,SoftGripper")
+    bundle = build_bundle(resolve(line, selection).product)
+    reason = bundle.skipped["zenoh/"]
+    assert "/camera/image_raw of harvester_1 arrives in OrchardCloud_harvester_1 as " in reason
+    assert not any(path.startswith("zenoh/") for path in bundle.files)
+    assert json.loads(bundle.files["manifest.json"])["skipped"] == {"zenoh/": reason}
+    readme = bundle.files["kubernetes/README.md"].decode()
+    assert "NOT carried" in readme
+    assert b"zenoh-bridge" not in b"".join(
+        data for path, data in bundle.files.items() if path.endswith(".yaml")
+    )
+
+
+def test_two_robots_with_private_instances_on_one_topic_name_are_not_carried():
+    """Both robots publish /camera/rgb/image, each for its own private VisualOdometry:
+    one Zenoh key space would hand each instance the other robot's images too."""
+    system = tsm_language.parse_file(Path(__file__).parent / "models/rapyuta/two_robots.tsm")
+    files = zenoh.generate(ResolvedProduct("two", system, ()))
+    reason = files["zenoh/"].reason
+    assert (
+        "zenoh would deliver /camera/rgb/image from alpha to MappingCloud_beta, which the "
+        "architecture does not connect" in reason
+    )
