@@ -21,7 +21,7 @@ import hashlib
 import re
 from typing import Any
 
-from spl.diagnostics import Diagnostic, location_of
+from spl.diagnostics import Diagnostic, Location, location_of
 
 DNS_LABEL = re.compile(r"[a-z]([-a-z0-9]*[a-z0-9])?")
 LABEL_VALUE = re.compile(r"([A-Za-z0-9]([-A-Za-z0-9_.]*[A-Za-z0-9])?)?")
@@ -55,9 +55,9 @@ class ObjectNames:
         self.room = room
         self.taken: dict[str, str] = {name: "a generated object" for name in reserved}
 
-    def name(self, text: str, element: Any, what: str) -> str:
+    def name(self, text: str, where: Location | None, what: str) -> str:
         """The object name for ``text`` (``what`` names it in messages; errors are
-        located at ``element``); an unusable name is reported and a placeholder returned."""
+        located at ``where``); an unusable name is reported and a placeholder returned."""
         name = dns_label(text)
         problem = None
         if not DNS_LABEL.fullmatch(name):
@@ -76,7 +76,7 @@ class ObjectNames:
                 f"{name!r}: rename one of them"
             )
         if problem:
-            self.errors.append(Diagnostic(location_of(element), problem))
+            self.errors.append(Diagnostic(where, problem))
             return "invalid"
         self.taken[name] = f"{what} {text!r}"
         return name
@@ -92,6 +92,8 @@ def instance_names(instances: list[Any], errors: list[Diagnostic]) -> dict[str, 
     ``-config``, the ConfigMap. Problems are located at the instance's container."""
     names = ObjectNames(errors, len(CONFIG_SUFFIX), (ROUTER,))
     return {
-        instance.place.tag: names.name(instance.place.tag, instance.container, "cloud instance")
+        instance.place.tag: names.name(
+            instance.place.tag, location_of(instance.container), "cloud instance"
+        )
         for instance in instances
     }
