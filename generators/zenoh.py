@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from spl import __version__
 from spl.generators.bundle import Skipped
-from spl.generators.zenoh_bridge import USERS_FILE, ZENOH_PORT, Transport, transport
+from spl.generators.zenoh_bridge import ROUTER_FILE, USERS_FILE, ZENOH_PORT, Transport, transport
 from spl.resolver.product import ResolvedProduct
 
 
@@ -63,6 +63,6 @@ def generate(product: ResolvedProduct) -> dict[str, bytes | Skipped]:
         f"zenoh/{tag}.json5": text.encode("utf-8")
         for tag, text in {**wiring.robot_configs, **wiring.cloud_configs}.items()
     }
-    files["zenoh/zenoh-router.json5"] = wiring.router_config.encode("utf-8")
+    files[f"zenoh/{ROUTER_FILE}.json5"] = wiring.router_config.encode("utf-8")
     files["zenoh/README.md"] = _readme(product, wiring)
     return dict(sorted(files.items()))

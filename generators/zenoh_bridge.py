@@ -41,12 +41,13 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from spl import __version__
-from spl.diagnostics import Diagnostic, ModelError
+from spl.diagnostics import Diagnostic, ModelError, location_of
 from spl.generators.kubernetes_names import instance_names
 from spl.generators.rapyuta import _Wiring  # moves to spl.resolver with #18 (splitgen)
 from spl.resolver.placement import Placement
 
 ZENOH_PORT = 7447
+ROUTER_FILE = "zenoh-router"  # zenoh/zenoh-router.json5
 USERS_FILE = "/run/zenoh/users"
 KINDS = (
     "publishers",
@@ -155,6 +156,54 @@ def _allow(lists: dict[str, set[str]]) -> dict[str, list[str]]:
     return {kind: sorted(lists[kind]) for kind in KINDS}
 
 
+def _robot_document(
+    robot: Any,
+    robot_id: str,
+    lists: dict[str, set[str]] | None,
+    users: dict[str, tuple[str, Any]],
+    errors: list[Diagnostic],
+) -> dict[str, Any] | None:
+    """A robot's bridge: a client of the cloud's router, at its endpoint URL's host."""
+    endpoint = robot.endpoint
+    where = location_of(endpoint) or location_of(robot)
+    if robot_id == ROUTER_FILE:
+        errors.append(Diagnostic(where, f"robot_id {robot_id!r} is the Zenoh router's file name"))
+        return None
+    match = _URL_HOST.match(endpoint.url or "") if endpoint is not None else None
+    if match is None:
+        if lists:  # something crosses: the bridge needs the cloud's address
+            errors.append(
+                Diagnostic(
+                    where,
+                    f"robot container {robot.name} exchanges data with the cloud but its "
+                    "endpoint has no url: its Zenoh bridge needs the cloud's address",
+                )
+            )
+        return None
+    document: dict[str, Any] = {
+        "plugins": {"ros2dds": {"allow": _allow(lists or {kind: set() for kind in KINDS})}},
+        "mode": "client",
+        "connect": {"endpoints": [f"tcp/{match.group(1)}:{ZENOH_PORT}"]},
+        "scouting": {"multicast": {"enabled": False}},
+    }
+    if endpoint.user and endpoint.passwordEnv:
+        variable = endpoint.passwordEnv
+        known = users.setdefault(endpoint.user, (variable, robot))
+        if known[0] != variable:
+            errors.append(
+                Diagnostic(
+                    where,
+                    f"user {endpoint.user} authenticates with password env {variable} here "
+                    f"and {known[0]} in robot container {known[1].name}: the Zenoh router "
+                    "keeps one password per user",
+                )
+            )
+        document["transport"] = {
+            "auth": {"usrpwd": {"user": endpoint.user, "password": f"${{{variable}}}"}}
+        }
+    return document
+
+
 def transport(system: Any) -> Transport:
     """The bridges of every robot and cloud instance, the router, or why not carried."""
     errors: list[Diagnostic] = []
@@ -183,30 +232,19 @@ def transport(system: Any) -> Transport:
             },
             f"zenoh-bridge-ros2dds configuration of cloud instance {tag}",
         )
-    credentials: set[tuple[str, str]] = set()
+    users: dict[str, tuple[str, Any]] = {}
     for robot in placement.robots:
         robot_id = placement.robot_ids[id(robot)]
-        endpoint = robot.endpoint
-        match = _URL_HOST.match(endpoint.url or "") if endpoint is not None else None
-        if match is None:
-            continue  # reported by the Rapyuta generator's credential check
-        document: dict[str, Any] = {
-            "plugins": {"ros2dds": {"allow": _allow(found.allow[robot_id])}},
-            "mode": "client",
-            "connect": {"endpoints": [f"tcp/{match.group(1)}:{ZENOH_PORT}"]},
-            "scouting": {"multicast": {"enabled": False}},
-        }
-        if endpoint.user and endpoint.passwordEnv:
-            document["transport"] = {
-                "auth": {
-                    "usrpwd": {"user": endpoint.user, "password": f"${{{endpoint.passwordEnv}}}"}
-                }
-            }
-            credentials.add((endpoint.user, endpoint.passwordEnv))
-        result.robot_configs[robot_id] = _json5(
-            document, f"zenoh-bridge-ros2dds configuration of robot {robot.name} ({robot_id})"
-        )
-        result.robot_files[robot_id] = robot.name
+        lists = found.allow.get(robot_id)
+        document = _robot_document(robot, robot_id, lists, users, errors)
+        if document is not None:
+            result.robot_configs[robot_id] = _json5(
+                document, f"zenoh-bridge-ros2dds configuration of robot {robot.name} ({robot_id})"
+            )
+            result.robot_files[robot_id] = robot.name
+    if errors:
+        raise ModelError(list(dict.fromkeys(errors)))
+    credentials = {(user, variable) for user, (variable, _) in users.items()}
     result.credentials = sorted(credentials)
     router: dict[str, Any] = {
         "mode": "router",

@@ -10,6 +10,7 @@ from pathlib import Path
 import json5
 import pytest
 
+from spl.diagnostics import ModelError
 from spl.dsl import tsm as tsm_language
 from spl.generators import kubernetes, zenoh
 from spl.generators.bundle import Skipped, build_bundle
@@ -223,3 +224,73 @@ def test_two_robots_with_private_instances_on_one_topic_name_are_not_carried():
         "zenoh would deliver /camera/rgb/image from alpha to MappingCloud_beta, which the "
         "architecture does not connect" in reason
     )
+
+
+ONE_ROBOT = """system Small
+
+robot container Rover {
+    endpoint robot_id "ROBOT_ID" url "wss://cloud.example.org:9000/" user "rover"
+             password env "ROVER_PASSWORD"
+    topic Scan : sensor_msgs/LaserScan name "/scan"
+    node Lidar {
+        implementation urg_node/urg_node
+        publishes scan -> Scan
+    }
+}
+
+robot container Drone {
+    endpoint robot_id "drone_1" url "wss://cloud.example.org:9000/" user "rover"
+             password env "DRONE_PASSWORD"
+}
+
+cloud container Cloud {
+    topic Scan : sensor_msgs/LaserScan name "/scan"
+    node Mapper {
+        implementation gmapping/slam_gmapping
+        subscribes scan <- Scan
+    }
+}
+
+bridge Rover.Scan -> Cloud.Scan
+"""
+
+
+@pytest.mark.parametrize(
+    ("robot_id", "drone_env", "message"),
+    [
+        (
+            "zenoh-router",
+            "ROVER_PASSWORD",
+            "robot_id 'zenoh-router' is the Zenoh router's file name",
+        ),
+        (
+            "rover_1",
+            "DRONE_PASSWORD",
+            "user rover authenticates with password env DRONE_PASSWORD here and ROVER_PASSWORD "
+            "in robot container Rover: the Zenoh router keeps one password per user",
+        ),
+    ],
+)
+def test_robot_names_and_users_the_router_cannot_take_are_located_errors(
+    tmp_path, robot_id, drone_env, message
+):
+    path = tmp_path / "small.tsm"
+    path.write_text(ONE_ROBOT.replace("ROBOT_ID", robot_id).replace("DRONE_PASSWORD", drone_env))
+    product = ResolvedProduct("small", tsm_language.parse_file(path), ())
+    with pytest.raises(ModelError) as raised:
+        zenoh.generate(product)
+    (diagnostic,) = raised.value.diagnostics
+    assert diagnostic.message == message
+    assert str(diagnostic).startswith(f"{path}:")
+
+
+def test_a_small_product_carried_with_its_users():
+    path_text = ONE_ROBOT.replace("ROBOT_ID", "rover_1").replace("DRONE_PASSWORD", "ROVER_PASSWORD")
+    system = tsm_language.parse_text(path_text, "small.tsm")
+    found = configs(zenoh.generate(ResolvedProduct("small", system, ())))
+    assert allow(found["rover_1"])["publishers"] == ["/scan"]
+    assert allow(found["Cloud_rover_1"])["subscribers"] == ["/scan"]
+    assert allow(found["drone_1"]) == {kind: [] for kind in KINDS}
+    files = kubernetes.generate(ResolvedProduct("small", system, ()))
+    readme = files["kubernetes/README.md"].decode()
+    assert '--from-literal=rover-password="$ROVER_PASSWORD"' in readme
