@@ -12,8 +12,9 @@ import re
 from typing import Any
 
 from spl.diagnostics import Diagnostic, ModelError, location_of
-from spl.generators.expressions import IDENTIFIER
-from spl.generators.service import render, snake_case, store_context
+from spl.generators.jinja_templates import render
+from spl.generators.store_contract import store_context
+from spl.resolver.generated_names import IDENTIFIER, snake_case
 from spl.resolver.product import ResolvedProduct
 
 ROS_PACKAGE = re.compile(r"[a-z][a-z0-9_]*\Z")

@@ -11,14 +11,11 @@ from __future__ import annotations
 
 from typing import Any
 
-from spl.generators.service import (
-    cloud_stores,
-    database_kind,
-    dns_name,
-    render,
-    store_context,
-)
+from spl.generators.jinja_templates import render
+from spl.generators.store_contract import store_context
+from spl.resolver.generated_names import dns_name
 from spl.resolver.product import ResolvedProduct
+from spl.resolver.stores import cloud_stores, database_kind
 
 SERVICE_PORT = 8000
 FIRST_HOST_PORT = 8000
@@ -41,12 +38,14 @@ def generate(product: ResolvedProduct) -> dict[str, bytes]:
     entries: list[dict[str, Any]] = []
     for index, store in enumerate(stores):
         context = store_context(store, product)
-        entries.append({
-            "store": context,
-            "image": f"{project}/{context['dns']}:1.0.0",
-            "host_port": FIRST_HOST_PORT + index,
-            "token_key": f"{context['dns']}-token",
-        })
+        entries.append(
+            {
+                "store": context,
+                "image": f"{project}/{context['dns']}:1.0.0",
+                "host_port": FIRST_HOST_PORT + index,
+                "token_key": f"{context['dns']}-token",
+            }
+        )
     common = {
         "product": product.name,
         "project": project,
@@ -56,17 +55,23 @@ def generate(product: ResolvedProduct) -> dict[str, bytes]:
         "secret": secret,
     }
     files = {
-        "deploy/docker-compose.yml": render("deploy/docker-compose.yml.j2", stores=entries,
-                                            **common),
+        "deploy/docker-compose.yml": render(
+            "deploy/docker-compose.yml.j2", stores=entries, **common
+        ),
         "deploy/README.md": render("deploy/README.md.j2", stores=entries, **common),
     }
     for entry in entries:
         store = entry["store"]
         files[f"deploy/{store['name']}/Dockerfile"] = render(
-            "deploy/Dockerfile.j2", store=store, **common)
+            "deploy/Dockerfile.j2", store=store, **common
+        )
         files[f"deploy/kubernetes/{store['dns']}.yaml"] = render(
-            "deploy/service.k8s.yaml.j2", store=store, image=entry["image"],
-            token_key=entry["token_key"], **common)
+            "deploy/service.k8s.yaml.j2",
+            store=store,
+            image=entry["image"],
+            token_key=entry["token_key"],
+            **common,
+        )
     if postgres:
         files["deploy/kubernetes/postgres.yaml"] = render("deploy/postgres.k8s.yaml.j2", **common)
     return files

@@ -22,8 +22,8 @@ from collections.abc import Iterable
 from typing import Any
 
 from spl.diagnostics import Diagnostic, ModelError, location_of
+from spl.resolver.generated_names import IDENTIFIER
 
-IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
 NUMBER = re.compile(r"(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?\Z")
 
 # model operator -> Python operator; '/' and '%' go through helpers (zero checks)
@@ -238,9 +238,7 @@ def compile_transform(transform: Any) -> tuple[str, set[str]]:
     for assignment in transform.assignments:
         field = assignment.field
         if not isinstance(field, str) or not IDENTIFIER.match(field):
-            problems.append(
-                Diagnostic(location_of(assignment), f"invalid field name {field!r}")
-            )
+            problems.append(Diagnostic(location_of(assignment), f"invalid field name {field!r}"))
             continue
         if field not in output_types:
             problems.append(

@@ -42,6 +42,7 @@ from spl.diagnostics import Diagnostic, ModelError
 from spl.generators import kubernetes, ros1, ros2
 from spl.generators.bundle import TARGETS, build_bundle, manifest
 from spl.generators.kubernetes_names import CONFIG_SUFFIX, ObjectNames, dns_label
+from spl.generators.launch_xml import serialize
 from spl.generators.rapyuta import configurations, render
 from spl.generators.rapyuta_rules import check_all
 from spl.resolver.fleet_deployment import FleetDeployment, SharedInstance
@@ -77,7 +78,7 @@ def _shared_launch(module: Any, deployment: FleetDeployment, instance: SharedIns
             root = document
         else:
             root.extend(document.findall("node"))
-    return ros1.serialize(root if root is not None else etree.Element("launch"))
+    return serialize(root if root is not None else etree.Element("launch"))
 
 
 def _ros1_instance(deployment: FleetDeployment, instance: SharedInstance) -> dict[str, bytes]:

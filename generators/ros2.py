@@ -1,11 +1,11 @@
 """ROS 2 launch files: one launch XML file per container of a resolved product.
 
 Same nodes, parameters and remappings as the ROS 1 files (the rules live in
-:mod:`spl.generators.ros1`), in the ROS 2 XML frontend's vocabulary (``exec``,
-``namespace``, typed ``param``). The ROS 2 frontend expands ``$(...)`` substitutions
-in every attribute but, unlike roslaunch, lets a backslash escape ``$``, quotes and
-itself; every attribute value is escaped that way, so model text reaches the node
-exactly as written.
+:mod:`spl.resolver.ros_names` and :mod:`spl.generators.launch_xml`), in the ROS 2 XML
+frontend's vocabulary (``exec``, ``namespace``, typed ``param``). The ROS 2 frontend
+expands ``$(...)`` substitutions in every attribute but, unlike roslaunch, lets a
+backslash escape ``$``, quotes and itself; every attribute value is escaped that way,
+so model text reaches the node exactly as written.
 
 Parameters carry the launch_ros ``type`` attribute (read since Galactic; Humble and
 Jazzy have it): without it the frontend guesses the type from the text, and a string
@@ -23,14 +23,9 @@ from typing import Any
 import yaml
 from lxml import etree
 
-from spl.generators.ros1 import (
-    checked_value,
-    header_text,
-    remappings,
-    require_implementation,
-    serialize,
-)
+from spl.generators.launch_xml import checked_value, header_text, require_implementation, serialize
 from spl.resolver.product import ResolvedProduct
+from spl.resolver.ros_names import remappings
 
 __all__ = ["escape_substitutions", "generate", "launch_document", "launch_file"]
 

@@ -4,78 +4,42 @@ A store becomes ``services/<Store>/``: a FastAPI + SQLAlchemy 2 application (uvi
 serves it) with its first-order table, one typed table per refinement, the compiled
 transforms and a transformer, plus README, pyproject.toml and requirements.txt. The
 templates under ``templates/service`` hold the code; this module only builds their
-context from the resolved model, passing every model name through validation first.
+context from the resolved model (the names the clients and the deployment share are
+:mod:`spl.generators.store_contract`'s), passing every model name through validation
+first.
 """
 
 from __future__ import annotations
 
-import re
-from functools import cache
 from typing import Any
 
-from jinja2 import Environment, PackageLoader, StrictUndefined
-
 from spl.diagnostics import Diagnostic, ModelError, location_of
-from spl.dsl.transform_types import check_system
-from spl.generators.expressions import (
-    IDENTIFIER,
-    function_name,
-    neighbours_used,
-    transforms_module,
-)
+from spl.generators.expressions import function_name, neighbours_used, transforms_module
+from spl.generators.jinja_templates import render
+from spl.generators.store_contract import store_context
+from spl.resolver.generated_names import IDENTIFIER, snake_case
 from spl.resolver.product import ResolvedProduct
+from spl.resolver.stores import cloud_stores, store_errors
 
 PYTHON_TYPES = {"double": "float", "int": "int", "string": "str", "bool": "bool"}
-COLUMN_TYPES = {"double": "Double()", "int": "BigInteger()", "string": "Text()",
-                "bool": "Boolean()"}
+COLUMN_TYPES = {
+    "double": "Double()",
+    "int": "BigInteger()",
+    "string": "Text()",
+    "bool": "Boolean()",
+}
 DEFAULT_PERIOD = 5.0
-DATABASE_ATTRIBUTE = "database"  # a selected feature's attribute: "sqlite" | "postgresql"
-POSTGRES_DEFAULT_URL = "postgresql://spl@localhost:5432/spl"
 
-PACKAGE_FILES = ("__init__.py", "__main__.py", "settings.py", "database.py", "model.py",
-                 "transformer.py", "app.py")
+PACKAGE_FILES = (
+    "__init__.py",
+    "__main__.py",
+    "settings.py",
+    "database.py",
+    "model.py",
+    "transformer.py",
+    "app.py",
+)
 TOP_FILES = ("README.md", "pyproject.toml", "requirements.txt")
-
-
-def snake_case(name: str) -> str:
-    """``PositionStore`` -> ``position_store``; ``EV3Writer`` -> ``ev3_writer``."""
-    if not IDENTIFIER.match(name):
-        raise ValueError(f"not an identifier: {name!r}")
-    words = re.sub(r"([a-z0-9])([A-Z])", r"\1_\2", name)
-    words = re.sub(r"([A-Z]+)([A-Z][a-z])", r"\1_\2", words)
-    return re.sub(r"_+", "_", words).strip("_").lower() or "x"
-
-
-def dns_name(name: str) -> str:
-    """A Kubernetes/compose-safe name (RFC 1123 label) for a validated identifier."""
-    return snake_case(name).replace("_", "-").strip("-")[:63] or "x"
-
-
-@cache
-def environment() -> Environment:
-    env = Environment(
-        loader=PackageLoader("spl.generators", "templates"),
-        undefined=StrictUndefined,
-        keep_trailing_newline=True,
-        trim_blocks=True,
-        lstrip_blocks=True,
-        autoescape=False,  # Python, YAML and Markdown: values are validated or repr()-ed
-    )
-    env.filters["pyrepr"] = repr
-    return env
-
-
-def render(template: str, **context: Any) -> bytes:
-    return environment().get_template(template).render(**context).encode("utf-8")
-
-
-def cloud_stores(system: Any) -> list[Any]:
-    return [
-        store
-        for container in system.containers
-        if container.eClass.name == "CloudContainer"
-        for store in container.stores
-    ]
 
 
 def _check_names(system: Any) -> None:
@@ -97,51 +61,6 @@ def _check_names(system: Any) -> None:
                 need(field, field.name, "field")
     if problems:
         raise ModelError(problems)
-
-
-def database_kind(product: ResolvedProduct) -> str:
-    """``sqlite`` or ``postgresql``: the value of a selected feature's ``database`` attribute.
-
-    The data-acquisition product line puts ``attribute database`` on its storage
-    alternatives, so the feature model, not this generator, decides.
-    """
-    selected = set(product.features)
-    for key, value in sorted(product.attributes.items()):
-        feature, _, attribute = key.rpartition(".")
-        if attribute == DATABASE_ATTRIBUTE and feature in selected and value in (
-            "sqlite", "postgresql"
-        ):
-            return value
-    return "sqlite"
-
-
-def store_context(store: Any, product: ResolvedProduct) -> dict[str, Any]:
-    """The names one store's service, clients and deployment files agree on."""
-    slug = snake_case(store.name)
-    upper = slug.upper()
-    default_url = (
-        POSTGRES_DEFAULT_URL
-        if database_kind(product) == "postgresql"
-        else f"sqlite:///./{slug}.db"
-    )
-    return {
-        "name": store.name,
-        "name_repr": repr(store.name),
-        "slug": slug,
-        "dns": dns_name(store.name),
-        "package": f"{slug}_service",
-        "distribution": f"{slug.replace('_', '-')}-service",
-        "prefix": f"/{store.name}",
-        "token_env": f"{upper}_TOKEN",
-        "protect_reads_env": f"{upper}_PROTECT_READS",
-        "period_env": f"{upper}_TRANSFORM_PERIOD",
-        "default_database_url": default_url,
-        "raw_table": f"{slug}_raw",
-        "raw_table_repr": repr(f"{slug}_raw"),
-        "watermark_table_repr": repr(f"{slug}_watermarks"),
-        "error_table": f"{slug}_errors",
-        "error_table_repr": repr(f"{slug}_errors"),
-    }
 
 
 def _fields(data_type: Any) -> list[dict[str, str]]:
@@ -179,8 +98,12 @@ def generate_store(store: Any, product: ResolvedProduct) -> dict[str, bytes]:
     context = {
         "product": product.name,
         "store": store_context(store, product),
-        "raw": {"name": store.raw.name, "name_repr": repr(store.raw.name),
-                "class_name": f"{store.raw.name}Record", "fields": _fields(store.raw)},
+        "raw": {
+            "name": store.raw.name,
+            "name_repr": repr(store.raw.name),
+            "class_name": f"{store.raw.name}Record",
+            "fields": _fields(store.raw),
+        },
         "refinements": [_refinement_context(store, r) for r in store.refinements],
     }
     root = f"services/{store.name}"
@@ -197,7 +120,7 @@ def generate(product: ResolvedProduct) -> dict[str, bytes]:
     """``services/<Store>/...`` for every store of a cloud container of the product."""
     system = product.system
     _check_names(system)
-    problems = [d for d in check_system(system) if d.severity == "error"]
+    problems = store_errors(system)
     if problems:
         raise ModelError(problems)
     files: dict[str, bytes] = {}

@@ -43,8 +43,8 @@ from typing import Any
 from spl import __version__
 from spl.diagnostics import Diagnostic, ModelError, location_of
 from spl.generators.kubernetes_names import instance_names
-from spl.generators.rapyuta import _Wiring  # moves to spl.resolver with #18 (splitgen)
 from spl.resolver.placement import Placement
+from spl.resolver.wiring import Wiring
 
 ZENOH_PORT = 7447
 ROUTER_FILE = "zenoh-router"  # zenoh/zenoh-router.json5
@@ -89,29 +89,31 @@ class _Crossings:
     renames: list[str] = field(default_factory=list)
 
 
-def _crossings(wiring: _Wiring) -> _Crossings:
+def _crossings(wiring: Wiring) -> _Crossings:
+    """The crossings of every robot's view, once each."""
     found = _Crossings()
-    for bridges in wiring.bridges.values():
-        for bridge in sorted(bridges):
-            source = wiring.interfaces[(bridge.source.tag, bridge.source_tag)]
-            target = wiring.interfaces[(bridge.target.tag, bridge.target_tag)]
-            a, b = source["addr"], target["addr"]
-            topic = source["iType"].startswith("Subscriber")
-            if a != b:
-                what = "topic" if topic else "service"
-                found.renames.append(
-                    f"the {what} {a} of {bridge.source.tag} arrives in {bridge.target.tag} "
-                    f"as {b}, and a zenoh bridge carries a {what} under one name"
-                )
+    seen = set()
+    for robot in wiring.placement.robots:
+        for crossing in wiring.crossings(robot):
+            source, target = crossing.source.tag, crossing.target.tag
+            a, b = crossing.source_name, crossing.target_name
+            key = (crossing.kind, source, target, a, b)
+            if key in seen:
                 continue
-            if topic:
-                found.allow[bridge.source.tag]["publishers"].add(a)
-                found.allow[bridge.target.tag]["subscribers"].add(b)
-                found.topic_flows.add((a, bridge.source.tag, bridge.target.tag))
+            seen.add(key)
+            if a != b:
+                found.renames.append(
+                    f"the {crossing.kind} {a} of {source} arrives in {target} as {b}, and a "
+                    f"zenoh bridge carries a {crossing.kind} under one name"
+                )
+            elif crossing.kind == "topic":
+                found.allow[source]["publishers"].add(a)
+                found.allow[target]["subscribers"].add(b)
+                found.topic_flows.add((a, source, target))
             else:
-                found.allow[bridge.source.tag]["service_clients"].add(a)
-                found.allow[bridge.target.tag]["service_servers"].add(b)
-                found.call_flows.add((a, bridge.source.tag, bridge.target.tag))
+                found.allow[source]["service_clients"].add(a)
+                found.allow[target]["service_servers"].add(b)
+                found.call_flows.add((a, source, target))
     return found
 
 
@@ -208,12 +210,12 @@ def transport(system: Any) -> Transport:
     """The bridges of every robot and cloud instance, the router, or why not carried."""
     errors: list[Diagnostic] = []
     placement = Placement(system, errors)
-    wiring = _Wiring(system, placement, errors)
+    wiring = Wiring(system, placement, errors)
     instances = {i.place.tag: i for i in placement.cloud_instances()}
     services = instance_names(list(instances.values()), errors)
+    found = _crossings(wiring)  # reports type clashes while it follows the flows
     if errors:
         raise ModelError(list(dict.fromkeys(errors)))
-    found = _crossings(wiring)
     problems = found.renames + _unconnected(found)
     if problems:
         return Transport(reason="; ".join(sorted(set(problems))))

@@ -143,8 +143,8 @@ def run_case(
 ) -> CaseResult:
     """Resolve one product, generate its bundle in memory and validate every file;
     then, when the files are valid, run ``rehearse`` on them."""
+    from spl.bundle_validation import validate_bundle
     from spl.generators.bundle import build_bundle
-    from spl.generators.validation import validate_bundle
     from spl.resolver.engine import resolve
     from spl.resolver.product_selection import load_selection_file, selection_from_list
 

@@ -7,8 +7,8 @@ from pathlib import Path
 
 import pytest
 
+from spl.bundle_validation import validate_bundle
 from spl.generators.bundle import bundle_files
-from spl.generators.validation import validate_bundle
 from spl.resolver.engine import resolve
 from spl.resolver.product_line import load_product_line
 from spl.resolver.product_selection import load_selection_file

@@ -9,7 +9,7 @@ from launch_system import mapping_product
 from lxml import etree
 
 from spl.emf import copy_model
-from spl.generators import diagrams
+from spl.generators import diagrams, graphviz_output
 from spl.metamodels import tsm
 
 SVG = {"s": "http://www.w3.org/2000/svg"}
@@ -119,20 +119,20 @@ def test_deterministic_svg_without_tool_version(product, svg):
 
 def test_template_without_product(product):
     graph = diagrams.architecture_graph(product.system)
-    data = diagrams.render_bytes(graph, "svg")
+    data = graphviz_output.render_bytes(graph, "svg")
     assert b"migrated from" not in data and b"MapOptimizer" in data
 
 
 def test_render_by_suffix_atomically(product, tmp_path):
     graph = diagrams.architecture_graph(product.system, product)
-    png = diagrams.render(graph, tmp_path / "out" / "arch.png")
+    png = graphviz_output.render(graph, tmp_path / "out" / "arch.png")
     assert png.read_bytes().startswith(b"\x89PNG\r\n\x1a\n")
-    svg = diagrams.render(graph, tmp_path / "arch.svg")
+    svg = graphviz_output.render(graph, tmp_path / "arch.svg")
     etree.fromstring(svg.read_bytes())
-    source = diagrams.render(graph, tmp_path / "arch.dot")
+    source = graphviz_output.render(graph, tmp_path / "arch.dot")
     assert source.read_text(encoding="utf-8") == graph.source
     with pytest.raises(ValueError, match=r"only render \.svg, \.png or \.dot"):
-        diagrams.render(graph, tmp_path / "arch.pdf")
+        graphviz_output.render(graph, tmp_path / "arch.pdf")
     names = ["arch.dot", "arch.png", "arch.svg", "out"]
     assert sorted(p.name for p in tmp_path.rglob("*")) == names
 
@@ -166,7 +166,7 @@ def test_stores_writers_and_readers():
     reader.package = reader.executable = "position_reader"
     rover.nodes.extend([writer, reader])
     system.containers.extend([cloud, rover])
-    svg = diagrams.render_bytes(diagrams.architecture_graph(system), "svg")
+    svg = graphviz_output.render_bytes(diagrams.architecture_graph(system), "svg")
     root = etree.fromstring(svg)
     edges = {
         g.findtext("s:title", namespaces=SVG) for g in root.iterfind(".//s:g[@class='edge']", SVG)

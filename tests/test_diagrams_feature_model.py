@@ -7,7 +7,9 @@ from typing import Any
 import pytest
 from lxml import etree
 
-from spl.generators import diagrams
+from spl.dsl.fm_printer import format_formula
+from spl.generators.feature_model_diagram import SELECTED_GREEN, feature_model_graph
+from spl.generators.graphviz_output import render_bytes
 from spl.metamodels import fm
 
 SVG = {"s": "http://www.w3.org/2000/svg"}
@@ -85,8 +87,10 @@ def mapping_feature_model() -> Any:
 
 @pytest.fixture(scope="module")
 def svg_root():
-    graph = diagrams.feature_model_graph(mapping_feature_model(), FIG5_SELECTION)
-    return etree.fromstring(diagrams.render_bytes(graph, "svg"))
+    graph = feature_model_graph(
+        mapping_feature_model(), FIG5_SELECTION, formula_text=format_formula
+    )
+    return etree.fromstring(render_bytes(graph, "svg"))
 
 
 def nodes(root: etree._Element) -> dict[str, etree._Element]:
@@ -117,7 +121,7 @@ def test_names_every_feature_and_constraint(svg_root):
 def test_selection_in_green_and_the_rest_white(svg_root):
     found = nodes(svg_root)
     for name in ("YouBot", "Stereo", "Room", "AdditionalPC", "Mapping"):
-        assert found[f"feature.{name}"].find("s:path", SVG).get("fill") == diagrams.SELECTED_GREEN
+        assert found[f"feature.{name}"].find("s:path", SVG).get("fill") == SELECTED_GREEN
     for name in ("Roomba", "Depth", "Corridor", "Logging"):
         assert found[f"feature.{name}"].find("s:path", SVG).get("fill") == "white"
 
@@ -151,5 +155,5 @@ def test_feature_model_notation(svg_root):
 
 
 def test_without_selection_nothing_is_green():
-    graph = diagrams.feature_model_graph(mapping_feature_model())
-    assert diagrams.SELECTED_GREEN.encode() not in diagrams.render_bytes(graph, "svg")
+    graph = feature_model_graph(mapping_feature_model(), formula_text=format_formula)
+    assert SELECTED_GREEN.encode() not in render_bytes(graph, "svg")

@@ -8,7 +8,8 @@ import pytest
 import yaml
 from lxml import etree
 
-from spl.generators import diagrams, ros1, ros2
+from spl.dsl.fm_printer import format_formula
+from spl.generators import diagrams, feature_model_diagram, graphviz_output, ros1, ros2
 from spl.generators.launch_schema import validate_ros1_launch, validate_ros2_launch
 from spl.resolver.engine import resolve
 from spl.resolver.product_line import load_product_line
@@ -112,7 +113,9 @@ def test_architecture_diagram_of_a_migrated_product(line):
 
 
 def test_feature_model_diagram_from_text(line):
-    graph = diagrams.feature_model_graph(line.fm, {"Fleet", "CloudMapping"})
-    root = etree.fromstring(diagrams.render_bytes(graph, "svg"))
+    graph = feature_model_diagram.feature_model_graph(
+        line.fm, {"Fleet", "CloudMapping"}, formula_text=format_formula
+    )
+    root = etree.fromstring(graphviz_output.render_bytes(graph, "svg"))
     shown = {t.text for t in root.iter("{*}text")}
     assert {"Fleet", "CloudMapping", "OnboardSlam", "OnboardSlam requires CloudMapping"} <= shown

@@ -16,8 +16,8 @@ from pathlib import Path
 import pytest
 from test_readme_commands import fenced_command
 
+from spl.bundle_validation import validate_bundle
 from spl.generators.bundle import bundle_files
-from spl.generators.validation import validate_bundle
 from spl.resolver.engine import resolve
 from spl.resolver.product_line import load_product_line
 from spl.resolver.product_selection import selection_from_list

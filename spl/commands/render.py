@@ -73,7 +73,8 @@ def command(
 
     import graphviz
 
-    from spl.generators import diagrams
+    from spl.dsl.fm_printer import format_formula
+    from spl.generators import diagrams, feature_model_diagram, graphviz_output
     from spl.resolver.product_line import load_product_line
 
     line = load_product_line(directory)
@@ -84,16 +85,18 @@ def command(
         resolution = resolve(line, selection_from_options(features, sharing, settings))
     if what == "fm":
         selected = set(resolution.product.features) if resolution else None
-        graph = diagrams.feature_model_graph(line.fm, selected)
+        graph = feature_model_diagram.feature_model_graph(
+            line.fm, selected, formula_text=format_formula
+        )
     elif what == "tsm":
         graph = diagrams.architecture_graph(line.tsm)
     else:
         graph = diagrams.architecture_graph(resolution.product.system, resolution.product)
     try:
-        diagrams.render(graph, out)
+        graphviz_output.render(graph, out)
     except graphviz.ExecutableNotFound:
         click.echo(
-            f"error: {out.name} not written: {diagrams.DOT_MISSING} "
+            f"error: {out.name} not written: {graphviz_output.DOT_MISSING} "
             f"(or write the source with -o {out.with_suffix('.dot').name})",
             err=True,
         )

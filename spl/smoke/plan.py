@@ -28,8 +28,9 @@ import yaml
 from lxml import etree
 
 from spl.diagnostics import Diagnostic, Location, ModelError
-from spl.generators.ros1 import remappings, server_ros_name, topic_ros_name
 from spl.metamodels import tsm
+from spl.resolver.product import topic_ros_name
+from spl.resolver.ros_names import remappings, server_ros_name
 
 ENDPOINT = "endpoint"  # how the rehearsal names every container's endpoint node
 KINDS = {

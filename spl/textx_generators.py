@@ -2,7 +2,8 @@
 
 ``textx generate mapping.rm --target ros1 --features YouBot,Stereo,AdditionalPC,Room``
 resolves the product line of the resolution model for those features (a list or a
-product YAML file) and writes that target's files, as ``spl resolve`` would.
+product YAML file) and writes that target's files, as ``spl resolve`` would. It loads
+and resolves, so it belongs with the commands, above the generators it calls.
 """
 
 from __future__ import annotations

@@ -4,6 +4,9 @@ Launch files against the shipped XSDs, Rapyuta configurations against the JSON S
 and the engine's rules (all robots' files of the bundle together), generated Python
 compiled, deployment YAML parsed, the resolved model re-parsed, the diagram parsed as
 XML and the manifest's hashes recomputed. Used by the tests and by ``spl validate``.
+
+It judges the generators' output by its consumers, spl's own .tsm parser among them,
+so it sits above both the languages (dsl/) and the generators.
 """
 
 from __future__ import annotations
@@ -15,6 +18,7 @@ import yaml
 from lxml import etree
 
 from spl.diagnostics import ModelError
+from spl.dsl.tsm import parse_text
 from spl.generators.launch_schema import validate_ros1_launch, validate_ros2_launch
 from spl.generators.rapyuta_rules import check_all
 
@@ -50,8 +54,6 @@ def validate_bundle(files: dict[str, bytes]) -> list[str]:
             except etree.XMLSyntaxError as exc:
                 problems.append(f"{path}: not XML: {exc}")
         elif path == "resolved.tsm":
-            from spl.dsl.tsm import parse_text
-
             try:
                 parse_text(data.decode("utf-8"), path)
             except ModelError as exc:

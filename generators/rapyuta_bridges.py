@@ -1,0 +1,147 @@
+"""The Rapyuta interfaces and connections that carry the crossing flows of a product.
+
+:mod:`spl.resolver.wiring` finds every flow whose two nodes run in different places
+(robot, or one partition of a cloud container); Rapyuta carries each with one bridge:
+a Subscriber where the data is produced and a Publisher where it is consumed, or a
+ServiceProvider next to the client and a ServiceClient next to the server. Bridges are
+keyed by their two ends, so several nodes sharing a topic or a server share one
+bridge. Interface tags are the TSM's canonical endpoint-interface names:
+``sub_<Topic>``, ``pub_<Topic>``, ``srv_<ServerNode>_<service>``,
+``cli_<ServerNode>_<service>``; robots take ``...Converter`` types, containers
+``...Interface`` types; connections run from the side the data or call enters
+(``tagA``) to the side that delivers it (``tagB``).
+
+A bridge is declared in the file of the robot it belongs to (its robot or private
+partition is one side), and a bridge between two shared partitions in every file
+declaring both.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+from spl.diagnostics import Diagnostic, location_of
+from spl.resolver.placement import Place, Placement
+from spl.resolver.wiring import Crossing, Wiring
+
+# one side of a bridge: the place, the interface tag, its engine entry, the model element
+End = tuple[Place, str, dict[str, str], Any]
+
+
+@dataclass(frozen=True, order=True)
+class Bridge:
+    """One connection: data or calls enter at ``source`` and are delivered at ``target``."""
+
+    source: Place
+    source_tag: str
+    target: Place
+    target_tag: str
+
+    def as_json(self) -> dict[str, str]:
+        return {
+            "tagA": f"{self.source.tag}/{self.source_tag}",
+            "tagB": f"{self.target.tag}/{self.target_tag}",
+        }
+
+
+def _end(place: Place, tag: str, role: str, cls: str | None, addr: str, element: Any) -> End:
+    """One side of a bridge: the interface ``tag`` on ``place`` and its engine entry."""
+    suffix = "Converter" if place.is_robot else "Interface"
+    spec = {
+        "eTag": place.tag,
+        "iTag": tag,
+        "iType": f"{role}{suffix}",
+        "iCls": cls or "",
+        "addr": addr,
+    }
+    return place, tag, spec, element
+
+
+def _ends(crossing: Crossing) -> tuple[End, End]:
+    """The two interfaces of the bridge carrying ``crossing``."""
+    if crossing.kind == "topic":
+        source_topic, target_topic = crossing.source_element, crossing.target_element
+        return (
+            _end(
+                crossing.source,
+                f"sub_{source_topic.name}",
+                "Subscriber",
+                source_topic.type,
+                crossing.source_name,
+                source_topic,
+            ),
+            _end(
+                crossing.target,
+                f"pub_{target_topic.name}",
+                "Publisher",
+                target_topic.type,
+                crossing.target_name,
+                target_topic,
+            ),
+        )
+    server = crossing.target_element
+    tag = f"{server.eContainer().name}_{server.name}"
+    return (
+        _end(
+            crossing.source,
+            f"srv_{tag}",
+            "ServiceProvider",
+            server.type,
+            crossing.source_name,
+            crossing.source_element,
+        ),
+        _end(
+            crossing.target,
+            f"cli_{tag}",
+            "ServiceClient",
+            server.type,
+            crossing.target_name,
+            server,
+        ),
+    )
+
+
+def _declared_by(robot_id: str, crossing: Crossing) -> bool:
+    """Whether the file of robot ``robot_id`` declares the bridge of ``crossing``: one
+    side is the robot or one of its private partitions, or both sides are shared."""
+
+    def mine(place: Place) -> bool:
+        return place.owner == robot_id and place.kind in ("robot", "private")
+
+    a, b = crossing.source, crossing.target
+    return mine(a) or mine(b) or (a.shared and b.shared)
+
+
+class Bridges:
+    """Every bridge of the system, by the robot whose file declares it, and the engine
+    entries of their interfaces (by ``(place tag, interface tag)``)."""
+
+    def __init__(self, system: Any, placement: Placement, errors: list[Diagnostic]) -> None:
+        self.errors = errors
+        self.interfaces: dict[tuple[str, str], dict[str, str]] = {}
+        self.of_robot: dict[int, set[Bridge]] = {}
+        wiring = Wiring(system, placement, errors)
+        for robot in placement.robots:
+            robot_id = placement.robot_ids[id(robot)]
+            bridges: set[Bridge] = set()
+            for crossing in wiring.crossings(robot):
+                if _declared_by(robot_id, crossing):
+                    source, target = _ends(crossing)
+                    self._register(source)
+                    self._register(target)
+                    bridges.add(Bridge(crossing.source, source[1], crossing.target, target[1]))
+            self.of_robot[id(robot)] = bridges
+
+    def _register(self, end: End) -> None:
+        place, tag, spec, element = end
+        known = self.interfaces.setdefault((place.tag, tag), spec)
+        if known != spec:
+            self.errors.append(
+                Diagnostic(
+                    location_of(element),
+                    f"interface {place.tag}/{tag} is needed both as {known['iType']} "
+                    f"{known['iCls']} on {known['addr']} and as {spec['iType']} "
+                    f"{spec['iCls']} on {spec['addr']}: rename a topic or node",
+                )
+            )

@@ -1,0 +1,44 @@
+"""The names one store's service, its robot-side clients and its deployment agree on.
+
+A store becomes a web service (``service``), is written to and read from by generated
+ROS 2 clients (``clients``) and is deployed with Docker Compose and Kubernetes
+(``deploy``): the package, URL prefix, environment variables, tables and default
+database URL must be the same in all of them, so they are derived here once.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from spl.resolver.generated_names import dns_name, snake_case
+from spl.resolver.product import ResolvedProduct
+from spl.resolver.stores import database_kind
+
+POSTGRES_DEFAULT_URL = "postgresql://spl@localhost:5432/spl"
+
+
+def store_context(store: Any, product: ResolvedProduct) -> dict[str, Any]:
+    """The names one store's service, clients and deployment files agree on."""
+    slug = snake_case(store.name)
+    upper = slug.upper()
+    default_url = (
+        POSTGRES_DEFAULT_URL if database_kind(product) == "postgresql" else f"sqlite:///./{slug}.db"
+    )
+    return {
+        "name": store.name,
+        "name_repr": repr(store.name),
+        "slug": slug,
+        "dns": dns_name(store.name),
+        "package": f"{slug}_service",
+        "distribution": f"{slug.replace('_', '-')}-service",
+        "prefix": f"/{store.name}",
+        "token_env": f"{upper}_TOKEN",
+        "protect_reads_env": f"{upper}_PROTECT_READS",
+        "period_env": f"{upper}_TRANSFORM_PERIOD",
+        "default_database_url": default_url,
+        "raw_table": f"{slug}_raw",
+        "raw_table_repr": repr(f"{slug}_raw"),
+        "watermark_table_repr": repr(f"{slug}_watermarks"),
+        "error_table": f"{slug}_errors",
+        "error_table_repr": repr(f"{slug}_errors"),
+    }
