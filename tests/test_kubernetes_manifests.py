@@ -184,3 +184,32 @@ def test_target_option_writes_only_the_chosen_outputs(tmp_path):
     assert refused.exit_code == 2
     assert "unknown target k8s; targets: ros1, ros2, rapyuta" in refused.stderr
     assert not (tmp_path / "x").exists()
+
+
+@pytest.mark.parametrize(
+    ("mode", "instances"),
+    [
+        ("public", {"MappingCloud_public": "public", "MappingCloud_robot_1": "private"}),
+        ("private", {"MappingCloud_robot_1": "private"}),
+    ],
+)
+def test_sharing_override_moves_the_shared_nodes(mode, instances):
+    line = load_product_line(MAPPING)
+    selection = selection_from_list(PAPER)
+    selection.sharing = {"SharedMap": mode}
+    files = kubernetes.generate(resolve(line, selection).product)
+    deployments = [d for (kind, _), d in objects(files).items() if kind == "Deployment"]
+    found = {
+        d["metadata"]["labels"]["spl.robotics/placement"]: d["metadata"]["labels"][
+            "spl.robotics/sharing"
+        ]
+        for d in deployments
+        if d["metadata"]["name"] != "zenoh-router"
+    }
+    assert found == instances
+    database = [
+        d["metadata"]["labels"]["spl.robotics/placement"]
+        for d in deployments
+        if "Database" in d["metadata"].get("annotations", {}).get("spl.robotics/nodes", "")
+    ]
+    assert database == [f"MappingCloud_{'public' if mode == 'public' else 'robot_1'}"]
