@@ -107,7 +107,11 @@ def _kubernetes_instance(deployment: FleetDeployment, instance: SharedInstance) 
     )
     name = dns_label(instance.tag)
     owner = deployment.check.fleet.name
-    return {f"kubernetes/{name}.yaml": kubernetes.instance_file(owner, shared, name, launch)}
+    return {
+        f"kubernetes/{name}.yaml": kubernetes.instance_file(
+            owner, shared, name, launch, kind="fleet"
+        )
+    }
 
 
 SHARED_INSTANCE_GENERATORS: tuple[
@@ -229,7 +233,7 @@ def _kubernetes_private(
             )
             name = dns_label(instance.place.tag)
             path = f"kubernetes/{name}.yaml"
-            files[path] = kubernetes.instance_file(owner, instance, name, launch)
+            files[path] = kubernetes.instance_file(owner, instance, name, launch, kind="fleet")
             per_robot[entry.robot.name].append(path)
     return files
 

@@ -41,11 +41,17 @@ def launch_header(tag: str) -> str:
 
 
 def instance_file(
-    owner: str, instance: Instance, name: str, launch: bytes, bridge: str | None = None
+    owner: str,
+    instance: Instance,
+    name: str,
+    launch: bytes,
+    bridge: str | None = None,
+    kind: str = "product",
 ) -> bytes:
-    """``<name>.yaml`` of one cloud instance of ``owner`` (a product or a fleet)."""
+    """``<name>.yaml`` of one cloud instance of ``owner``, a product or (``kind``) a fleet."""
     documents = instance_documents(owner, instance, name, launch, bridge)
-    return render(documents, title(owner, f"{instance.place.describe()} as {instance.place.tag}"))
+    what = f"{instance.place.describe()} as {instance.place.tag}"
+    return render(documents, title(owner, what, kind))
 
 
 def transport_note(wiring: Transport | None) -> str:
