@@ -30,7 +30,7 @@ from spl.generators.kubernetes_objects import (
     secret_name,
     title,
 )
-from spl.generators.zenoh_bridge import ZENOH_PORT, Transport, transport
+from spl.generators.zenoh_bridge import ZENOH_PORT, CloudBridge, Transport, transport
 from spl.resolver.placement import Instance, Placement
 from spl.resolver.product import ResolvedProduct
 
@@ -45,11 +45,11 @@ def instance_file(
     instance: Instance,
     name: str,
     launch: bytes,
-    bridge: str | None = None,
+    bridges: tuple[CloudBridge, ...] = (),
     kind: str = "product",
 ) -> bytes:
     """``<name>.yaml`` of one cloud instance of ``owner``, a product or (``kind``) a fleet."""
-    documents = instance_documents(owner, instance, name, launch, bridge)
+    documents = instance_documents(owner, instance, name, launch, list(bridges))
     what = f"{instance.place.describe()} as {instance.place.tag}"
     return render(documents, title(owner, what, kind))
 
@@ -144,18 +144,18 @@ def generate(product: ResolvedProduct) -> dict[str, bytes]:
         launch = ros2.launch_file(
             product, instance.container, instance.nodes, launch_header(instance.place.tag)
         )
-        bridge = wiring.cloud_configs.get(instance.place.tag) if wiring.carried else None
+        bridges = wiring.cloud_bridges.get(instance.place.tag, []) if wiring.carried else []
         files[f"kubernetes/{name}.yaml"] = instance_file(
-            product.name, instance, name, launch, bridge
+            product.name, instance, name, launch, tuple(bridges)
         )
-    if wiring.carried and wiring.cloud_configs:
+    if wiring.carried and wiring.cloud_bridges:
         files[f"kubernetes/{ROUTER}.yaml"] = render(
             router_documents(product.name, wiring), title(product.name, "Zenoh router")
         )
     files["kubernetes/kustomization.yaml"] = kustomization(
         [path.removeprefix("kubernetes/") for path in files]
     )
-    crossing = wiring if (not wiring.carried or wiring.cloud_configs) else None
+    crossing = wiring if (not wiring.carried or wiring.cloud_bridges) else None
     files["kubernetes/README.md"] = readme(
         f"product {product.name}",
         [(names[i.place.tag], i) for i in instances],

@@ -2,15 +2,16 @@
 :mod:`spl.generators.kubernetes` for the folder they are written to).
 
 Per cloud instance: a ``ConfigMap`` ``<name>-config`` holding the ROS 2 launch file of
-exactly the instance's nodes (``launch.xml``) and, when data crosses its boundary, its
-``zenoh-bridge-ros2dds`` configuration (``zenoh-bridge.json5``); a ``Deployment``
-``<name>`` running ``ros2 launch`` of that file in the product's ROS image (the
-official image's entrypoint sources ROS, so the command is given as ``args``), with
-the cloud container's ``cpu`` and ``memory`` (MiB) as requests and limits and the
-bridge as a second container; a ``Service`` ``<name>`` on the bridge's Zenoh port,
-which the Zenoh router connects to. Both containers set ``ROS_LOCALHOST_ONLY=1``, so
-DDS discovery stays inside the pod, where the bridge carries exactly the crossing
-topics and services.
+exactly the instance's nodes (``launch.xml``) and, when data crosses its boundary, the
+configuration of each of its ``zenoh-bridge-ros2dds`` bridges (``zenoh-bridge.json5``,
+``zenoh-bridge-2.json5``, ...: one per namespace, see :mod:`spl.generators.zenoh_routes`);
+a ``Deployment`` ``<name>`` running ``ros2 launch`` of that file in the product's ROS
+image (the official image's entrypoint sources ROS, so the command is given as
+``args``), with the cloud container's ``cpu`` and ``memory`` (MiB) as requests and
+limits and one more container per bridge; a ``Service`` ``<name>`` on the bridges'
+Zenoh ports (7447, 7448, ...), which the Zenoh router connects to. Every container sets
+``ROS_LOCALHOST_ONLY=1``, so DDS discovery stays inside the pod, where the bridges carry
+exactly the crossing topics and services.
 
 The Zenoh router (``zenohd``) robots connect to: a ``LoadBalancer`` Service on port
 7447; robots authenticate with their endpoint's user and the password named by
@@ -33,7 +34,7 @@ from spl.generators.kubernetes_names import (
     ROUTER,
     label_value,
 )
-from spl.generators.zenoh_bridge import ZENOH_PORT, Transport
+from spl.generators.zenoh_bridge import ZENOH_PORT, CloudBridge, Transport
 from spl.resolver.placement import Instance
 
 ROS_IMAGE = "ros:jazzy-ros-core"
@@ -108,9 +109,9 @@ def instance_documents(
     instance: Instance,
     name: str,
     launch_xml: bytes,
-    bridge_config: str | None,
+    bridges: list[CloudBridge],
 ) -> list[dict[str, Any]]:
-    """ConfigMap, Deployment and (with a bridge) Service of one cloud instance."""
+    """ConfigMap, Deployment and (with bridges) Service of one cloud instance."""
     labels = instance_labels(product_name, instance, name)
     metadata = {
         "name": name,
@@ -122,8 +123,9 @@ def instance_documents(
         },
     }
     data = {"launch.xml": _Literal(launch_xml.decode("utf-8"))}
-    if bridge_config is not None:
-        data["zenoh-bridge.json5"] = _Literal(bridge_config)
+    sidecars = [bridge_name(n) for n in range(len(bridges))]
+    for sidecar, bridge in zip(sidecars, bridges, strict=True):
+        data[f"{sidecar}.json5"] = _Literal(bridge.config)
     config_map = {
         "apiVersion": "v1",
         "kind": "ConfigMap",
@@ -142,14 +144,16 @@ def instance_documents(
     if resources:
         ros["resources"] = resources
     containers = [ros]
-    if bridge_config is not None:
+    for sidecar, bridge in zip(sidecars, bridges, strict=True):
         containers.append(
             {
-                "name": "zenoh-bridge",
+                "name": sidecar,
                 "image": BRIDGE_IMAGE,
-                "args": ["-c", f"{CONFIG_DIR}/zenoh-bridge.json5"],
+                "args": ["-c", f"{CONFIG_DIR}/{sidecar}.json5"],
                 "env": _localhost_env(),
-                "ports": [{"name": "zenoh", "containerPort": ZENOH_PORT, "protocol": "TCP"}],
+                "ports": [
+                    {"name": port_name(bridge), "containerPort": bridge.port, "protocol": "TCP"}
+                ],
                 "volumeMounts": mount,
             }
         )
@@ -170,12 +174,25 @@ def instance_documents(
         },
     }
     documents = [config_map, deployment]
-    if bridge_config is not None:
-        documents.append(_service(name, labels, "ClusterIP"))
+    if bridges:
+        ports = [(port_name(bridge), bridge.port) for bridge in bridges]
+        documents.append(_service(name, labels, "ClusterIP", ports))
     return documents
 
 
-def _service(name: str, labels: dict[str, str], kind: str) -> dict[str, Any]:
+def bridge_name(index: int) -> str:
+    """The sidecar running an instance's ``index``-th bridge (and its config file)."""
+    return "zenoh-bridge" if index == 0 else f"zenoh-bridge-{index + 1}"
+
+
+def port_name(bridge: CloudBridge) -> str:
+    """A container port name (at most 15 characters): ``zenoh``, ``zenoh-7448``, ..."""
+    return "zenoh" if bridge.port == ZENOH_PORT else f"zenoh-{bridge.port}"
+
+
+def _service(
+    name: str, labels: dict[str, str], kind: str, ports: list[tuple[str, int]]
+) -> dict[str, Any]:
     return {
         "apiVersion": "v1",
         "kind": "Service",
@@ -184,7 +201,8 @@ def _service(name: str, labels: dict[str, str], kind: str) -> dict[str, Any]:
             "type": kind,
             "selector": {"app.kubernetes.io/name": name},
             "ports": [
-                {"name": "zenoh", "port": ZENOH_PORT, "targetPort": "zenoh", "protocol": "TCP"}
+                {"name": port, "port": number, "targetPort": port, "protocol": "TCP"}
+                for port, number in ports
             ],
         },
     }
@@ -260,4 +278,8 @@ def router_documents(product_name: str, wiring: Transport) -> list[dict[str, Any
             },
         },
     }
-    return [config_map, deployment, _service(ROUTER, labels, "LoadBalancer")]
+    return [
+        config_map,
+        deployment,
+        _service(ROUTER, labels, "LoadBalancer", [("zenoh", ZENOH_PORT)]),
+    ]

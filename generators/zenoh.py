@@ -17,12 +17,23 @@ from spl.generators.zenoh_bridge import ROUTER_FILE, USERS_FILE, ZENOH_PORT, Tra
 from spl.resolver.product import ResolvedProduct
 
 
+def cloud_files(tag: str, count: int) -> list[str]:
+    """``zenoh/<tag>.json5``, then ``<tag>.2.json5``, ... for an instance's bridges (a
+    placement tag holds no ``.``, so no two places' files meet)."""
+    return [f"zenoh/{tag}.json5"] + [f"zenoh/{tag}.{n}.json5" for n in range(2, count + 1)]
+
+
 def _readme(product: ResolvedProduct, wiring: Transport) -> bytes:
     robots = "\n".join(
         f"- `{robot_id}.json5`: robot container {container} (robot_id {robot_id})"
         for robot_id, container in sorted(wiring.robot_files.items())
     )
-    clouds = "\n".join(f"- `{tag}.json5`: cloud instance {tag}" for tag in wiring.cloud_configs)
+    clouds = "\n".join(
+        f"- `{path.removeprefix('zenoh/')}`: cloud instance {tag}"
+        + (f", namespace {bridge.namespace}" if bridge.namespace else "")
+        for tag, bridges in wiring.cloud_bridges.items()
+        for path, bridge in zip(cloud_files(tag, len(bridges)), bridges, strict=True)
+    )
     substitutions = "\n".join(
         f"    envsubst '${{{variable}}}' < zenoh/ROBOT.json5 > /run/zenoh/ROBOT.json5   "
         f"# user {user}"
@@ -60,9 +71,12 @@ def generate(product: ResolvedProduct) -> dict[str, bytes | Skipped]:
     if not wiring.carried:
         return {"zenoh/": Skipped(f"Zenoh cannot carry this product: {wiring.reason}")}
     files: dict[str, bytes | Skipped] = {
-        f"zenoh/{tag}.json5": text.encode("utf-8")
-        for tag, text in {**wiring.robot_configs, **wiring.cloud_configs}.items()
+        f"zenoh/{robot_id}.json5": text.encode("utf-8")
+        for robot_id, text in wiring.robot_configs.items()
     }
+    for tag, bridges in wiring.cloud_bridges.items():
+        for path, bridge in zip(cloud_files(tag, len(bridges)), bridges, strict=True):
+            files[path] = bridge.config.encode("utf-8")
     files[f"zenoh/{ROUTER_FILE}.json5"] = wiring.router_config.encode("utf-8")
     files["zenoh/README.md"] = _readme(product, wiring)
     return dict(sorted(files.items()))

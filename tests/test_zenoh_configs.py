@@ -4,16 +4,16 @@ and for every product exactly the names that cross, nothing robot-local."""
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import json5
 import pytest
+import yaml
 
 from spl.diagnostics import ModelError
 from spl.dsl import tsm as tsm_language
 from spl.generators import kubernetes, zenoh
-from spl.generators.bundle import Skipped, build_bundle
+from spl.generators.bundle import Skipped
 from spl.metamodels import tsm
 from spl.resolver.analysis import enumerate_products
 from spl.resolver.engine import resolve
@@ -134,6 +134,9 @@ def test_paper_product_allow_lists_derived_by_hand():
         ],
         **{kind: [] for kind in KINDS[3:]},
     }
+    # every bridge talking with robot_1 routes under its namespace: robot_1's keys only
+    for name in ("robot_1", "MappingCloud_robot_1", "MappingCloud_mappers"):
+        assert found[name]["plugins"]["ros2dds"]["namespace"] == "/robot_1"
     robot = found["robot_1"]
     assert robot["mode"] == "client"
     assert robot["connect"]["endpoints"] == ["tcp/cloud.example.org:7447"]
@@ -150,9 +153,15 @@ def test_paper_product_allow_lists_derived_by_hand():
 
 
 def names_outside(system, robot) -> set[str]:
-    """ROS names of the topics and services nodes of other containers use."""
+    """ROS names of the topics and services nodes of other containers use, and of the
+    robot's topics an endpoint connection takes elsewhere (under another name)."""
     T = tsm()
     names = set()
+    for connection in system.connections:
+        for end in (connection.source, connection.target):
+            topic = end.topic if isinstance(end, T.Publisher | T.Subscriber) else None
+            if topic is not None and topic.eContainer() is robot:
+                names.add(topic_ros_name(topic))
     for container in system.containers:
         if container is robot:
             continue
@@ -168,10 +177,11 @@ def names_outside(system, robot) -> set[str]:
 @pytest.mark.parametrize("directory", LINES, ids=lambda p: p.name)
 def test_every_product_configuration_reads_back_with_documented_keys(directory):
     line = load_product_line(directory)
-    carried = 0
+    carried = products = 0
     for features in enumerate_products(line.fm):
         product = resolve(line, ProductSelection("p", sorted(features))).product
         files = zenoh.generate(product)
+        products += 1
         if list(files) == ["zenoh/"]:
             assert isinstance(files["zenoh/"], Skipped)
             assert "Zenoh cannot carry this product" in files["zenoh/"].reason
@@ -181,49 +191,120 @@ def test_every_product_configuration_reads_back_with_documented_keys(directory):
         for name, document in found.items():
             assert leaf_keys(document) <= DOCUMENTED, name
         places = {n: d for n, d in found.items() if n != "zenoh-router"}
-        # what one side routes out, another routes in: both ends of every crossing
+        # what one bridge routes out under a key, another routes in: both ends of every
+        # crossing (a key is the bridge's namespace and the ROS name)
         for out_kind, in_kind in (
             ("publishers", "subscribers"),
             ("service_clients", "service_servers"),
         ):
-            sent = {x for d in places.values() for x in allow(d)[out_kind]}
-            received = {x for d in places.values() for x in allow(d)[in_kind]}
+            sent = {key for d in places.values() for key in keys(d, out_kind)}
+            received = {key for d in places.values() for key in keys(d, in_kind)}
             assert sent == received, (features, out_kind)
-        # a robot's bridge carries only names some node elsewhere uses
-        for robot in product.system.containers:
-            if robot.eClass.name != "RobotContainer":
-                continue
+        # a robot's bridge carries only names some node elsewhere uses, under its own
+        # namespace, which no other robot's bridge uses
+        robots = [c for c in product.system.containers if c.eClass.name == "RobotContainer"]
+        spaces = [namespace(found[r.endpoint.robotId]) for r in robots]
+        assert len(set(spaces)) == len(spaces) and "" not in spaces
+        for robot in robots:
             lists = allow(found[robot.endpoint.robotId])
             used = {x for kind in KINDS for x in lists[kind]}
             assert used <= names_outside(product.system, robot), (features, robot.name)
-    assert carried >= 8
+    assert carried == products  # every product of the shipped lines
 
 
-def test_a_product_zenoh_cannot_carry_is_skipped_with_the_reason():
-    line = load_product_line(ROOT / "product_lines" / "orchard")
-    selection = selection_from_list("CloudDetection,CloudPlanning,SoftGripper")
-    bundle = build_bundle(resolve(line, selection).product)
-    reason = bundle.skipped["zenoh/"]
-    assert "/camera/image_raw of harvester_1 arrives in OrchardCloud_harvester_1 as " in reason
-    assert not any(path.startswith("zenoh/") for path in bundle.files)
-    assert json.loads(bundle.files["manifest.json"])["skipped"] == {"zenoh/": reason}
-    readme = bundle.files["kubernetes/README.md"].decode()
-    assert "NOT carried" in readme
-    assert b"zenoh-bridge" not in b"".join(
-        data for path, data in bundle.files.items() if path.endswith(".yaml")
-    )
+def namespace(document: dict) -> str:
+    return document.get("plugins", {}).get("ros2dds", {}).get("namespace", "")
 
 
-def test_two_robots_with_private_instances_on_one_topic_name_are_not_carried():
+def keys(document: dict, kind: str) -> set[str]:
+    return {namespace(document) + name for name in allow(document)[kind]}
+
+
+def test_two_robots_are_isolated_by_their_namespaces():
     """Both robots publish /camera/rgb/image, each for its own private VisualOdometry:
-    one Zenoh key space would hand each instance the other robot's images too."""
+    each robot's bridge, and each bridge talking with it, routes under the robot's
+    namespace, so no instance receives the other robot's images; the protected instance
+    serves each robot through a bridge of its own."""
     system = tsm_language.parse_file(Path(__file__).parent / "models/rapyuta/two_robots.tsm")
-    files = zenoh.generate(ResolvedProduct("two", system, ()))
-    reason = files["zenoh/"].reason
-    assert (
-        "zenoh would deliver /camera/rgb/image from alpha to MappingCloud_beta, which the "
-        "architecture does not connect" in reason
+    found = configs(zenoh.generate(ResolvedProduct("two", system, ())))
+    spaces = {name: namespace(document) for name, document in found.items()}
+    assert spaces == {
+        "alpha": "/alpha",
+        "beta": "/beta",
+        "MappingCloud_alpha": "/alpha",
+        "MappingCloud_beta": "/beta",
+        "MappingCloud_mappers": "",  # get_map for the public MapMerger
+        "MappingCloud_mappers.2": "/alpha",
+        "MappingCloud_mappers.3": "/beta",
+        "MappingCloud_public": "",
+        "zenoh-router": "",
+    }
+    assert keys(found["alpha"], "publishers") == {"/alpha/camera/rgb/image"}
+    assert keys(found["MappingCloud_beta"], "subscribers") == {"/beta/camera/rgb/image"}
+    assert keys(found["MappingCloud_mappers.3"], "service_servers") == {
+        "/beta/exploration/next_target",
+        "/beta/mapping/db/add_keyframe",
+    }
+    assert keys(found["MappingCloud_mappers"], "service_servers") == {"/mapping/db/get_map"}
+    # the shared pod runs three bridges, the router connects to each
+    router = found["zenoh-router"]["connect"]["endpoints"]
+    assert [e for e in router if "mappers" in e] == [
+        "tcp/mappingcloud-mappers:7447",
+        "tcp/mappingcloud-mappers:7448",
+        "tcp/mappingcloud-mappers:7449",
+    ]
+    manifests = kubernetes.generate(ResolvedProduct("two", system, ()))
+    pod = yaml.safe_load_all(manifests["kubernetes/mappingcloud-mappers.yaml"])
+    deployment = next(d for d in pod if d["kind"] == "Deployment")
+    sidecars = deployment["spec"]["template"]["spec"]["containers"][1:]
+    assert [(c["name"], c["ports"][0]["containerPort"]) for c in sidecars] == [
+        ("zenoh-bridge", 7447),
+        ("zenoh-bridge-2", 7448),
+        ("zenoh-bridge-3", 7449),
+    ]
+
+
+def test_orchard_renames_by_the_robots_namespace():
+    """The harvester's /camera/image_raw is /harvester/camera/image_raw in the cloud:
+    the harvester's bridge routes under /harvester, the cloud end under no namespace."""
+    line = load_product_line(ROOT / "product_lines" / "orchard")
+    selection = selection_from_list(
+        "CloudDetection,CloudPlanning,SoftGripper,Scouting,YieldMapping"
     )
+    found = configs(zenoh.generate(resolve(line, selection).product))
+    assert keys(found["harvester_1"], "publishers") == {"/harvester/camera/image_raw"}
+    assert keys(found["scout_1"], "publishers") == {"/scout/camera/image_raw"}
+    assert keys(found["OrchardCloud_harvester_1"], "subscribers") == {"/harvester/camera/image_raw"}
+    assert keys(found["OrchardCloud_orchard"], "subscribers") == {"/scout/camera/image_raw"}
+    # the detections go back to the harvester under its namespace
+    assert keys(found["OrchardCloud_harvester_1.2"], "publishers") == {
+        "/harvester/fruit/detections"
+    }
+
+
+def test_a_product_zenoh_cannot_carry_is_skipped_with_the_reason(tmp_path):
+    """A bridge renaming /scan to /laser: no namespace in front of a name gives it."""
+    path = tmp_path / "small.tsm"
+    path.write_text(
+        ONE_ROBOT.replace("ROBOT_ID", "rover_1")
+        .replace("DRONE_PASSWORD", "ROVER_PASSWORD")
+        .replace(
+            'Cloud {\n    topic Scan : sensor_msgs/LaserScan name "/scan"',
+            'Cloud {\n    topic Scan : sensor_msgs/LaserScan name "/laser"',
+        )
+    )
+    product = ResolvedProduct("small", tsm_language.parse_file(path), ())
+    files = zenoh.generate(product)
+    reason = files["zenoh/"].reason
+    assert reason == (
+        "Zenoh cannot carry this product: the topic /scan of rover_1 arrives in "
+        "Cloud_rover_1 as /laser, which no bridge namespace gives"
+    )
+    readme = kubernetes.generate(product)["kubernetes/README.md"].decode()
+    assert "NOT carried" in readme
+    manifests = kubernetes.generate(product)
+    assert b"zenoh-bridge" not in manifests["kubernetes/cloud-rover-1.yaml"]
+    assert "kubernetes/zenoh-router.yaml" not in manifests
 
 
 ONE_ROBOT = """system Small
