@@ -9,8 +9,9 @@ a ``Deployment`` ``<name>`` running ``ros2 launch`` of that file in the product'
 image (the official image's entrypoint sources ROS, so the command is given as
 ``args``), with the cloud container's ``cpu`` and ``memory`` (MiB) as requests and
 limits and one more container per bridge; a ``Service`` ``<name>`` on the bridges'
-Zenoh ports (7447, 7448, ...), which the Zenoh router connects to. Every container sets
-``ROS_LOCALHOST_ONLY=1``, so DDS discovery stays inside the pod, where the bridges carry
+Zenoh ports (7447, 7448, ...), which the Zenoh router connects to. The nodes run with
+``ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST`` and the bridges with the same setting in
+their configuration, so DDS discovery stays inside the pod, where the bridges carry
 exactly the crossing topics and services.
 
 The Zenoh router (``zenohd``) robots connect to: a ``LoadBalancer`` Service on port
@@ -38,8 +39,8 @@ from spl.generators.zenoh_bridge import ZENOH_PORT, CloudBridge, Transport
 from spl.resolver.placement import Instance
 
 ROS_IMAGE = "ros:jazzy-ros-core"
-BRIDGE_IMAGE = "eclipse/zenoh-bridge-ros2dds:1.4.0"
-ROUTER_IMAGE = "eclipse/zenoh:1.4.0"
+BRIDGE_IMAGE = "eclipse/zenoh-bridge-ros2dds:1.10.0"
+ROUTER_IMAGE = "eclipse/zenoh:1.10.0"
 CONFIG_DIR = "/etc/spl"
 LABEL = "spl.robotics"
 MANAGED_BY = {"app.kubernetes.io/managed-by": "spl-robotics"}
@@ -101,7 +102,7 @@ def _resources(cloud: Any) -> dict[str, Any]:
 
 
 def _localhost_env() -> list[dict[str, str]]:
-    return [{"name": "ROS_LOCALHOST_ONLY", "value": "1"}]
+    return [{"name": "ROS_AUTOMATIC_DISCOVERY_RANGE", "value": "LOCALHOST"}]
 
 
 def instance_documents(
@@ -150,7 +151,6 @@ def instance_documents(
                 "name": sidecar,
                 "image": BRIDGE_IMAGE,
                 "args": ["-c", f"{CONFIG_DIR}/{sidecar}.json5"],
-                "env": _localhost_env(),
                 "ports": [
                     {"name": port_name(bridge), "containerPort": bridge.port, "protocol": "TCP"}
                 ],

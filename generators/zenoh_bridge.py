@@ -145,7 +145,7 @@ def _plugin(namespace: str, lists: dict[str, set[str]] | None, localhost: bool) 
     if namespace:
         plugin["namespace"] = namespace
     if localhost:
-        plugin["ros_localhost_only"] = True
+        plugin["ros_automatic_discovery_range"] = "LOCALHOST"
     plugin["allow"] = _allow(lists or {kind: set() for kind in KINDS})
     return plugin
 

@@ -26,7 +26,7 @@ LINES = sorted(p for p in (ROOT / "product_lines").iterdir() if p.is_dir())
 MAPPING = ROOT / "product_lines" / "mapping3d"
 
 # Every key path the configurations may use, as documented in
-# eclipse-zenoh/zenoh-plugin-ros2dds DEFAULT_CONFIG.json5 (commit 0b277b7c): the bridge's
+# eclipse-zenoh/zenoh-plugin-ros2dds DEFAULT_CONFIG.json5 (release 1.10.0): the bridge's
 # plugins.ros2dds keys and the zenoh keys it shows; and, for authentication, zenoh's own
 # DEFAULT_CONFIG.json5 (eclipse-zenoh/zenoh, transport.auth.usrpwd).
 KINDS = (
@@ -45,6 +45,9 @@ DOCUMENTED = {
             "namespace",
             "domain",
             "ros_localhost_only",
+            "ros_automatic_discovery_range",
+            "ros_static_peers",
+            "transient_local_cache_multiplier",
             "shm_enabled",
             "pub_max_frequencies",
             "pub_priorities",
