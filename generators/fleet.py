@@ -12,20 +12,18 @@
     shared/ros2/<tag>.launch.xml        public: <C>_public), with its shared nodes
     kubernetes/<name>.yaml              one Deployment (and ConfigMap) per cloud instance of
                                         the fleet: each robot's private ones, each shared
-                                        one once; kustomization.yaml and README.md
+                                        one once; the Zenoh router; kustomization, README
+    zenoh/                              the robots' and instances' Zenoh bridges
 
 Every robot's Rapyuta file declares each shared container it uses identically: the
 container, and the union over the fleet of the nodes, parameters and interfaces of that
 container, so applying the files of a whole fleet creates each shared instance once.
 The files are checked together against the engine's rules before anything is written.
 
-Shared instances are produced by :data:`SHARED_INSTANCE_GENERATORS`, one function per
-target taking the deployment and one instance: launch files and Kubernetes manifests.
-A robot's bundle has no ``kubernetes/`` or ``zenoh/`` of its own: the fleet's
-``kubernetes/`` deploys every instance once. Robot/cloud transport (Zenoh) is not
-generated for fleets: robots of one fleet publishing one topic name for their own
-private instances would need one key space per robot, which the bridge configuration
-of :mod:`spl.generators.zenoh_bridge` does not give.
+Shared instances' launch files are produced by :data:`SHARED_INSTANCE_GENERATORS`, one
+function per target taking the deployment and one instance. A robot's bundle has no
+``kubernetes/`` or ``zenoh/`` of its own: the fleet's (:mod:`spl.generators.kubernetes_fleet`)
+deploy every instance once, with the Zenoh bridges computed over all robots together.
 """
 
 from __future__ import annotations
@@ -39,14 +37,13 @@ from lxml import etree
 
 from spl import __version__
 from spl.diagnostics import Diagnostic, ModelError
-from spl.generators import kubernetes, ros1, ros2
+from spl.generators import kubernetes_fleet, ros1, ros2
 from spl.generators.bundle import TARGETS, build_bundle, manifest
-from spl.generators.kubernetes_names import CONFIG_SUFFIX, ObjectNames, dns_label
 from spl.generators.launch_xml import serialize
 from spl.generators.rapyuta import configurations, render
 from spl.generators.rapyuta_rules import check_all
 from spl.resolver.fleet_deployment import FleetDeployment, SharedInstance
-from spl.resolver.placement import Instance, Place, Placement, sharing_mode
+from spl.resolver.placement import Placement, sharing_mode
 
 # a robot's own bundle in a fleet: every target but the fleet-wide deployment ones
 ROBOT_TARGETS = tuple(t for t in TARGETS if t not in ("kubernetes", "zenoh"))
@@ -89,44 +86,9 @@ def _ros2_instance(deployment: FleetDeployment, instance: SharedInstance) -> dic
     return {f"shared/ros2/{instance.tag}.launch.xml": _shared_launch(ros2, deployment, instance)}
 
 
-def _shared_instance(deployment: FleetDeployment, instance: SharedInstance) -> tuple[Any, Instance]:
-    """The shared instance as placed (its nodes as their reference robots resolved them),
-    and the product of its first reference robot."""
-    reference = deployment.reference(instance)
-    container = reference[0][1].eContainer()
-    place = Place(instance.tag, instance.mode, instance.container, instance.group or "public")
-    nodes = tuple(node for _, node in reference)
-    return reference[0][0].product, Instance(place, container, nodes, instance.robots)
-
-
-def _kubernetes_instance(deployment: FleetDeployment, instance: SharedInstance) -> dict[str, bytes]:
-    """One Deployment for the shared instance, whichever robots use it."""
-    product, shared = _shared_instance(deployment, instance)
-    launch = ros2.launch_file(
-        product, shared.container, shared.nodes, kubernetes.launch_header(instance.tag)
-    )
-    name = dns_label(instance.tag)
-    owner = deployment.check.fleet.name
-    return {
-        f"kubernetes/{name}.yaml": kubernetes.instance_file(
-            owner, shared, name, launch, kind="fleet"
-        )
-    }
-
-
 SHARED_INSTANCE_GENERATORS: tuple[
     Callable[[FleetDeployment, SharedInstance], dict[str, bytes]], ...
-] = (_ros1_instance, _ros2_instance, _kubernetes_instance)
-
-
-def _private_instances(entry: Any) -> list[Instance]:
-    """The robot's private cloud instances, one per cloud container it uses."""
-    errors: list[Diagnostic] = []
-    placement = Placement(entry.product.system, errors)
-    instances = [i for i in placement.cloud_instances() if i.place.kind == "private"]
-    if errors:
-        raise ModelError(errors)
-    return instances
+] = (_ros1_instance, _ros2_instance)
 
 
 def _robot_files(deployment: FleetDeployment, entry: Any) -> dict[str, bytes]:
@@ -208,63 +170,9 @@ def fleet_files(deployment: FleetDeployment) -> dict[str, bytes]:
             generated = generate(deployment, instance)
             files.update(generated)
             per_instance.setdefault(instance.tag, []).extend(sorted(generated))
-    files.update(_kubernetes_private(deployment, per_robot))
-    _check_kubernetes_names(deployment, files)
-    manifests = sorted(p.removeprefix("kubernetes/") for p in files if p.startswith("kubernetes/"))
-    files["kubernetes/kustomization.yaml"] = kubernetes.kustomization(manifests)
-    files["kubernetes/README.md"] = _kubernetes_readme(deployment, files)
+    files.update(kubernetes_fleet.fleet_files(deployment, per_robot, per_instance))
     files["fleet.json"] = _fleet_manifest(deployment, files, per_robot, per_instance)
     return dict(sorted(files.items()))
-
-
-def _kubernetes_private(
-    deployment: FleetDeployment, per_robot: dict[str, list[str]]
-) -> dict[str, bytes]:
-    """Each robot's private instances under the fleet's ``kubernetes/``."""
-    files = {}
-    owner = deployment.check.fleet.name
-    for entry in deployment.robots:
-        for instance in _private_instances(entry):
-            launch = ros2.launch_file(
-                entry.product,
-                instance.container,
-                instance.nodes,
-                kubernetes.launch_header(instance.place.tag),
-            )
-            name = dns_label(instance.place.tag)
-            path = f"kubernetes/{name}.yaml"
-            files[path] = kubernetes.instance_file(owner, instance, name, launch, kind="fleet")
-            per_robot[entry.robot.name].append(path)
-    return files
-
-
-def _kubernetes_readme(deployment: FleetDeployment, files: dict[str, bytes]) -> bytes:
-    rows = []
-    for entry in deployment.robots:
-        rows += [(dns_label(i.place.tag), i) for i in _private_instances(entry)]
-    for instance in deployment.shared:
-        rows.append((dns_label(instance.tag), _shared_instance(deployment, instance)[1]))
-    note = (
-        "Robot/cloud transport is not generated for fleets: connect the robots to these "
-        "instances with the deployment's own means.\n"
-    )
-    rows.sort(key=lambda row: row[0])
-    return kubernetes.readme(f"fleet {deployment.check.fleet.name}", rows, note)
-
-
-def _check_kubernetes_names(deployment: FleetDeployment, files: dict[str, bytes]) -> None:
-    """Every instance of the fleet gets its own valid object name, or a located error."""
-    errors: list[Diagnostic] = []
-    names = ObjectNames(errors, len(CONFIG_SUFFIX), ())
-    located = {entry.robot.name: entry.robot.location for entry in deployment.robots}
-    tags = {instance.tag: located.get(instance.robots[0]) for instance in deployment.shared}
-    for entry in deployment.robots:
-        for instance in _private_instances(entry):
-            tags[instance.place.tag] = entry.robot.location
-    for tag, where in tags.items():
-        names.name(tag, where, "cloud instance")
-    if errors:
-        raise ModelError(errors)
 
 
 def _fleet_manifest(

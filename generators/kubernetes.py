@@ -54,9 +54,9 @@ def instance_file(
     return render(documents, title(owner, what, kind))
 
 
-def transport_note(wiring: Transport | None) -> str:
-    """What the README says of robot/cloud transport (``None``: nothing crosses)."""
-    if wiring is None:
+def transport_note(wiring: Transport) -> str:
+    """What the README says of robot/cloud transport."""
+    if wiring.carried and not wiring.cloud_bridges:
         return "No data crosses between robots and these instances: no Zenoh router.\n"
     if not wiring.carried:
         return (
@@ -155,10 +155,9 @@ def generate(product: ResolvedProduct) -> dict[str, bytes]:
     files["kubernetes/kustomization.yaml"] = kustomization(
         [path.removeprefix("kubernetes/") for path in files]
     )
-    crossing = wiring if (not wiring.carried or wiring.cloud_bridges) else None
     files["kubernetes/README.md"] = readme(
         f"product {product.name}",
         [(names[i.place.tag], i) for i in instances],
-        transport_note(crossing),
+        transport_note(wiring),
     )
     return {path: files[path] for path in sorted(files)}

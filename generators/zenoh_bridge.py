@@ -150,14 +150,16 @@ def _plugin(namespace: str, lists: dict[str, set[str]] | None, localhost: bool) 
     return plugin
 
 
-def transport(system: Any) -> Transport:
-    """The bridges of every robot and cloud instance, the router, or why not carried."""
+def transport(*systems: Any) -> Transport:
+    """The bridges of every robot and cloud instance of one resolved system (a product),
+    or of several (the robots of a fleet, each resolved on its own, sharing the
+    instances their placement tags name alike), the router, or why not carried."""
     errors: list[Diagnostic] = []
-    placement = Placement(system, errors)
-    wiring = Wiring(system, placement, errors)
-    instances = {i.place.tag: i for i in placement.cloud_instances()}
+    placements = [Placement(system, errors) for system in systems]
+    wirings = [Wiring(s, p, errors) for s, p in zip(systems, placements, strict=True)]
+    instances = {i.place.tag: i for p in placements for i in p.cloud_instances()}
     services = instance_names(list(instances.values()), errors)
-    found = routes(wiring)  # reports type clashes while it follows the flows
+    found = routes(wirings)  # reports type clashes while it follows the flows
     if errors:
         raise ModelError(list(dict.fromkeys(errors)))
     if found.problems:
@@ -180,8 +182,8 @@ def transport(system: Any) -> Transport:
         bridges.append(CloudBridge(bridge.namespace, port, _json5(document, what)))
         endpoints.append(f"tcp/{services[bridge.place]}:{port}")
     users: dict[str, tuple[str, Any]] = {}
-    for robot in placement.robots:
-        robot_id = placement.robot_ids[id(robot)]
+    robots = [(r, p.robot_ids[id(r)]) for p in placements for r in p.robots]
+    for robot, robot_id in robots:
         namespace = found.robot_namespaces[robot_id]
         lists = found.lists.get(Bridge(robot_id, namespace))
         document = _robot_document(robot, robot_id, (namespace, lists), users, errors)

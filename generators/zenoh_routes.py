@@ -76,10 +76,9 @@ def _prefix(key: str, name: str) -> str | None:
     return prefix if prefix == "" or NAMESPACE.fullmatch(prefix) else None
 
 
-def _robot_namespaces(wiring: Wiring, crossings: list, routes: Routes) -> None:
+def _robot_namespaces(robot_ids: list[str], crossings: list, routes: Routes) -> None:
     """``/<robotID>``, or the one prefix every rename at the robot asks for."""
-    for robot in wiring.placement.robots:
-        robot_id = wiring.placement.robot_ids[id(robot)]
+    for robot_id in robot_ids:
         wanted = set()
         for c in crossings:
             if c.source_name == c.target_name:
@@ -117,17 +116,20 @@ def _ends(routes: Routes, source: Place, target: Place, a: str, b: str) -> tuple
     return None if first is None else (first, second, key)
 
 
-def routes(wiring: Wiring) -> Routes:
-    """Every crossing of the wiring given to the bridges that carry it, then checked."""
+def routes(wirings: list[Wiring]) -> Routes:
+    """Every crossing of the wirings (one product's, or each robot's of a fleet) given
+    to the bridges that carry it, then checked together."""
     found = Routes()
-    crossings, seen = [], set()
-    for robot in wiring.placement.robots:
-        for c in wiring.crossings(robot):
-            key = (c.kind, c.source.tag, c.target.tag, c.source_name, c.target_name)
-            if key not in seen:
-                seen.add(key)
-                crossings.append(c)
-    _robot_namespaces(wiring, crossings, found)
+    crossings, seen, robot_ids = [], set(), []
+    for wiring in wirings:
+        for robot in wiring.placement.robots:
+            robot_ids.append(wiring.placement.robot_ids[id(robot)])
+            for c in wiring.crossings(robot):
+                key = (c.kind, c.source.tag, c.target.tag, c.source_name, c.target_name)
+                if key not in seen:
+                    seen.add(key)
+                    crossings.append(c)
+    _robot_namespaces(list(dict.fromkeys(robot_ids)), crossings, found)
     for c in crossings:
         ends = _ends(found, c.source, c.target, c.source_name, c.target_name)
         if ends is None or (c.source.is_robot and c.target.is_robot):

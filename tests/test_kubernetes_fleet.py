@@ -1,12 +1,15 @@
 """``spl fleet resolve`` writes Kubernetes manifests for the fleet: one Deployment per
 shared instance (per protected group, one public), not per robot, and one per robot's
-private instance; every manifest passes ``kubernetes-validate --strict``."""
+private instance; every manifest passes ``kubernetes-validate --strict``. The Zenoh
+bridges are computed over the whole fleet: each robot under its own namespace, a
+shared instance with one bridge per robot it serves."""
 
 from __future__ import annotations
 
 import json
 from pathlib import Path
 
+import json5
 import kubernetes_validate
 import yaml
 from cli_outcome import run
@@ -26,7 +29,7 @@ def test_fleet_deploys_each_shared_instance_once(tmp_path):
             continue
         for document in yaml.safe_load_all(path.read_text()):
             kubernetes_validate.validate(document, "1.33.0", strict=True)
-            if document["kind"] == "Deployment":
+            if document["kind"] == "Deployment" and path.name != "zenoh-router.yaml":
                 labels = document["metadata"]["labels"]
                 deployments[labels["spl.robotics/placement"]] = (
                     labels["spl.robotics/sharing"],
@@ -60,3 +63,38 @@ def test_fleet_deploys_each_shared_instance_once(tmp_path):
     assert "kubernetes/mappingcloud-lab.yaml" in fleet["shared"]["MappingCloud_lab"]["files"]
     assert "kubernetes/mappingcloud-youbot-1.yaml" in fleet["robots"]["youbot_1"]["files"]
     assert "kubernetes/kustomization.yaml" in fleet["files"]
+
+
+def test_fleet_bridges_give_each_robot_its_namespace(tmp_path):
+    out = tmp_path / "lab"
+    assert run("fleet", "resolve", LAB, "-o", out).exit_code == 0
+    configs = {
+        path.name.removesuffix(".json5"): json5.loads(path.read_text())
+        for path in (out / "zenoh").glob("*.json5")
+    }
+
+    def namespace(name):
+        return configs[name].get("plugins", {}).get("ros2dds", {}).get("namespace")
+
+    robots = ["youbot_1", "youbot_2", "youbot_3", "roomba_1", "roomba-cellar"]
+    assert [namespace(r) for r in robots] == [
+        "/youbot_1",
+        "/youbot_2",
+        "/youbot_3",
+        "/roomba_1",
+        "/roomba_cellar",
+    ]
+    # the lab's protected instance serves youbot_1 and youbot_2, each through its bridge
+    assert {namespace("MappingCloud_lab"), namespace("MappingCloud_lab.2")} == {
+        "/youbot_1",
+        "/youbot_2",
+    }
+    assert "MappingCloud_lab.3" not in configs  # youbot_3 keeps its map private
+    lab = configs["MappingCloud_lab"]["plugins"]["ros2dds"]["allow"]
+    assert lab["service_servers"] == [
+        "/exploration/next_target",
+        "/mapping/db/add_keyframe",
+        "/mapping/db/update_poses",
+    ]
+    router = configs["zenoh-router"]["connect"]["endpoints"]
+    assert "tcp/mappingcloud-lab:7448" in router and "tcp/mappingcloud-public:7448" in router
