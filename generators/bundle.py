@@ -29,16 +29,32 @@ from spl import __version__
 from spl.dsl.tsm_printer import print_model
 from spl.resolver.product import ResolvedProduct, node_keys
 
-# One module per target; each offers generate(product) -> {bundle path: bytes}.
-GENERATORS = (
-    "spl.generators.ros1",
-    "spl.generators.ros2",
-    "spl.generators.rapyuta",
-    "spl.generators.diagrams",
-    "spl.generators.service",
-    "spl.generators.clients",
-    "spl.generators.deploy",
-)
+# Each output target and its generator modules; each module offers
+# generate(product) -> {bundle path: bytes}. `spl resolve --target` picks targets by
+# name; resolved.tsm, resolved.xmi and manifest.json are in every bundle.
+TARGETS = {
+    "ros1": ("spl.generators.ros1",),
+    "ros2": ("spl.generators.ros2",),
+    "rapyuta": ("spl.generators.rapyuta",),
+    "diagrams": ("spl.generators.diagrams",),
+    "services": ("spl.generators.service", "spl.generators.clients", "spl.generators.deploy"),
+    "kubernetes": ("spl.generators.kubernetes",),
+    "zenoh": ("spl.generators.zenoh",),
+}
+GENERATORS = tuple(module for modules in TARGETS.values() for module in modules)
+
+
+def choose_targets(text: str | None) -> tuple[str, ...]:
+    """The targets named in ``--target a,b`` (all of them when ``text`` is None), in
+    TARGETS order; an unknown name is a ValueError naming the known ones."""
+    if text is None:
+        return tuple(TARGETS)
+    wanted = [name.strip() for name in text.split(",") if name.strip()]
+    unknown = [name for name in wanted if name not in TARGETS]
+    if unknown or not wanted:
+        shown = ", ".join(unknown) if unknown else "none"
+        raise ValueError(f"unknown target {shown}; targets: {', '.join(TARGETS)}")
+    return tuple(name for name in TARGETS if name in wanted)
 
 
 @dataclass(frozen=True)
@@ -82,14 +98,16 @@ def resolved_xmi(system: Any) -> bytes:
     return output.buffer.getvalue()
 
 
-def build_bundle(product: ResolvedProduct) -> Bundle:
-    """Every file of the product's bundle, in memory, and the files that were skipped."""
+def build_bundle(product: ResolvedProduct, targets: tuple[str, ...] | None = None) -> Bundle:
+    """Every file of the product's bundle (of ``targets``, default all), in memory, and
+    the files that were skipped."""
+    targets = tuple(TARGETS) if targets is None else targets
     files = {
         "resolved.tsm": print_model(product.system).encode("utf-8"),
         "resolved.xmi": resolved_xmi(product.system),
     }
     skipped: dict[str, str] = {}
-    for module_name in GENERATORS:
+    for module_name in (m for target in targets for m in TARGETS[target]):
         generated = importlib.import_module(module_name).generate(product)
         clash = (files.keys() | skipped.keys()) & generated.keys()
         if clash:
@@ -100,7 +118,7 @@ def build_bundle(product: ResolvedProduct) -> Bundle:
             else:
                 files[path] = data
     skipped = dict(sorted(skipped.items()))
-    files["manifest.json"] = manifest(product, files, skipped)
+    files["manifest.json"] = manifest(product, files, skipped, targets)
     return Bundle(dict(sorted(files.items())), skipped)
 
 
@@ -110,7 +128,10 @@ def bundle_files(product: ResolvedProduct) -> dict[str, bytes]:
 
 
 def manifest(
-    product: ResolvedProduct, files: dict[str, bytes], skipped: dict[str, str] | None = None
+    product: ResolvedProduct,
+    files: dict[str, bytes],
+    skipped: dict[str, str] | None = None,
+    targets: tuple[str, ...] | None = None,
 ) -> bytes:
     system = product.system
     keys = node_keys(system)
@@ -133,6 +154,7 @@ def manifest(
         ],
         "warnings": [str(w) for w in product.warnings],
         "skipped": dict(skipped or {}),
+        "targets": list(TARGETS if targets is None else targets),
         "toolchain": {"name": "spl-robotics", "version": __version__},
         "files": {path: hashlib.sha256(data).hexdigest() for path, data in sorted(files.items())},
     }

@@ -10,15 +10,20 @@
     robots/<robot>/rapyuta/<C>.json     its rce-ros configuration per robot container
     shared/ros1/<tag>.launch            one per shared instance (protected: <C>_<group>,
     shared/ros2/<tag>.launch.xml        public: <C>_public), with its shared nodes
+    kubernetes/<name>.yaml              one Deployment (and ConfigMap) per cloud instance of
+                                        the fleet: each robot's private ones, each shared
+                                        one once; the Zenoh router; kustomization, README
+    zenoh/                              the robots' and instances' Zenoh bridges
 
 Every robot's Rapyuta file declares each shared container it uses identically: the
 container, and the union over the fleet of the nodes, parameters and interfaces of that
 container, so applying the files of a whole fleet creates each shared instance once.
 The files are checked together against the engine's rules before anything is written.
 
-Shared instances are produced by :data:`SHARED_INSTANCE_GENERATORS`, one function per
-target taking the deployment and one instance: a generator of Kubernetes manifests (one
-Deployment per shared instance) is added there, next to the launch files.
+Shared instances' launch files are produced by :data:`SHARED_INSTANCE_GENERATORS`, one
+function per target taking the deployment and one instance. A robot's bundle has no
+``kubernetes/`` or ``zenoh/`` of its own: the fleet's (:mod:`spl.generators.kubernetes_fleet`)
+deploy every instance once, with the Zenoh bridges computed over all robots together.
 """
 
 from __future__ import annotations
@@ -32,13 +37,16 @@ from lxml import etree
 
 from spl import __version__
 from spl.diagnostics import Diagnostic, ModelError
-from spl.generators import ros1, ros2
-from spl.generators.bundle import bundle_files, manifest
+from spl.generators import kubernetes_fleet, ros1, ros2_launch
+from spl.generators.bundle import TARGETS, build_bundle, manifest
 from spl.generators.launch_xml import serialize
 from spl.generators.rapyuta import configurations, render
 from spl.generators.rapyuta_rules import check_all
 from spl.resolver.fleet_deployment import FleetDeployment, SharedInstance
 from spl.resolver.placement import Placement, sharing_mode
+
+# a robot's own bundle in a fleet: every target but the fleet-wide deployment ones
+ROBOT_TARGETS = tuple(t for t in TARGETS if t not in ("kubernetes", "zenoh"))
 
 # list name -> fields keying an entry, and the field naming its container
 _LISTS = {
@@ -75,7 +83,9 @@ def _ros1_instance(deployment: FleetDeployment, instance: SharedInstance) -> dic
 
 
 def _ros2_instance(deployment: FleetDeployment, instance: SharedInstance) -> dict[str, bytes]:
-    return {f"shared/ros2/{instance.tag}.launch.xml": _shared_launch(ros2, deployment, instance)}
+    return {
+        f"shared/ros2/{instance.tag}.launch.xml": _shared_launch(ros2_launch, deployment, instance)
+    }
 
 
 SHARED_INSTANCE_GENERATORS: tuple[
@@ -86,7 +96,7 @@ SHARED_INSTANCE_GENERATORS: tuple[
 def _robot_files(deployment: FleetDeployment, entry: Any) -> dict[str, bytes]:
     """The robot's bundle with its cloud launch files cut down to its private instances."""
     product = entry.product
-    files = bundle_files(product)
+    files = build_bundle(product, ROBOT_TARGETS).files
     del files["manifest.json"]
     errors: list[Diagnostic] = []
     placement = Placement(product.system, errors)
@@ -102,7 +112,9 @@ def _robot_files(deployment: FleetDeployment, entry: Any) -> dict[str, bytes]:
             tag = placement.place(container, "private", robot).tag
             header = _header(deployment, f"robot {entry.robot.name}, private instance {tag}")
             files[f"ros1/{tag}.launch"] = ros1.launch_file(product, container, private, header)
-            files[f"ros2/{tag}.launch.xml"] = ros2.launch_file(product, container, private, header)
+            files[f"ros2/{tag}.launch.xml"] = ros2_launch.launch_file(
+                product, container, private, header
+            )
     if errors:
         raise ModelError(errors)
     return files
@@ -154,7 +166,7 @@ def fleet_files(deployment: FleetDeployment) -> dict[str, bytes]:
     for entry in deployment.robots:
         prefix = f"robots/{entry.robot.name}/"
         own = {p.removeprefix(prefix): d for p, d in files.items() if p.startswith(prefix)}
-        files[f"{prefix}manifest.json"] = manifest(entry.product, own)
+        files[f"{prefix}manifest.json"] = manifest(entry.product, own, None, ROBOT_TARGETS)
         per_robot[entry.robot.name] = sorted(prefix + p for p in [*own, "manifest.json"])
     per_instance: dict[str, list[str]] = {}
     for instance in deployment.shared:
@@ -162,6 +174,7 @@ def fleet_files(deployment: FleetDeployment) -> dict[str, bytes]:
             generated = generate(deployment, instance)
             files.update(generated)
             per_instance.setdefault(instance.tag, []).extend(sorted(generated))
+    files.update(kubernetes_fleet.fleet_files(deployment, per_robot, per_instance))
     files["fleet.json"] = _fleet_manifest(deployment, files, per_robot, per_instance)
     return dict(sorted(files.items()))
 

@@ -26,7 +26,7 @@ from __future__ import annotations
 import re
 from collections import defaultdict
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, NamedTuple
 
 from spl.diagnostics import Diagnostic, location_of
 from spl.metamodels import tsm
@@ -57,6 +57,16 @@ class Place:
         if self.is_robot:
             return f"robot container {self.container}"
         return f"the {self.kind} partition of {self.container}"
+
+
+class Instance(NamedTuple):
+    """A cloud instance as deployed: its place, the TSM container it partitions, the
+    nodes it runs (in model order) and the robotIDs using it (in model order)."""
+
+    place: Place
+    container: Any
+    nodes: tuple[Any, ...]
+    robots: tuple[str, ...]
 
 
 def sharing_mode(node: Any) -> str:
@@ -165,6 +175,23 @@ class Placement:
                 )
             )
         return place
+
+    def cloud_instances(self) -> list[Instance]:
+        """Every deployed cloud instance once, with its nodes, ordered by tag: the
+        partitions of each cloud container a robot uses (a shared one is listed once,
+        with every robot using it)."""
+        found: dict[str, Instance] = {}
+        for robot in self.robots:
+            robot_id = self.robot_ids[id(robot)]
+            for cloud in self.scope(robot):
+                for mode in MODES:
+                    nodes = tuple(n for n in cloud.nodes if sharing_mode(n) == mode)
+                    if not nodes:
+                        continue
+                    place = self.place(cloud, mode, robot)
+                    known = found.setdefault(place.tag, Instance(place, cloud, nodes, ()))
+                    found[place.tag] = known._replace(robots=(*known.robots, robot_id))
+        return [found[tag] for tag in sorted(found)]
 
     def node_place(self, node: Any, robot: Any) -> Place:
         """The instance ``node`` runs in for ``robot``."""

@@ -61,12 +61,15 @@ def resolve_product(line: ProductLine, selection: ProductSelection) -> Resolutio
     return resolve(line, selection)
 
 
-def derive(line: ProductLine, selection: ProductSelection) -> Derivation:
-    """Resolve the selection and generate every file of its bundle in memory."""
+def derive(
+    line: ProductLine, selection: ProductSelection, targets: tuple[str, ...] | None = None
+) -> Derivation:
+    """Resolve the selection and generate its bundle in memory: every output target, or
+    the ``targets`` named (``spl resolve --target``)."""
     from spl.generators.bundle import build_bundle
 
     resolution = resolve_product(line, selection)
-    return Derivation(resolution, build_bundle(resolution.product))
+    return Derivation(resolution, build_bundle(resolution.product, targets))
 
 
 def validate(derivation: Derivation) -> list[str]:

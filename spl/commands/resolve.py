@@ -9,14 +9,37 @@ import click
 from spl.commands.selection_options import selection_from_options, selection_options
 
 
+def _targets(context: click.Context, parameter: click.Parameter, value: str | None):
+    from spl.generators.bundle import choose_targets
+
+    try:
+        return choose_targets(value)
+    except ValueError as error:
+        raise click.BadParameter(str(error)) from None
+
+
 @click.command("resolve")
 @click.argument("directory", type=click.Path(exists=True, file_okay=False, path_type=Path))
 @selection_options
 @click.option(
     "-o", "--out", type=click.Path(path_type=Path), help="bundle folder (default: build/PRODUCT)"
 )
+@click.option(
+    "--target",
+    "targets",
+    metavar="LIST",
+    callback=_targets,
+    help="outputs to write, comma-separated: ros1, ros2, rapyuta, diagrams, services, "
+    "kubernetes, zenoh (default: all)",
+)
 def command(
-    directory: Path, features: str | None, sharing, settings, capabilities, out: Path | None
+    directory: Path,
+    features: str | None,
+    sharing,
+    settings,
+    capabilities,
+    out: Path | None,
+    targets: tuple[str, ...],
 ) -> None:
     """Derive the product selected by --features (a list or a YAML file) and/or chosen by
     a robot's --capabilities, and write its deployment bundle. The bundle is written
@@ -28,7 +51,7 @@ def command(
 
     line = pipeline.load_line(directory)
     selection = selection_from_options(features, sharing, settings, capabilities)
-    derivation = pipeline.derive(line, selection)
+    derivation = pipeline.derive(line, selection, targets)
     resolution, bundle = derivation.resolution, derivation.bundle
     out = out or Path("build") / resolution.product.name
     pipeline.write(derivation, out)
