@@ -233,3 +233,27 @@ def test_closing_the_writer_stores_what_was_handed_over(ingest) -> None:
     ids, stored, _ = asyncio.run(_with_writer(ingest, ingest[2], work))
     assert sorted(i for pair in ids for i in pair) == sorted(stored)
     assert len(stored) == 8
+
+
+def test_a_taken_write_lock_never_blocks_the_event_loop(ingest, tmp_path: Path) -> None:
+    """Another connection holds SQLite's write lock: the posts wait in the writer
+    thread, the event loop goes on turning, and the posts are stored once it is free."""
+    database = tmp_path / "writer.db"
+
+    async def work(writer):  # type: ignore[no-untyped-def]
+        holder = sqlite3.connect(database, isolation_level=None)
+        holder.execute("BEGIN IMMEDIATE")
+        ticks = 0
+        posts = asyncio.gather(writer.store(_rows("a", 2)), writer.store(_rows("b", 1)))
+        started = time.monotonic()
+        while time.monotonic() - started < 0.3:
+            await asyncio.sleep(0.01)
+            ticks += 1
+        assert not posts.done()
+        holder.execute("COMMIT")
+        holder.close()
+        return ticks, await posts
+
+    (ticks, (a, b)), stored, _ = asyncio.run(_with_writer(ingest, ingest[2], work))
+    assert ticks >= 10  # the loop turned all along (at most 30 turns in 0.3 s)
+    assert [stored[i].robot for i in a + b] == ["a", "a", "b"]
