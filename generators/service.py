@@ -33,7 +33,7 @@ DATABASE_ATTRIBUTE = "database"  # a selected feature's attribute: "sqlite" | "p
 POSTGRES_DEFAULT_URL = "postgresql://spl@localhost:5432/spl"
 
 PACKAGE_FILES = ("__init__.py", "__main__.py", "settings.py", "database.py", "model.py",
-                 "transformer.py", "ingest.py", "app.py")
+                 "transformer.py", "ingest.py", "access.py", "app.py")
 TOP_FILES = ("README.md", "pyproject.toml", "requirements.txt")
 
 
