@@ -11,7 +11,9 @@ both, side by side: a run posts ``--records`` to each server in ``--slices`` sli
 that alternate between the two servers (and which of them goes first), so a change of
 machine load hits both alike, and takes the ratio generated/bare of the run's rates.
 Printed: every run, then the min and the median ratio over the runs. Target (issue
-17): min >= 0.5 at concurrency 8 over 5 runs.
+17): min >= 0.5 at concurrency 8 over 5 runs. Each run also gives the server
+processes' CPU time per post (all threads, from /proc): on a loaded machine the
+rates follow the CPU each server is given, the CPU per post much less.
 
 The client speaks HTTP/1.1 on raw asyncio streams with the requests built beforehand,
 so it costs little CPU: on a 2-core machine a heavy client would take the server's core
@@ -187,6 +189,12 @@ class Server:
     process: subprocess.Popen
     singles: list[float] = field(default_factory=list)  # posts per second, one per run
     batched: list[float] = field(default_factory=list)  # records per second, one per run
+    cpu: list[float] = field(default_factory=list)  # server CPU microseconds per single post
+
+    def cpu_seconds(self) -> float:
+        """User + system CPU of the server process so far (all its threads)."""
+        fields = Path(f"/proc/{self.process.pid}/stat").read_text().rpartition(")")[2].split()
+        return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
 
 
 def measure(servers: list[Server], args: argparse.Namespace, run: int) -> None:
@@ -198,15 +206,20 @@ def measure(servers: list[Server], args: argparse.Namespace, run: int) -> None:
         kinds.append(("batched", args.batch, args.records // args.batch * 4))
     for kind, batch, count in kinds:
         seconds = {server.name: 0.0 for server in servers}
+        cpu = {server.name: 0.0 for server in servers}
         records = {server.name: 0 for server in servers}
         for piece in range(args.slices):
             seed = run * args.slices + piece + (0 if batch == 1 else 10**4)
             for server in servers if (run + piece) % 2 == 0 else servers[::-1]:
                 requests = posts(args.concurrency, count // args.slices, batch, seed)
+                before = server.cpu_seconds()
                 seconds[server.name] += asyncio.run(_load(server.port, requests))
+                cpu[server.name] += server.cpu_seconds() - before
                 records[server.name] += sum(len(r) for r in requests) * batch
         for server in servers:
             getattr(server, kind).append(records[server.name] / seconds[server.name])
+            if kind == "singles":
+                server.cpu.append(cpu[server.name] / records[server.name] * 1e6)
 
 
 def main() -> None:
@@ -282,10 +295,16 @@ def main() -> None:
 def report(servers: list[Server], args: argparse.Namespace) -> None:
     bare, generated = servers
     ratios = [g / b for g, b in zip(generated.singles, bare.singles, strict=True)]
-    print(f"single posts/s, concurrency {args.concurrency}, {args.records} posts per run")
-    print("run   bare FastAPI  generated  ratio")
-    for run, (b, g, r) in enumerate(zip(bare.singles, generated.singles, ratios, strict=True)):
-        print(f"{run + 1:3d}  {b:13.0f}  {g:9.0f}  {r:5.2f}")
+    print(f"single posts, concurrency {args.concurrency}, {args.records} posts per run")
+    print("run  bare posts/s  generated posts/s  ratio  bare CPU us/post  generated CPU us/post")
+    rows = zip(bare.singles, generated.singles, ratios, bare.cpu, generated.cpu, strict=True)
+    for run, (b, g, r, bc, gc) in enumerate(rows):
+        print(f"{run + 1:3d}  {b:12.0f}  {g:17.0f}  {r:5.2f}  {bc:16.0f}  {gc:21.0f}")
+    cpu_ratio = statistics.median(bare.cpu) / statistics.median(generated.cpu)
+    print(
+        f"server CPU per post (median): bare {statistics.median(bare.cpu):.0f} us, "
+        f"generated {statistics.median(generated.cpu):.0f} us (bare/generated {cpu_ratio:.2f})"
+    )
     print(
         f"ratio generated/bare over {args.runs} runs: min {min(ratios):.2f}, "
         f"median {statistics.median(ratios):.2f} (target min >= {TARGET})"
