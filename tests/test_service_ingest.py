@@ -257,3 +257,24 @@ def test_a_taken_write_lock_never_blocks_the_event_loop(ingest, tmp_path: Path) 
     (ticks, (a, b)), stored, _ = asyncio.run(_with_writer(ingest, ingest[2], work))
     assert ticks >= 10  # the loop turned all along (at most 30 turns in 0.3 s)
     assert [stored[i].robot for i in a + b] == ["a", "a", "b"]
+
+
+def test_the_writer_thread_checkpoints_what_the_event_loop_wrote(ingest, tmp_path: Path) -> None:
+    """A checkpoint syncs the disk: the event loop's connection leaves it to the writer
+    thread, which copies the log into the database file once a second."""
+    database = tmp_path / "writer.db"
+
+    async def work(writer):  # type: ignore[no-untyped-def]
+        await writer.store(_rows("warm", 1))
+        in_loop = writer.connections[True].connection.dbapi_connection
+        assert in_loop.execute("PRAGMA wal_autocheckpoint").fetchone() == (0,)
+        size = database.stat().st_size
+        for n in range(50):
+            await writer.store(_rows(f"r{n}", 20))
+        started = time.monotonic()
+        while database.stat().st_size == size and time.monotonic() - started < 10:
+            await asyncio.sleep(0.05)
+        return database.stat().st_size - size
+
+    grown, stored, _ = asyncio.run(_with_writer(ingest, ingest[2], work))
+    assert grown > 0 and len(stored) == 1001
