@@ -278,3 +278,66 @@ def test_the_writer_thread_checkpoints_what_the_event_loop_wrote(ingest, tmp_pat
 
     grown, stored, _ = asyncio.run(_with_writer(ingest, ingest[2], work))
     assert grown > 0 and len(stored) == 1001
+
+
+def test_waiting_posts_write_before_the_transformer_s_next_step(ingest) -> None:
+    turns = ingest[0].WriteTurns()
+    order: list[str] = []
+    step_done = threading.Event()
+
+    def transformer_step(name: str, hold: threading.Event | None) -> None:
+        with turns.transformer():
+            order.append(name)
+            if hold is not None:
+                hold.wait(10)
+
+    def posts() -> None:
+        with turns.posts():
+            order.append("posts")
+
+    first = threading.Thread(target=transformer_step, args=("step 1", step_done))
+    first.start()
+    wait_for(lambda: order == ["step 1"])
+    assert not turns.try_posts()  # the event loop never waits: it hands over
+    writer = threading.Thread(target=posts)
+    writer.start()
+    wait_for(lambda: turns.posts_waiting == 1)
+    second = threading.Thread(target=transformer_step, args=("step 2", None))
+    second.start()
+    step_done.set()
+    for thread in (first, writer, second):
+        thread.join(10)
+    assert order == ["step 1", "posts", "step 2"]
+    assert turns.try_posts()
+    turns.release()
+
+
+def test_the_transformer_writes_only_in_its_turn(ingest) -> None:
+    """While the posts of this process hold the turn, no transformer step starts."""
+    database, _, url = ingest
+    from position_store_service import transformer
+    from position_store_service.model import REFINEMENTS
+
+    async def work(writer):  # type: ignore[no-untyped-def]
+        await writer.store(_rows("busy", 1200))
+        with database.write_turns.posts():
+            run = threading.Thread(
+                target=transformer.Transformer(writer.engine).run_refinement,
+                args=(REFINEMENTS[0],),
+            )
+            run.start()
+            run.join(0.5)
+            waited = run.is_alive()
+            with writer.engine.connect() as conn:
+                early = conn.exec_driver_sql(
+                    "SELECT count(*) FROM position_store_position_in_deg"
+                ).scalar_one()
+        run.join(60)
+        with writer.engine.connect() as conn:
+            done = conn.exec_driver_sql(
+                "SELECT count(*) FROM position_store_position_in_deg"
+            ).scalar_one()
+        return waited, early, done
+
+    (waited, early, done), _, _ = asyncio.run(_with_writer(ingest, url, work))
+    assert waited and early == 0 and done == 1200
