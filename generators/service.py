@@ -37,6 +37,8 @@ PACKAGE_FILES = (
     "database.py",
     "model.py",
     "transformer.py",
+    "ingest.py",
+    "access.py",
     "app.py",
 )
 TOP_FILES = ("README.md", "pyproject.toml", "requirements.txt")

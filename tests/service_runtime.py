@@ -4,6 +4,7 @@ client's HTTP module, and a throw-away PostgreSQL cluster from Debian's binaries
 
 from __future__ import annotations
 
+import http.client
 import importlib.util
 import json
 import os
@@ -12,6 +13,7 @@ import signal
 import socket
 import subprocess
 import sys
+import threading
 import time
 import urllib.error
 import urllib.request
@@ -54,8 +56,11 @@ class RunningService:
     def start(self) -> RunningService:
         log = self.log.open("ab")
         self.process = subprocess.Popen(
-            [sys.executable, "-m", self.package], cwd=self.directory, env=self.env,
-            stdout=log, stderr=subprocess.STDOUT,
+            [sys.executable, "-m", self.package],
+            cwd=self.directory,
+            env=self.env,
+            stdout=log,
+            stderr=subprocess.STDOUT,
         )
         deadline = time.monotonic() + 30
         while time.monotonic() < deadline:
@@ -84,9 +89,14 @@ class RunningService:
                 self.kill()
 
 
-def request(method: str, url: str, body: Any = None, token: str | None = TOKEN,
-            headers: dict[str, str] | None = None, raw: bytes | None = None
-            ) -> tuple[int, dict[str, str], Any]:
+def request(
+    method: str,
+    url: str,
+    body: Any = None,
+    token: str | None = TOKEN,
+    headers: dict[str, str] | None = None,
+    raw: bytes | None = None,
+) -> tuple[int, dict[str, str], Any]:
     """(status, headers lower-cased, parsed JSON body or None) without raising on 4xx/5xx."""
     all_headers = dict(headers or {})
     data = raw
@@ -153,14 +163,38 @@ class PostgresCluster:
     def start(self) -> PostgresCluster:
         self._owned()
         subprocess.run(
-            [*self.prefix, str(self.bin / "initdb"), "-D", str(self.data), "-U", "spl",
-             "--auth=trust", "--no-sync", "-E", "UTF8"],
-            check=True, capture_output=True,
+            [
+                *self.prefix,
+                str(self.bin / "initdb"),
+                "-D",
+                str(self.data),
+                "-U",
+                "spl",
+                "--auth=trust",
+                "--no-sync",
+                "-E",
+                "UTF8",
+            ],
+            check=True,
+            capture_output=True,
         )
         self.process = subprocess.Popen(
-            [*self.prefix, str(self.bin / "postgres"), "-D", str(self.data), "-p", str(self.port),
-             "-h", "127.0.0.1", "-k", str(self.base), "-c", "fsync=off"],
-            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+            [
+                *self.prefix,
+                str(self.bin / "postgres"),
+                "-D",
+                str(self.data),
+                "-p",
+                str(self.port),
+                "-h",
+                "127.0.0.1",
+                "-k",
+                str(self.base),
+                "-c",
+                "fsync=off",
+            ],
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL,
         )
         import psycopg
 
@@ -191,12 +225,16 @@ class PostgresCluster:
 
 def post_in_batches(url: str, records: list[dict], size: int = 1000) -> None:
     for start in range(0, len(records), size):
-        status, _, body = request("POST", url, {"records": records[start:start + size]})
+        status, _, body = request("POST", url, {"records": records[start : start + size]})
         assert status == 201, body
 
 
-def crash_during_transformation(running: RunningService, count_refined, total: int,  # type: ignore[no-untyped-def]
-                                kills: int = 2) -> None:
+def crash_during_transformation(
+    running: RunningService,
+    count_refined,
+    total: int,  # type: ignore[no-untyped-def]
+    kills: int = 2,
+) -> None:
     """kill -9 the service while its transformer is part-way, ``kills`` times, restart
     it each time, and let it finish; ``count_refined()`` reads the database directly."""
     for _ in range(kills):
@@ -207,3 +245,53 @@ def crash_during_transformation(running: RunningService, count_refined, total: i
         assert count_refined() < total, "transformation finished before the kill"
     running.start()
     wait_for(lambda: count_refined() == total, timeout=60, interval=0.05)
+
+
+def post_concurrently(
+    base: str,
+    writers: int = 8,
+    per_writer: int = 40,
+    prefix: str = "w",
+    answered: dict[int, dict] | None = None,
+) -> dict[int, dict]:
+    """``writers`` threads post at once to ``base`` (``.../<Store>``), each the position
+    records of its own robot (``<prefix><n>``): singles, and every fifth post a batch of
+    three. Returns (and fills ``answered`` as the answers come) each record by the id
+    its 201 answer gave. A writer stops at its first connection error: the service was
+    killed. Any answer but 201 fails the caller."""
+    answered = {} if answered is None else answered
+    refused: list[Any] = []
+    lock = threading.Lock()
+
+    def write(n: int) -> None:
+        for i in range(per_writer):
+            records = [
+                {
+                    "robot": f"{prefix}{n}",
+                    "timestamp": 1e6 + i * 10 + j,
+                    "data": {"lat": float(n * 100000 + i * 10 + j), "lon": -1.5},
+                }
+                for j in range(3 if i % 5 == 4 else 1)
+            ]
+            try:
+                if len(records) == 1:
+                    status, _, body = request("POST", f"{base}/records", records[0])
+                    ids = [body["id"]] if status == 201 else []
+                else:
+                    status, _, body = request("POST", f"{base}/records/batch", {"records": records})
+                    ids = body["ids"] if status == 201 else []
+            except (OSError, http.client.HTTPException):
+                return
+            with lock:
+                if status != 201:
+                    refused.append((status, body))
+                    return
+                answered.update(zip(ids, records, strict=True))
+
+    threads = [threading.Thread(target=write, args=(n,)) for n in range(writers)]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join()
+    assert not refused, refused[:3]
+    return answered

@@ -21,18 +21,36 @@ def files() -> dict[str, bytes]:
 
 
 def test_one_runnable_package_per_store(files) -> None:
-    for store, package in [("PositionStore", "position_store_service"),
-                           ("FollowStore", "follow_store_service")]:
+    for store, package in [
+        ("PositionStore", "position_store_service"),
+        ("FollowStore", "follow_store_service"),
+    ]:
         names = {p for p in files if p.startswith(f"services/{store}/")}
-        assert {f"services/{store}/{n}" for n in
-                ("README.md", "pyproject.toml", "requirements.txt")} <= names
-        for module in ("__main__", "app", "model", "transforms", "transformer", "database",
-                       "settings"):
+        assert {
+            f"services/{store}/{n}" for n in ("README.md", "pyproject.toml", "requirements.txt")
+        } <= names
+        for module in (
+            "__main__",
+            "app",
+            "access",
+            "ingest",
+            "model",
+            "transforms",
+            "transformer",
+            "database",
+            "settings",
+        ):
             path = f"services/{store}/{package}/{module}.py"
             compile(files[path], path, "exec")
         readme = files[f"services/{store}/README.md"].decode()
-        for word in ("FastAPI", "SQLAlchemy 2", "uvicorn", f"python -m {package}",
-                     "DATABASE_URL", f"{store.upper()[:-5]}_STORE_TOKEN"):
+        for word in (
+            "FastAPI",
+            "SQLAlchemy 2",
+            "uvicorn",
+            f"python -m {package}",
+            "DATABASE_URL",
+            f"{store.upper()[:-5]}_STORE_TOKEN",
+        ):
             assert word in readme
 
 
@@ -46,16 +64,24 @@ def test_model_text_reaches_code_only_as_literals(files) -> None:
     assert {"FollowStore", "Velocity", "vx", "duration", "follow_store_command"} <= strings
     classes = {n.name for n in ast.walk(model) if isinstance(n, ast.ClassDef)}
     assert "VelocityRecord" in classes
-    fields = {t.id for n in ast.walk(model) if isinstance(n, ast.AnnAssign)
-              for t in [n.target] if isinstance(t, ast.Name)}
+    fields = {
+        t.id
+        for n in ast.walk(model)
+        if isinstance(n, ast.AnnAssign)
+        for t in [n.target]
+        if isinstance(t, ast.Name)
+    }
     assert not fields & {"vx", "vy", "va"}  # attributes are f0, f1...; names are aliases
 
 
-@pytest.mark.parametrize(("where", "name"), [
-    ("store", "Store'); import os; ('"),
-    ("field", "lat\nimport os"),
-    ("datatype", "Position In"),
-])
+@pytest.mark.parametrize(
+    ("where", "name"),
+    [
+        ("store", "Store'); import os; ('"),
+        ("field", "lat\nimport os"),
+        ("datatype", "Position In"),
+    ],
+)
 def test_hostile_names_are_refused(where: str, name: str) -> None:
     resolved = product()
     store = next(s for c in resolved.system.containers for s in c.stores)
@@ -79,9 +105,12 @@ def test_ill_typed_transforms_stop_generation() -> None:
 
 def test_database_default_follows_the_storage_feature() -> None:
     embedded = service.generate(product())
-    postgres = service.generate(product(
-        features=("DataAcquisition", "Follow", "Positions", "Postgres", "Storage"),
-        attributes={"Postgres.database": "postgresql"}))
+    postgres = service.generate(
+        product(
+            features=("DataAcquisition", "Follow", "Positions", "Postgres", "Storage"),
+            attributes={"Postgres.database": "postgresql"},
+        )
+    )
     path = "services/PositionStore/position_store_service/settings.py"
     assert b"sqlite:///./position_store.db" in embedded[path]
     assert b"postgresql://spl@localhost:5432/spl" in postgres[path]

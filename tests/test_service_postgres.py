@@ -18,6 +18,7 @@ from service_runtime import (
     RunningService,
     crash_during_transformation,
     load_module,
+    post_concurrently,
     post_in_batches,
     postgres_binaries,
     wait_for,
@@ -51,10 +52,15 @@ def bundle(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return write_files(files, tmp_path_factory.mktemp("bundle"))
 
 
-def _service(bundle: Path, cluster: PostgresCluster, store: str, slug: str,
-             **env: str) -> RunningService:
-    environment = {f"{slug.upper()}_TOKEN": TOKEN, f"{slug.upper()}_TRANSFORM_PERIOD": "0.05",
-                   "DATABASE_URL": cluster.dsn(), **env}
+def _service(
+    bundle: Path, cluster: PostgresCluster, store: str, slug: str, **env: str
+) -> RunningService:
+    environment = {
+        f"{slug.upper()}_TOKEN": TOKEN,
+        f"{slug.upper()}_TRANSFORM_PERIOD": "0.05",
+        "DATABASE_URL": cluster.dsn(),
+        **env,
+    }
     return RunningService(bundle / "services" / store, f"{slug}_service", environment)
 
 
@@ -68,24 +74,34 @@ def test_both_case_studies_on_postgres(bundle: Path, cluster: PostgresCluster) -
     follow = _service(bundle, cluster, "FollowStore", "follow_store").start()
     try:
         writer = load_module(
-            bundle / "clients/position_writer/position_writer/store_client.py", "pg_pw")
+            bundle / "clients/position_writer/position_writer/store_client.py", "pg_pw"
+        )
         writer.StoreClient(positions.url, token=TOKEN).post(
-            [writer.to_record("rover_1", 10.0 + i, {"lat": 3600.0 * i, "lon": 1800.0})
-             for i in range(5)])
+            [
+                writer.to_record("rover_1", 10.0 + i, {"lat": 3600.0 * i, "lon": 1800.0})
+                for i in range(5)
+            ]
+        )
         reader = load_module(
-            bundle / "clients/position_reader/position_reader/store_client.py", "pg_pr")
+            bundle / "clients/position_reader/position_reader/store_client.py", "pg_pr"
+        )
         poller = reader.PollingReader(reader.StoreClient(positions.url))
         degrees: list[dict] = []
         wait_for(lambda: degrees.extend(poller.poll()) or len(degrees) >= 5)
         assert [(d["lat"], d["lon"]) for d in degrees] == [(float(i), 0.5) for i in range(5)]
 
         velocity = load_module(
-            bundle / "clients/velocity_writer/velocity_writer/store_client.py", "pg_vw")
+            bundle / "clients/velocity_writer/velocity_writer/store_client.py", "pg_vw"
+        )
         velocity.StoreClient(follow.url, token=TOKEN).post(
-            [velocity.to_record("ev3_a", t, {"vx": 0.1, "vy": 0.0, "va": 0.0})
-             for t in (1.0, 3.5, 4.0)])
+            [
+                velocity.to_record("ev3_a", t, {"vx": 0.1, "vy": 0.0, "va": 0.0})
+                for t in (1.0, 3.5, 4.0)
+            ]
+        )
         commands_http = load_module(
-            bundle / "clients/command_reader/command_reader/store_client.py", "pg_cr")
+            bundle / "clients/command_reader/command_reader/store_client.py", "pg_cr"
+        )
         commands = commands_http.PollingReader(commands_http.StoreClient(follow.url))
         received: list[dict] = []
         wait_for(lambda: received.extend(commands.poll()) or len(received) >= 2)
@@ -98,11 +114,18 @@ def test_both_case_studies_on_postgres(bundle: Path, cluster: PostgresCluster) -
 
 def test_kill_9_during_transformation_on_postgres(bundle: Path, cluster: PostgresCluster) -> None:
     total = 8000
-    running = _service(bundle, cluster, "PositionStore", "position_store", TRANSFORMER="off",
-                       POSITION_STORE_TRANSFORM_PERIOD="0.02").start()
-    records = [{"robot": f"crash_{i % 4}", "timestamp": 1e6 + i, "data": {"lat": 7200.0,
-                                                                        "lon": float(i)}}
-               for i in range(total)]
+    running = _service(
+        bundle,
+        cluster,
+        "PositionStore",
+        "position_store",
+        TRANSFORMER="off",
+        POSITION_STORE_TRANSFORM_PERIOD="0.02",
+    ).start()
+    records = [
+        {"robot": f"crash_{i % 4}", "timestamp": 1e6 + i, "data": {"lat": 7200.0, "lon": float(i)}}
+        for i in range(total)
+    ]
     post_in_batches(f"{running.url}/PositionStore/records/batch", records)
     running.kill()
 
@@ -125,3 +148,26 @@ def test_kill_9_during_transformation_on_postgres(bundle: Path, cluster: Postgre
     assert len(rows) == total
     assert sorted(r[1] for r in rows) == [i / 3600.0 for i in range(total)]
     assert all(r[0] == 2.0 and r[2]["lon"] / 3600.0 == r[1] for r in rows)
+
+
+def test_concurrent_posts_get_their_own_ids_on_postgres(
+    bundle: Path, cluster: PostgresCluster
+) -> None:
+    """Groups of requests in one transaction, their ids read back from psycopg's
+    pipeline in order: every 201 names the row of its own record."""
+    running = _service(bundle, cluster, "PositionStore", "position_store", TRANSFORMER="off")
+    running.start()
+    try:
+        answered = post_concurrently(f"{running.url}/PositionStore", per_writer=30, prefix="pg")
+    finally:
+        running.stop()
+    with psycopg.connect(cluster.dsn()) as conn:
+        rows = conn.execute(
+            "SELECT id, robot, source_ts, document FROM position_store_raw WHERE robot LIKE 'pg%'"
+        ).fetchall()
+    stored = {row[0]: row[1:] for row in rows}
+    assert len(answered) == len(stored) == 8 * (24 + 6 * 3)
+    assert all(
+        stored[i] == (record["robot"], record["timestamp"], record["data"])
+        for i, record in answered.items()
+    )
