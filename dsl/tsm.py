@@ -31,6 +31,7 @@ from spl.diagnostics import (
     model_text,
 )
 from spl.dsl import transform_types, tsm_bridges, tsm_containers, tsm_transforms
+from spl.dsl.fm_plain import without_cyclic_gc
 from spl.dsl.tsm_bridges import (
     bridged_clients,
     endpoint_client_name,
@@ -69,6 +70,13 @@ def parse_file(path: str | Path) -> Any:
 
 def parse_text(text: str, filename: str = "<string>") -> Any:
     """Parse and check .tsm text; ``filename`` is what diagnostics name."""
+    # Parsing creates a parse tree and model objects that all stay alive until the end:
+    # the collector's passes over them free nothing and grew with the file.
+    with without_cyclic_gc():
+        return _parse(text, filename)
+
+
+def _parse(text: str, filename: str) -> Any:
     sink = DiagnosticSink()
     try:
         tree = _grammar().model_from_str(text, file_name=filename)
@@ -110,8 +118,9 @@ def _build(tree: Any, names: Names) -> Any:
             bridges.append(element)
     for resolve, element, element_tree in names.pending:
         resolve(names, element, element_tree)
+    wiring = tsm_bridges.Bridges(names)
     for bridge in bridges:
-        tsm_bridges.bridge(names, bridge)
+        wiring.add(bridge)
     return system
 
 

@@ -42,8 +42,9 @@ def container(names: Names, tree: Any) -> Any:
         container.namespace = namespace
     if not robot:
         _cloud_settings(names, container, tree)
-    members: dict[str, Any] = {}
-    topics: dict[str, Any] = {}
+    members: dict[str, Any] = {}  # nodes and stores share one namespace
+    topics = names.topics[id(container)] = {}
+    nodes = names.nodes[id(container)] = {}
     for member in tree.members:
         rule = kind(member)
         where = f" in container {container.name}"
@@ -60,7 +61,11 @@ def container(names: Names, tree: Any) -> Any:
         build, what = _MEMBERS[rule]
         element = build(names, member)
         names.declare(members, element, member.name, what, where)
-        (container.stores if rule == "Store" else container.nodes).append(element)
+        if rule == "Store":
+            container.stores.append(element)
+        else:
+            nodes.setdefault(element.name, element)
+            container.nodes.append(element)
     return container
 
 

@@ -35,6 +35,10 @@ class Names:
         self.containers: dict[str, Any] = {}
         self.data_types: dict[str, Any] = {}
         self.transforms: dict[str, Any] = {}
+        # container id -> name -> the first topic / node of that name declared in it, so a
+        # reference costs a dictionary look-up, not a scan of the container
+        self.topics: dict[int, dict[str, Any]] = {}
+        self.nodes: dict[int, dict[str, Any]] = {}
         # resolution steps in declaration order, run once every name is declared
         self.pending: list[tuple[Resolve, Any, Any]] = []
 
@@ -93,14 +97,14 @@ class Names:
 
     def topic(self, container: Any, ref: Any) -> Any:
         """Topic ``ref`` of ``container`` (the first declared of that name)."""
-        topic = next((t for t in container.topics if t.name == ref.name), None)
+        topic = self.topics[id(container)].get(ref.name)
         if topic is None:
             self.error(ref, f"unknown topic {ref.name} in container {container.name}")
         return topic
 
     def find_node(self, container: Any, name: str) -> Any:
         """Node ``name`` of ``container`` (the first declared of that name), or None."""
-        return next((n for n in container.nodes if n.name == name), None)
+        return self.nodes[id(container)].get(name)
 
     def node(self, container: Any, ref: Any) -> Any:
         node = self.find_node(container, ref.name)

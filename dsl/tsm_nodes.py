@@ -187,9 +187,7 @@ def _connect_server(names: Names, client: Any, tree: Any) -> None:
     node_ref, server_ref = parts
     node = names.find_node(container, node_ref.name)
     if node is None:
-        elsewhere = [
-            c.name for c in names.system.containers if any(n.name == node_ref.name for n in c.nodes)
-        ]
+        elsewhere = [c.name for c in names.system.containers if node_ref.name in names.nodes[id(c)]]
         if elsewhere:
             names.error(
                 node_ref,
