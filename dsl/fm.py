@@ -21,7 +21,6 @@ from typing import Any
 from textx import TextXSyntaxError, metamodel_from_file
 
 from spl.diagnostics import (
-    Diagnostic,
     DiagnosticSink,
     Location,
     ModelError,
@@ -29,6 +28,8 @@ from spl.diagnostics import (
     model_text,
 )
 from spl.dsl import literals
+from spl.dsl.fm_capability import capability_condition
+from spl.dsl.fm_syntax import syntax_diagnostic
 from spl.dsl.fm_vocabulary import ATTRIBUTE_TYPES as ATTRIBUTE_TYPES
 from spl.dsl.fm_vocabulary import IDENTIFIER as IDENTIFIER
 from spl.dsl.fm_vocabulary import OPERATORS as OPERATORS
@@ -44,60 +45,6 @@ def _grammar():
     return metamodel_from_file(
         str(files(__package__).joinpath("fm.tx")), autokwd=True, use_regexp_group=False
     )
-
-
-@cache
-def _capability_grammar():
-    return metamodel_from_file(
-        str(files(__package__).joinpath("capability.tx")), autokwd=True, use_regexp_group=False
-    )
-
-
-def parse_capability_conditions(text: str, where: Location | None) -> list[Any]:
-    """The ``capability`` conditions written as text (``base = "youbot" and onboard_pc``),
-    as UVL and FeatureIDE files carry them in a string attribute; problems are reported
-    at ``where``, the attribute."""
-    try:
-        tree = _capability_grammar().model_from_str(text)
-    except TextXSyntaxError as exc:
-        reason = syntax_diagnostic(exc, "capability").message
-        raise ModelError(
-            [Diagnostic(where, f"capability {text!r}: {reason} at column {exc.col}")]
-        ) from None
-    sink = DiagnosticSink()
-    conditions = [capability_condition(node, where, sink) for node in tree.conditions]
-    sink.raise_if_errors()
-    return conditions
-
-
-_CAPABILITY_LITERALS = {
-    "CapabilityString": "string",
-    "CapabilityBool": "bool",
-    "CapabilityDouble": "double",
-    "CapabilityInt": "int",
-}
-
-
-def capability_condition(node: Any, where: Location | None, sink: DiagnosticSink) -> Any:
-    """One parsed ``KEY [OP VALUE]`` as an ``fm.CapabilityCondition``; a bound (``>=``,
-    ``<=``) on something that is not a number is reported to ``sink``."""
-    F = fm_metamodel()
-    condition = F.CapabilityCondition(key=node.key, operator=node.operator or "")
-    if where is not None:
-        condition.srcFile, condition.srcLine, condition.srcCol = where.file, where.line, where.col
-    if node.value is not None:
-        kind = _CAPABILITY_LITERALS[type(node.value).__name__]
-        text = node.value.text[1:-1] if kind == "string" else node.value.text
-        condition.valueType = F.AttributeType.getEEnumLiteral(kind)
-        condition.value = canonical_value(kind, text)
-        if condition.value is None:
-            sink.error(where, f"capability {node.key}: {node.value.text} is not a {kind}")
-        elif node.operator in (">=", "<=") and kind not in ("int", "double"):
-            sink.error(
-                where,
-                f"capability {node.key} {node.operator} needs a number, got {node.value.text}",
-            )
-    return condition
 
 
 def parse_file(path: str | Path) -> Any:
@@ -118,48 +65,6 @@ def parse_text(text: str, filename: str = "<string>") -> Any:
         raise ModelError([too_deep(filename)]) from None
     sink.raise_if_errors()
     return model
-
-
-def syntax_diagnostic(exc: TextXSyntaxError, filename: str) -> Diagnostic:
-    """A textX syntax error as one located diagnostic naming what was expected."""
-    expected = sorted({_rule_label(r) for r in (exc.expected_rules or [])})
-    if expected:
-        listed = (
-            ", ".join(expected[:-1]) + " or " + expected[-1] if len(expected) > 1 else expected[0]
-        )
-        reason = "syntax error: expected " + listed
-    else:
-        reason = "syntax error: " + str(exc.message).split(" at position")[0]
-    return Diagnostic(Location(filename, exc.line or 0, exc.col or 0), reason)
-
-
-_RULE_LABELS = {
-    "FeatureName": "feature name",
-    "Ident": "name",
-    "Natural": "number",
-    "Bound": "number or '*'",
-    "QuotedString": "string",
-    "BoolWord": "true or false",
-    "DoubleNumber": "number",
-    "IntNumber": "number",
-    "EOF": "end of file",
-    "CapabilityKey": "capability name",
-    "CapabilityOperator": "operator",
-    "CapabilityQuoted": "string",
-    "CapabilityBoolWord": "true or false",
-    "CapabilityDoubleNumber": "number",
-    "CapabilityIntNumber": "number",
-}
-
-
-def _rule_label(rule: Any) -> str:
-    name = getattr(rule, "rule_name", "") or ""
-    if name in _RULE_LABELS:
-        return _RULE_LABELS[name]
-    text = str(rule)
-    if text.startswith("/(?!(abstract"):
-        return "feature name"
-    return f"'{text}'"
 
 
 def summary(model: Any) -> str:

@@ -167,7 +167,7 @@ def exported_attributes(feature: Any) -> list[Any]:
 def add_capabilities(feature: Any, type_name: str, text: str, where: Location | None) -> None:
     """Read the ``capability`` attribute of an imported feature into its conditions;
     raise ModelError (located at the attribute) when it is not a condition string."""
-    from spl.dsl.fm import parse_capability_conditions
+    from spl.dsl.fm_capability import parse_capability_conditions
 
     if type_name != "string":
         message = f"{CAPABILITY} takes a condition string, like 'base = \"youbot\" and onboard_pc'"

@@ -8,7 +8,6 @@ whose types agree. Problems are reported all at once, located in the .rm file.
 
 from __future__ import annotations
 
-import importlib
 import math
 from dataclasses import dataclass
 from functools import cache
@@ -16,10 +15,12 @@ from importlib.resources import files
 from pathlib import Path
 from typing import Any
 
-from textx import TextXSyntaxError, get_location, metamodel_from_file
+from textx import TextXSyntaxError, metamodel_from_file
 
 from spl.diagnostics import Diagnostic, DiagnosticSink, Location, ModelError, counted, model_text
 from spl.dsl import literals, rosnames
+from spl.dsl.fm import all_features
+from spl.dsl.rm_models import referenced_models, tree_location
 from spl.dsl.rm_names import (
     BRIDGE_FORMS,
     NameProblem,
@@ -83,55 +84,12 @@ def parse_text(
         raise ModelError([Diagnostic(Location(filename, exc.line, exc.col), reason)]) from None
     base = base or Path(filename).parent
     sink = DiagnosticSink()
-    tsm_path = _model_path(base, tree.tsm)
-    fm_path = _model_path(base, tree.fm)
-    system = _load_referenced(
-        "spl.dsl.tsm", "parse_file", tsm_path, tree, "tsm", filename, sink, {".tsm"}
-    )
-    feature_model = _load_feature_model(fm_path, tree, filename, sink)
+    system, feature_model = referenced_models(tree, filename, base, sink)
     sink.raise_if_errors()
     model = _Builder(filename, system, feature_model, sink).build(tree)
     sink.raise_if_errors()
     model.tsmPath, model.fmPath = tree.tsm, tree.fm
     return ResolutionModelFiles(model, system, feature_model, Path(filename))
-
-
-def _model_path(base: Path, relative: str) -> Path:
-    return (base / relative) if not Path(relative).is_absolute() else Path(relative)
-
-
-def _tree_location(filename: str, node: Any) -> Location:
-    loc = get_location(node)
-    return Location(filename, loc["line"], loc["col"])
-
-
-def _load_referenced(module, function, path, tree, attr, filename, sink, suffixes):
-    where = _tree_location(filename, tree)
-    if path.suffix not in suffixes:
-        sink.error(where, f"{attr} {str(path)!r}: expected a {' or '.join(sorted(suffixes))} file")
-        return None
-    if not path.is_file():
-        sink.error(where, f"{attr} file {str(path)!r} not found")
-        return None
-    try:
-        return getattr(importlib.import_module(module), function)(path)
-    except ModelError as exc:
-        sink.diagnostics.extend(exc.diagnostics)
-        return None
-
-
-def _load_feature_model(path: Path, tree: Any, filename: str, sink: DiagnosticSink) -> Any:
-    """The feature model may be written in .fm, UVL or FeatureIDE XML."""
-    return _load_referenced(
-        "spl.dsl.fm_formats",
-        "load_feature_model",
-        path,
-        tree,
-        "fm",
-        filename,
-        sink,
-        {".fm", ".uvl", ".xml"},
-    )
 
 
 class _Builder:
@@ -147,11 +105,11 @@ class _Builder:
         self.R = rm_metamodel()
         self.T = tsm_metamodel()
         self.names = Names(system)
-        self.features = {f.name: f for f in _all_features(feature_model.root)}
+        self.features = {f.name: f for f in all_features(feature_model)}
 
     # -- locations -------------------------------------------------------------------
     def loc(self, node: Any) -> Location:
-        return _tree_location(self.filename, node)
+        return tree_location(self.filename, node)
 
     def locate(self, element: Any, node: Any) -> Any:
         where = self.loc(node)
@@ -368,13 +326,6 @@ class _Builder:
             self.error(stmt, f"type mismatch: {a.name} is {a.type}, {b.name} is {b.type}")
             return False
         return True
-
-
-def _all_features(feature: Any):
-    yield feature
-    for group in feature.groups:
-        for child in group.features:
-            yield from _all_features(child)
 
 
 def _attribute_fits(attribute_type: str, parameter_type: str) -> bool:

@@ -12,7 +12,7 @@ from __future__ import annotations
 import re
 from typing import Any
 
-from spl.dsl.tsm import _bridged_clients
+from spl.dsl.tsm_bridges import bridged_clients
 
 _INDENT = "    "
 
@@ -267,6 +267,6 @@ def _bridges(system: Any) -> list[str]:
             continue
         server = target.server
         where = f"{target_container.name}.{server.eContainer().name}.{server.name}"
-        for node, client in _bridged_clients(source):
+        for node, client in bridged_clients(source):
             lines.append(f"bridge {source_container.name}.{node.name}.{client.name} -> {where}")
     return lines

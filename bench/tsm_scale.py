@@ -1,0 +1,230 @@
+"""Benchmark: whole ``spl check`` processes on a synthetic .tsm of 1k and 10k nodes (issue 17).
+
+    .venv/bin/python bench/tsm_scale.py [--sizes 1000 10000] [--runs 3] [--line] [--keep DIR]
+
+Writes, for each size, a product line the way a user would write a large one: two robot
+containers (endpoint, namespace) and three cloud containers (group and resources), the
+nodes spread over them in pipelines (a node publishes its stage's topic and subscribes
+to the previous one), every fifth node providing a service its successor calls, every
+node with an implementation and parameters; topics bridged from the robots to the
+clouds and service clients bridged to cloud servers; a data-acquisition part (data
+types, a transform, a store per cloud, writers and readers on the robots). Beside it a
+.fm with one optional feature per twenty nodes and a .rm whose elements require those
+nodes, set implementations and parameters and migrate a node now and then.
+
+Times ``--runs`` whole ``spl check FILE.tsm`` processes per size, interleaved, and
+prints the wall time and peak memory (min and median) of each and the ratio the issue
+judges: the 10k median over the 1k median, at most 10 (size ratio 10), and the 10k
+median under 5 s. ``--line`` also times ``spl check`` of the whole product-line folder
+(the .rm, .fm and .tsm parsed, then the line checks of SPEC section 8).
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROBOTS = ("Rover", "Arm")
+CLOUDS = ("Planning", "Mapping", "Archive")
+STAGE = 5  # nodes per pipeline stage: one service server, four clients and subscribers
+TARGET_RATIO = 10.0
+TARGET_SECONDS = 5.0
+
+
+def bridged_client(i: int) -> bool:
+    """Whether robot node ``i`` declares the unbound client a service bridge binds."""
+    stage, role = divmod(i, STAGE)
+    return role == 1 and stage % 8 == 1
+
+
+def container_tsm(name: str, index: int, nodes: int, robot: bool) -> list[str]:
+    """One container holding ``nodes`` nodes (a multiple of STAGE) and their topics."""
+    prefix = name[0]
+    cloud = CLOUDS[index % len(CLOUDS)]
+    if robot:
+        out = [
+            f"robot container {name} {{",
+            f'    endpoint robot_id "{name.lower()}_1" url "wss://cloud.example.org:9000/" '
+            f'user "{name.lower()}" password env "RCE_PASSWORD"',
+            f'    namespace "/{name.lower()}"',
+            f"    topic {prefix}Readings : sensor_msgs/Temperature",
+            f"    writer {prefix}Writer : Reading to {cloud}.{cloud}Store <- {prefix}Readings",
+            f"    topic {prefix}Summaries : std_msgs/String",
+            f"    reader {prefix}Reader : Summary from {cloud}.{cloud}Store -> {prefix}Summaries"
+            " every 1 s",
+        ]
+    else:
+        out = [
+            f'cloud container {name} group "{name.lower()}s" size 2 cpu 4 memory 8192 {{',
+            f"    store {name}Store {{",
+            "        raw Reading",
+            "        refined Summary by Summarize every 10 s",
+            "    }",
+        ]
+    for stage in range(nodes // STAGE):
+        out.append(
+            f'    topic {prefix}T{stage} : sensor_msgs/PointCloud2 name "/{prefix}/t{stage}"'
+        )
+    for i in range(nodes):
+        stage, role = divmod(i, STAGE)
+        out.append(f"    {'optional ' if i % 2 else ''}node {prefix}N{i} {{")
+        out.append(f'        implementation pkg_{name.lower()}/node_{i} args "--id {i}"')
+        out.append(f"        param rate : double = {1 + i % 7}.5")
+        out.append(f'        param frame : string = "{prefix.lower()}_frame_{i}"')
+        if role == 0:
+            out.append(f"        publishes out -> {prefix}T{stage}")
+            out.append(f'        provides lookup : nav_msgs/GetMap name "/{prefix}/lookup{stage}"')
+        else:
+            out.append("        publishes status : std_msgs/String")
+            out.append(f"        calls lookup -> {prefix}N{stage * STAGE}.lookup")
+        if robot and bridged_client(i):
+            out.append("        calls lookup_remote : nav_msgs/GetMap")
+        if stage > 0:
+            out.append(f"        subscribes in <- {prefix}T{stage - 1}")
+        out.append("    }")
+    out.append("}")
+    out.append("")
+    return out
+
+
+def synthetic_line(folder: Path, nodes: int) -> int:
+    """Write ``synthetic.tsm``, ``.fm`` and ``.rm`` of about ``nodes`` nodes into
+    ``folder``; the number of lines of the .tsm."""
+    names = ROBOTS + CLOUDS
+    per_container = max(STAGE, nodes // len(names) // STAGE * STAGE)
+    tsm = [
+        "// synthetic line of bench/tsm_scale.py",
+        "system Synthetic",
+        "",
+        "data Reading { celsius : double  variance : double }",
+        "data Summary { fahrenheit : double }",
+        "transform Summarize : Reading -> Summary {",
+        "    fahrenheit = celsius * 9.0 / 5.0 + 32.0",
+        "}",
+        "",
+    ]
+    for index, name in enumerate(names):
+        tsm += container_tsm(name, index, per_container, name in ROBOTS)
+    for r, robot in enumerate(ROBOTS):
+        for i in range(per_container):
+            stage = i // STAGE
+            if i % STAGE == 0 and stage % 4 == 0:  # every fourth stage's topic to a cloud
+                cloud = CLOUDS[(stage // 4 + r) % len(CLOUDS)]
+                tsm.append(f"bridge {robot}.{robot[0]}T{stage} -> {cloud}.{cloud[0]}T{stage}")
+            if bridged_client(i):
+                cloud = CLOUDS[(stage + r) % len(CLOUDS)]
+                tsm.append(
+                    f"bridge {robot}.{robot[0]}N{i}.lookup_remote -> "
+                    f"{cloud}.{cloud[0]}N{stage * STAGE}.lookup"
+                )
+    (folder / "synthetic.tsm").write_text("\n".join(tsm) + "\n")
+
+    all_nodes = [(name, f"{name[0]}N{i}") for name in names for i in range(per_container)]
+    features = max(1, len(all_nodes) // 20)
+    fm = ["feature model Synthetic", "", "root Root {"]
+    fm += [f"    optional F{j}" for j in range(features)]
+    fm += ["}"]
+    (folder / "synthetic.fm").write_text("\n".join(fm) + "\n")
+
+    rm = ["resolution model Synthetic", 'tsm "synthetic.tsm"', 'fm "synthetic.fm"', ""]
+    for j in range(features):
+        chunk = all_nodes[j * 20 : (j + 1) * 20]
+        optional = [f"{c}.{n}" for c, n in chunk if int(n.split("N")[1]) % 2]
+        rm.append(f"when F{j} selected {{")
+        if optional:
+            rm.append(f"    require {', '.join(optional)}")
+        for container, node in chunk[:2]:
+            rm.append(f"    implementation {container}.{node} = impl{j}/{node.lower()}")
+            rm.append(f"    parameter {container}.{node}.rate = {j}.5")
+        if j % 4 == 0:
+            container, node = chunk[0]
+            target = CLOUDS[0] if container in ROBOTS else ROBOTS[0]
+            rm.append(f"    migrate {container}.{node} to {target}")
+        rm.append("}")
+    (folder / "synthetic.rm").write_text("\n".join(rm) + "\n")
+    return len(tsm)
+
+
+def spl_command() -> list[str]:
+    script = Path(sys.executable).with_name("spl")
+    return [str(script)] if script.exists() else [sys.executable, "-m", "spl"]
+
+
+def run(arguments: list[str]) -> tuple[float, float, float]:
+    """Wall seconds, CPU seconds (user + system) and peak resident MB of one whole
+    process (it must succeed). CPU time is given as well because on a shared, loaded
+    machine the wall time also measures waiting for a core."""
+    start = time.perf_counter()
+    process = subprocess.Popen(arguments, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    _, status, usage = os.wait4(process.pid, 0)
+    wall = time.perf_counter() - start
+    error = process.stderr.read().decode() if process.stderr else ""
+    if os.waitstatus_to_exitcode(status) != 0:
+        raise SystemExit(f"{' '.join(arguments)} failed:\n{error}")
+    return wall, usage.ru_utime + usage.ru_stime, usage.ru_maxrss / 1024
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--sizes", type=int, nargs="+", default=[1000, 10000])
+    parser.add_argument("--runs", type=int, default=3)
+    parser.add_argument("--line", action="store_true", help="also check the whole line folder")
+    parser.add_argument("--keep", type=Path, help="write the models here and keep them")
+    options = parser.parse_args()
+    kinds = ("tsm", "line") if options.line else ("tsm",)
+    results: dict[tuple[str, int], list[tuple[float, float, float]]] = {}
+    lines: dict[int, int] = {}
+    with tempfile.TemporaryDirectory() as tmp:
+        root = options.keep or Path(tmp)
+        targets: dict[tuple[str, int], Path] = {}
+        for size in options.sizes:
+            folder = root / f"n{size}"
+            folder.mkdir(parents=True, exist_ok=True)
+            lines[size] = synthetic_line(folder, size)
+            targets["tsm", size] = folder / "synthetic.tsm"
+            if options.line:
+                targets["line", size] = folder
+        for _ in range(options.runs):  # interleaved, so a load change hits every size alike
+            for key, target in targets.items():
+                results.setdefault(key, []).append(run([*spl_command(), "check", str(target)]))
+    print(
+        "| spl check | nodes | .tsm lines | wall min s | wall median s | CPU median s "
+        "| peak MB median |"
+    )
+    print("| --- | ---: | ---: | ---: | ---: | ---: | ---: |")
+    medians: dict[tuple[str, int], float] = {}
+    for (kind, size), samples in results.items():
+        walls = [wall for wall, _, _ in samples]
+        medians[kind, size] = statistics.median(walls)
+        cpu = statistics.median(cpu for _, cpu, _ in samples)
+        memory = statistics.median(mb for _, _, mb in samples)
+        what = "synthetic.tsm" if kind == "tsm" else "line folder"
+        print(
+            f"| {what} | {size} | {lines[size]} | {min(walls):.2f} "
+            f"| {medians[kind, size]:.2f} | {cpu:.2f} | {memory:.0f} |"
+        )
+    if len(options.sizes) < 2:
+        return
+    small, large = options.sizes[0], options.sizes[-1]
+    print()
+    for kind in kinds:
+        ratio = medians[kind, large] / medians[kind, small]
+        print(f"{kind}: median wall ratio {large}/{small}: {ratio:.1f}", end="")
+        if kind == "tsm":
+            met = ratio <= TARGET_RATIO and medians[kind, large] < TARGET_SECONDS
+            print(
+                f" (target <= {TARGET_RATIO:.0f} and {large} nodes under "
+                f"{TARGET_SECONDS:.0f} s: {'met' if met else 'NOT met'})",
+                end="",
+            )
+        print()
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,74 @@
+"""Capability conditions of features: what a robot must offer to run a feature.
+
+Written ``capability KEY [OP VALUE]`` in a .fm file (``base = "youbot"``,
+``memory >= 4``, ``onboard_pc``), and as the text of a string attribute in UVL and
+FeatureIDE files; the small grammar ``capability.tx`` reads that text, so the three
+formats build the same ``fm.CapabilityCondition`` and report the same problems.
+"""
+
+from __future__ import annotations
+
+from functools import cache
+from importlib.resources import files
+from typing import Any
+
+from textx import TextXSyntaxError, metamodel_from_file
+
+from spl.diagnostics import Diagnostic, DiagnosticSink, Location, ModelError
+from spl.dsl.fm_syntax import syntax_diagnostic
+from spl.dsl.fm_vocabulary import canonical_value
+from spl.metamodels import fm as fm_metamodel
+
+
+@cache
+def _capability_grammar():
+    return metamodel_from_file(
+        str(files(__package__).joinpath("capability.tx")), autokwd=True, use_regexp_group=False
+    )
+
+
+def parse_capability_conditions(text: str, where: Location | None) -> list[Any]:
+    """The ``capability`` conditions written as text (``base = "youbot" and onboard_pc``),
+    as UVL and FeatureIDE files carry them in a string attribute; problems are reported
+    at ``where``, the attribute."""
+    try:
+        tree = _capability_grammar().model_from_str(text)
+    except TextXSyntaxError as exc:
+        reason = syntax_diagnostic(exc, "capability").message
+        raise ModelError(
+            [Diagnostic(where, f"capability {text!r}: {reason} at column {exc.col}")]
+        ) from None
+    sink = DiagnosticSink()
+    conditions = [capability_condition(node, where, sink) for node in tree.conditions]
+    sink.raise_if_errors()
+    return conditions
+
+
+_CAPABILITY_LITERALS = {
+    "CapabilityString": "string",
+    "CapabilityBool": "bool",
+    "CapabilityDouble": "double",
+    "CapabilityInt": "int",
+}
+
+
+def capability_condition(node: Any, where: Location | None, sink: DiagnosticSink) -> Any:
+    """One parsed ``KEY [OP VALUE]`` as an ``fm.CapabilityCondition``; a bound (``>=``,
+    ``<=``) on something that is not a number is reported to ``sink``."""
+    F = fm_metamodel()
+    condition = F.CapabilityCondition(key=node.key, operator=node.operator or "")
+    if where is not None:
+        condition.srcFile, condition.srcLine, condition.srcCol = where.file, where.line, where.col
+    if node.value is not None:
+        kind = _CAPABILITY_LITERALS[type(node.value).__name__]
+        text = node.value.text[1:-1] if kind == "string" else node.value.text
+        condition.valueType = F.AttributeType.getEEnumLiteral(kind)
+        condition.value = canonical_value(kind, text)
+        if condition.value is None:
+            sink.error(where, f"capability {node.key}: {node.value.text} is not a {kind}")
+        elif node.operator in (">=", "<=") and kind not in ("int", "double"):
+            sink.error(
+                where,
+                f"capability {node.key} {node.operator} needs a number, got {node.value.text}",
+            )
+    return condition

@@ -1,0 +1,59 @@
+"""The two models a resolution model names: its .tsm and its feature model.
+
+A .rm file names them by paths relative to itself (``tsm "mapping.tsm"``,
+``fm "features.uvl"``). Each is checked for its kind of file and existence, located at
+the resolution model's header, and parsed by its own language; the problems found in
+either are reported together with the .rm file's, so a user sees every one at once.
+"""
+
+from __future__ import annotations
+
+import importlib
+from pathlib import Path
+from typing import Any
+
+from textx import get_location
+
+from spl.diagnostics import DiagnosticSink, Location, ModelError
+
+
+def tree_location(filename: str, node: Any) -> Location:
+    """Where a parse-tree object of ``filename`` is written."""
+    loc = get_location(node)
+    return Location(filename, loc["line"], loc["col"])
+
+
+# How each model named in a .rm header is read: the module and function of its
+# language (imported when first needed) and the files it may be; a feature model may
+# be written in .fm, UVL or FeatureIDE XML.
+_READERS = {
+    "tsm": ("spl.dsl.tsm", "parse_file", {".tsm"}),
+    "fm": ("spl.dsl.fm_formats", "load_feature_model", {".fm", ".uvl", ".xml"}),
+}
+
+
+def referenced_models(
+    tree: Any, filename: str, base: Path, sink: DiagnosticSink
+) -> tuple[Any, Any]:
+    """(tsm.System, fm.FeatureModel) named by the parsed header ``tree``; None for one
+    that could not be read, its problems reported to ``sink``."""
+    return _load("tsm", tree, filename, base, sink), _load("fm", tree, filename, base, sink)
+
+
+def _load(attr: str, tree: Any, filename: str, base: Path, sink: DiagnosticSink) -> Any:
+    """The model named by header field ``attr``, when it is an existing file of its kind."""
+    module, function, suffixes = _READERS[attr]
+    relative = getattr(tree, attr)
+    path = (base / relative) if not Path(relative).is_absolute() else Path(relative)
+    where = tree_location(filename, tree)
+    if path.suffix not in suffixes:
+        sink.error(where, f"{attr} {str(path)!r}: expected a {' or '.join(sorted(suffixes))} file")
+        return None
+    if not path.is_file():
+        sink.error(where, f"{attr} file {str(path)!r} not found")
+        return None
+    try:
+        return getattr(importlib.import_module(module), function)(path)
+    except ModelError as exc:
+        sink.diagnostics.extend(exc.diagnostics)
+        return None

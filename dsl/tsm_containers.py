@@ -1,0 +1,134 @@
+"""Containers of the .tsm language: robots and cloud instances with what they hold.
+
+A robot container may carry the endpoint a cloud connects to (robot id, URL, user and
+the environment variable holding the password: a password written in the file is
+refused, as it would be copied into every generated configuration); a cloud container
+carries its Rapyuta deployment settings. Both hold topics, nodes, writers and readers;
+only a cloud container holds stores.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+from spl.dsl import literals, rosnames, tsm_data, tsm_nodes
+from spl.dsl.tsm_names import Names
+from spl.dsl.tsm_syntax import decode, kind
+
+# How each rule of the grammar's ``Member`` (but a topic) becomes a model element,
+# and what it is called in a duplicate-name message.
+_MEMBERS: dict[str, tuple[Callable[[Names, Any], Any], str]] = {
+    "Node": (tsm_nodes.node, "node"),
+    "Writer": (tsm_data.writer, "node"),
+    "Reader": (tsm_data.reader, "node"),
+    "Store": (tsm_data.store, "store"),
+}
+
+
+def container(names: Names, tree: Any) -> Any:
+    """The RobotContainer or CloudContainer of a ``container`` block and its members."""
+    T = names.T
+    robot = kind(tree) == "RobotContainer"
+    container = (T.RobotContainer if robot else T.CloudContainer)(name=tree.name.name)
+    names.locate(container, tree.name)
+    names.declare(names.containers, container, tree.name, "container")
+    container.endpoint = _endpoint(names, tree) if robot else None
+    if container.endpoint is None:
+        container.endpoint = names.locate(T.Endpoint(), tree.name)
+    if tree.namespace is not None:
+        namespace = decode(tree.namespace.value)
+        names.check(tree.namespace, rosnames.problem_graph_name(namespace, "namespace"))
+        container.namespace = namespace
+    if not robot:
+        _cloud_settings(names, container, tree)
+    members: dict[str, Any] = {}  # nodes and stores share one namespace
+    topics = names.topics[id(container)] = {}
+    nodes = names.nodes[id(container)] = {}
+    for member in tree.members:
+        rule = kind(member)
+        where = f" in container {container.name}"
+        if rule == "Topic":
+            topic = _topic(names, member)
+            names.declare(topics, topic, member.name, "topic", where)
+            container.topics.append(topic)
+            continue
+        if rule == "Store" and robot:
+            names.error(
+                member.name,
+                f"store {member.name.name}: stores live in cloud containers",
+            )
+        build, what = _MEMBERS[rule]
+        element = build(names, member)
+        names.declare(members, element, member.name, what, where)
+        if rule == "Store":
+            container.stores.append(element)
+        else:
+            nodes.setdefault(element.name, element)
+            container.nodes.append(element)
+    return container
+
+
+def _cloud_settings(names: Names, container: Any, tree: Any) -> None:
+    if tree.group is not None:
+        group = decode(tree.group.value)
+        if names.check(tree.group, rosnames.problem_group(group)):
+            container.group = group
+    for attribute in ("size", "cpu", "memory", "bandwidth"):
+        value_tree = getattr(tree, attribute)
+        if value_tree is None:
+            continue
+        value = literals.int_literal(value_tree.value, literals.INT32_MAX)
+        if value is None:
+            limit = literals.INT32_MAX
+            names.error(
+                value_tree, f"{attribute} {value_tree.value} is out of range (at most {limit})"
+            )
+        else:
+            container.eSet(attribute, value)
+
+
+def _endpoint(names: Names, tree: Any) -> Any:
+    endpoint_tree = tree.endpoint
+    if endpoint_tree is None:
+        return None
+    endpoint = names.locate(names.T.Endpoint(), endpoint_tree)
+    settings: list[tuple[str, str, Callable[[str], str | None]]] = [
+        ("robotId", "robotId", rosnames.problem_robot_id),
+        ("url", "url", rosnames.problem_url),
+        ("user", "user", rosnames.problem_user),
+    ]
+    for attribute, feature, problem in settings:
+        value_tree = getattr(endpoint_tree, attribute)
+        if value_tree is None:
+            continue
+        value = decode(value_tree.value)
+        if names.check(value_tree, problem(value)):
+            endpoint.eSet(feature, value)
+    password = endpoint_tree.password
+    if password is not None:
+        if kind(password) == "LiteralPassword":
+            # The value is a secret: it is neither stored nor repeated in the message.
+            names.error(
+                password.literal,
+                'password given as a literal; write password env "VAR"',
+            )
+        else:
+            variable = decode(password.variable.value)
+            if names.check(password.variable, rosnames.problem_env_var(variable)):
+                endpoint.passwordEnv = variable
+    return endpoint
+
+
+def _topic(names: Names, tree: Any) -> Any:
+    name = tree.name.name
+    topic = names.locate(names.T.Topic(name=name), tree.name)
+    topic.type = tsm_nodes.ros_type(names, tree.type)
+    if tree.rosName is not None:
+        ros_name = decode(tree.rosName.value)
+        names.check(tree.rosName, rosnames.problem_graph_name(ros_name, f"topic {name} name"))
+    else:
+        ros_name = f"/{name}"
+        names.check(tree.name, rosnames.problem_graph_name(ros_name, f"topic {name} name"))
+    topic.rosName = ros_name
+    return topic
