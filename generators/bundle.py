@@ -98,9 +98,18 @@ def resolved_xmi(system: Any) -> bytes:
     return output.buffer.getvalue()
 
 
-def build_bundle(product: ResolvedProduct, targets: tuple[str, ...] | None = None) -> Bundle:
+# Generators that run an external program to render a picture; ``render_diagrams=False``
+# asks them for the source only (their ``generate`` takes ``render``).
+RENDERING = frozenset({"spl.generators.diagrams"})
+
+
+def build_bundle(
+    product: ResolvedProduct,
+    targets: tuple[str, ...] | None = None,
+    render_diagrams: bool = True,
+) -> Bundle:
     """Every file of the product's bundle (of ``targets``, default all), in memory, and
-    the files that were skipped."""
+    the files that were skipped; without ``render_diagrams`` no picture is rendered."""
     targets = tuple(TARGETS) if targets is None else targets
     files = {
         "resolved.tsm": print_model(product.system).encode("utf-8"),
@@ -108,7 +117,11 @@ def build_bundle(product: ResolvedProduct, targets: tuple[str, ...] | None = Non
     }
     skipped: dict[str, str] = {}
     for module_name in (m for target in targets for m in TARGETS[target]):
-        generated = importlib.import_module(module_name).generate(product)
+        generate = importlib.import_module(module_name).generate
+        if module_name in RENDERING and not render_diagrams:
+            generated = generate(product, render=False)
+        else:
+            generated = generate(product)
         clash = (files.keys() | skipped.keys()) & generated.keys()
         if clash:
             raise ValueError(f"{module_name} writes {sorted(clash)} already written")

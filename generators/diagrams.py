@@ -281,8 +281,10 @@ def architecture_graph(system: Any, product: ResolvedProduct | None = None) -> g
     return graph
 
 
-def generate(product: ResolvedProduct) -> dict[str, Any]:
-    """``architecture.dot`` (the Graphviz source, always) and ``architecture.svg``.
+def generate(product: ResolvedProduct, render: bool = True) -> dict[str, Any]:
+    """``architecture.dot`` (the Graphviz source, always) and ``architecture.svg``
+    (unless ``render`` is false: ``spl validate`` checks many products and would pay one
+    ``dot`` process each for a picture nobody looks at).
 
     The SVG needs Graphviz's ``dot`` program; without it the SVG is :class:`Skipped`
     (the least important file must not take the bundle down) and the source can be
@@ -290,6 +292,8 @@ def generate(product: ResolvedProduct) -> dict[str, Any]:
     """
     graph = architecture_graph(product.system, product)
     files: dict[str, Any] = {"architecture.dot": graph.source.encode("utf-8")}
+    if not render:
+        return files
     try:
         files["architecture.svg"] = render_bytes(graph, "svg")
     except graphviz.ExecutableNotFound:

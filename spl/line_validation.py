@@ -137,11 +137,21 @@ def _listed_name(path: Path) -> str:
 Rehearsal = Callable[[dict[str, bytes]], tuple[list[str], str]]
 
 
+@dataclass(frozen=True)
+class CaseChecks:
+    """What a product's case checks besides its files: a live rehearsal of a valid
+    bundle (``--smoke``), the rendered diagram (``--diagrams``: one Graphviz process per
+    product, so off by default; the diagram's source is always generated and checked)."""
+
+    rehearse: Rehearsal | None = None
+    diagrams: bool = False
+
+
 def run_case(
-    line: ProductLine, classname: str, case: ProductCase, rehearse: Rehearsal | None = None
+    line: ProductLine, classname: str, case: ProductCase, checks: CaseChecks = CaseChecks()
 ) -> CaseResult:
     """Resolve one product, generate its bundle in memory and validate every file;
-    then, when the files are valid, run ``rehearse`` on them."""
+    then, when the files are valid, run ``checks.rehearse`` on them."""
     from spl import pipeline
     from spl.resolver.product_selection import load_selection_file, selection_from_list
 
@@ -151,13 +161,13 @@ def run_case(
             selection = load_selection_file(case.selection_file)
         else:
             selection = selection_from_list(",".join(case.features), name="_".join(case.features))
-        derivation = pipeline.derive(line, selection)
+        derivation = pipeline.derive(line, selection, render_diagrams=checks.diagrams)
         product, bundle = derivation.resolution.product, derivation.bundle
         problems = pipeline.validate(derivation)
         warnings = tuple(str(w) for w in product.warnings)
         checked = ""
-        if rehearse is not None and not problems:
-            found, checked = rehearse(bundle.files)
+        if checks.rehearse is not None and not problems:
+            found, checked = checks.rehearse(bundle.files)
             problems += found
     except ModelError as exc:
         return CaseResult(
@@ -190,14 +200,14 @@ def run_case(
 
 # The lines of the current run, set before the pool forks: workers read them from here.
 _LINES: list[LoadedLine] = []
-_REHEARSE: Rehearsal | None = None
+_CHECKS = CaseChecks()
 
 
 def _run_in_worker(case: ProductCase) -> CaseResult:
     raise_if_signalled()
     loaded = _LINES[case.line]
     assert loaded.line is not None
-    return run_case(loaded.line, loaded.name, case, _REHEARSE)
+    return run_case(loaded.line, loaded.name, case, _CHECKS)
 
 
 def _run_chunk_in_worker(cases: list[ProductCase]) -> list[CaseResult]:
@@ -211,7 +221,7 @@ def run_cases(
     cases: list[ProductCase],
     jobs: int = 1,
     on_result: Callable[[CaseResult], None] | None = None,
-    rehearse: Rehearsal | None = None,
+    checks: CaseChecks = CaseChecks(),
 ) -> list[CaseResult]:
     """Every case's result, in the order of ``cases`` (plus one failing case per line
     that did not load, first). ``jobs > 1`` uses forked worker processes."""
@@ -223,15 +233,15 @@ def run_cases(
     for result in results:
         if on_result:
             on_result(result)
-    global _LINES, _REHEARSE
-    _LINES, _REHEARSE = lines, rehearse
+    global _LINES, _CHECKS
+    _LINES, _CHECKS = lines, checks
     try:
         for result in _results(cases, jobs):
             results.append(result)
             if on_result:
                 on_result(result)
     finally:
-        _LINES, _REHEARSE = [], None
+        _LINES, _CHECKS = [], CaseChecks()
     return results
 
 

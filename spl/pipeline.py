@@ -62,14 +62,18 @@ def resolve_product(line: ProductLine, selection: ProductSelection) -> Resolutio
 
 
 def derive(
-    line: ProductLine, selection: ProductSelection, targets: tuple[str, ...] | None = None
+    line: ProductLine,
+    selection: ProductSelection,
+    targets: tuple[str, ...] | None = None,
+    render_diagrams: bool = True,
 ) -> Derivation:
     """Resolve the selection and generate its bundle in memory: every output target, or
-    the ``targets`` named (``spl resolve --target``)."""
+    the ``targets`` named (``spl resolve --target``); diagrams rendered to SVG unless
+    ``render_diagrams`` is false (their Graphviz source is always generated)."""
     from spl.generators.bundle import build_bundle
 
     resolution = resolve_product(line, selection)
-    return Derivation(resolution, build_bundle(resolution.product, targets))
+    return Derivation(resolution, build_bundle(resolution.product, targets, render_diagrams))
 
 
 def validate(derivation: Derivation) -> list[str]:

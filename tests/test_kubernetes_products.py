@@ -12,6 +12,7 @@ import kubernetes_validate
 import pytest
 import yaml
 
+from spl.generators import kubernetes_objects
 from spl.generators.bundle import build_bundle
 from spl.generators.launch_schema import validate_ros2_launch
 from spl.resolver.analysis import enumerate_products
@@ -75,6 +76,12 @@ def test_every_product_validates_and_holds_no_credential(directory, monkeypatch)
         product = resolve(line, ProductSelection("p", sorted(features))).product
         files = build_bundle(product).files
         objects += check_manifests(files)
+        with monkeypatch.context() as patch:  # without libyaml: the very same bytes
+            patch.setattr(kubernetes_objects, "DUMPER", kubernetes_objects.PYTHON_DUMPER)
+            pure = build_bundle(product, ("kubernetes",)).files
+        assert {p: d for p, d in files.items() if p.startswith("kubernetes/")} == {
+            p: d for p, d in pure.items() if p.startswith("kubernetes/")
+        }
         for path, data in files.items():
             for variable, value in secrets.items():
                 assert value.encode() not in data, f"{path} holds the value of ${variable}"

@@ -46,8 +46,16 @@ def failure_text(case: etree._Element) -> str:
 def shipped(tmp_path_factory):
     out = tmp_path_factory.mktemp("junit") / "shipped.xml"
     # 61 products: the workers get them several at a time (chunks of 3)
-    result = run(LINES / "mapping3d", LINES / "data_acquisition", LINES / "orchard", "--all",
-                 "--jobs", "2", "--junit", out)
+    result = run(
+        LINES / "mapping3d",
+        LINES / "data_acquisition",
+        LINES / "orchard",
+        "--all",
+        "--jobs",
+        "2",
+        "--junit",
+        out,
+    )
     return result, out
 
 
@@ -58,8 +66,9 @@ def broken(tmp_path_factory):
     runs = []
     for jobs in (1, 2):
         out = folder / f"jobs{jobs}.xml"
-        runs.append((run(CONFLICTING, MODELS / "unloadable", "--all", "--jobs", jobs,
-                         "--junit", out), out))
+        runs.append(
+            (run(CONFLICTING, MODELS / "unloadable", "--all", "--jobs", jobs, "--junit", out), out)
+        )
     return runs
 
 
@@ -71,7 +80,10 @@ def test_every_shipped_product_passes(shipped) -> None:
     root = report(out)
     suites = {s.get("name"): s for s in root.iter("testsuite")}
     assert {name: s.get("tests") for name, s in suites.items()} == {
-        "mapping3d": "17", "data_acquisition": "15", "orchard": "29"}
+        "mapping3d": "17",
+        "data_acquisition": "15",
+        "orchard": "29",
+    }
     assert root.get("tests") == "61" and root.get("failures") == "0"
     names = {name for (line, name) in cases(root) if line == "mapping3d"}
     # listed products by their YAML name, generated ones by their features
@@ -120,8 +132,7 @@ def test_pairwise_sample_reaches_the_conflict(tmp_path: Path) -> None:
     assert result.exit_code == 1
     failing = [c for c in report(out).iter("testcase") if c.findall("failure")]
     # every pair of literals is covered, so Fast with Slow is in some sampled product
-    assert any(failure_text(c).startswith(f"{CONFLICTING / 'conflicting.rm'}:9:5")
-               for c in failing)
+    assert any(failure_text(c).startswith(f"{CONFLICTING / 'conflicting.rm'}:9:5") for c in failing)
 
 
 def test_product_whose_rapyuta_configuration_breaks_a_rule(tmp_path: Path) -> None:
@@ -135,9 +146,11 @@ def test_product_whose_rapyuta_configuration_breaks_a_rule(tmp_path: Path) -> No
     # only the product with a private and a protected node in one cloud container
     assert failing == {"OwnMap,TeamArchive"}
     message = failure_text(found[("rapyuta_clash", "OwnMap,TeamArchive")])
-    assert message.startswith(f"{line / 'clash.tsm'}:17:17: error: Rapyuta tag 'Cloud_r1' "
-                              "would name both the private partition of Cloud and the "
-                              "protected partition of Cloud")
+    assert message.startswith(
+        f"{line / 'clash.tsm'}:17:17: error: Rapyuta tag 'Cloud_r1' "
+        "would name both the private partition of Cloud and the "
+        "protected partition of Cloud"
+    )
 
 
 def test_open_selection_fails_that_product_only(tmp_path: Path) -> None:
@@ -166,7 +179,7 @@ def test_usage_errors() -> None:
 
 def test_junit_carries_hostile_text_and_internal_errors() -> None:
     results = [
-        CaseResult("line", "a<b>&\"c\"", "failed", ("x.fm:1:2: error: bad \x01 name <&>",)),
+        CaseResult("line", 'a<b>&"c"', "failed", ("x.fm:1:2: error: bad \x01 name <&>",)),
         CaseResult("line", "crash", "error", ("internal error: KeyError: 'x'",)),
         CaseResult("line", "fine", "passed", warnings=("x.tsm:3:4: warning: unfed",)),
     ]
@@ -188,3 +201,19 @@ def test_folder_name_xml_cannot_carry(tmp_path: Path) -> None:
     result = run(line, "--junit", out)
     assert result.exit_code == 0, result.output
     assert {c for (c, _) in cases(report(out))} == {"lab\\x01line"}
+
+
+def test_diagrams_are_rendered_only_when_asked() -> None:
+    """A product's diagram source is always generated and checked; rendering it costs a
+    Graphviz process per product, so `spl validate` does it with --diagrams only."""
+    from spl import pipeline
+    from spl.resolver.product_selection import load_selection_file
+
+    line = pipeline.load_line(LINES / "mapping3d")
+    selection = load_selection_file(LINES / "mapping3d" / "products" / "youbot_stereo_room.yaml")
+    quick = pipeline.derive(line, selection, render_diagrams=False).bundle
+    full = pipeline.derive(line, selection).bundle
+    assert "architecture.dot" in quick.files and "architecture.svg" not in quick.files
+    assert quick.skipped == {}  # nothing to warn about: it was not asked for
+    assert full.files["architecture.svg"].startswith(b"<?xml")
+    assert quick.files["architecture.dot"] == full.files["architecture.dot"]

@@ -91,9 +91,15 @@ def test_render_without_dot_explains_and_still_writes_the_source(no_dot_env, tmp
     assert source.read_text(encoding="utf-8").startswith("digraph Mapping3D {")
 
 
-def test_validate_without_dot_passes_and_warns_once(no_dot_env, tmp_path):
+def test_validate_without_dot_passes_and_warns_once_when_asked_for_diagrams(no_dot_env, tmp_path):
+    """spl validate renders no diagram unless --diagrams asks (the source is checked
+    always); asked without Graphviz, it warns once and records it in each case."""
+    plain = spl(["validate", "product_lines/mapping3d"], no_dot_env)
+    assert plain.returncode == 0, plain.stdout + plain.stderr
+    assert plain.stderr == ""
     junit = tmp_path / "report.xml"
-    result = spl(["validate", "product_lines/mapping3d", "--junit", str(junit)], no_dot_env)
+    args = ["validate", "product_lines/mapping3d", "--diagrams", "--junit", str(junit)]
+    result = spl(args, no_dot_env)
     assert result.returncode == 0, result.stdout + result.stderr
     assert result.stderr.splitlines() == [WARNING]
     assert "5 passed, 0 failed" in result.stdout

@@ -48,6 +48,11 @@ import click
     is_flag=True,
     help="also rehearse each valid bundle live with ROS 1 (as spl smoke does)",
 )
+@click.option(
+    "--diagrams",
+    is_flag=True,
+    help="also render each architecture.svg with Graphviz (one dot process per product)",
+)
 def command(
     directories: tuple[Path, ...],
     all_products: bool,
@@ -55,6 +60,7 @@ def command(
     junit: Path | None,
     jobs: int,
     smoke: bool,
+    diagrams: bool,
 ) -> None:
     """Resolve every product of the product lines, generate and validate all of its
     artifacts, and report one test case per product (products/*.yaml always included).
@@ -62,7 +68,7 @@ def command(
     graph compared with the model (exit 2 when ROS 1 is not installed)."""
     from spl.commands.products import parse_sample
     from spl.junit_report import junit_xml
-    from spl.line_validation import load_lines, plan_cases, summary
+    from spl.line_validation import CaseChecks, load_lines, plan_cases, summary
 
     rehearse = _rehearsal() if smoke else None
     if smoke:  # the rehearsals' processes are stopped on Ctrl-C and SIGTERM alike
@@ -81,7 +87,7 @@ def command(
         raise click.ClickException(str(exc)) from None
     total = len(cases) + sum(1 for loaded in lines if loaded.line is None)
     try:
-        results = _run(lines, cases, jobs, rehearse, total)
+        results = _run(lines, cases, jobs, CaseChecks(rehearse, diagrams), total)
     except KeyboardInterrupt:  # workers and rehearsals have stopped what they started
         click.echo("\nvalidate: interrupted; no report written", err=True)
         sys.exit(130)
@@ -98,14 +104,14 @@ def command(
         sys.exit(1)
 
 
-def _run(lines, cases, jobs: int, rehearse, total: int) -> list:
+def _run(lines, cases, jobs: int, checks, total: int) -> list:
     """Run the cases with a progress bar on a terminal, one line per product otherwise."""
     from spl.line_validation import describe, run_cases
 
     if sys.stderr.isatty():
         with click.progressbar(length=total, label="validating", file=sys.stderr) as bar:
             results = run_cases(
-                lines, cases, jobs, on_result=lambda _: bar.update(1), rehearse=rehearse
+                lines, cases, jobs, on_result=lambda _: bar.update(1), checks=checks
             )
         for result in results:
             if not result.passed:
@@ -117,7 +123,7 @@ def _run(lines, cases, jobs: int, rehearse, total: int) -> list:
         for text in describe(result):
             click.echo(text)
 
-    return run_cases(lines, cases, jobs, on_result=show, rehearse=rehearse)
+    return run_cases(lines, cases, jobs, on_result=show, checks=checks)
 
 
 def _rehearsal():
