@@ -77,7 +77,7 @@ def parse_text(
     try:
         tree = _grammar().model_from_str(text, file_name=filename)
     except TextXSyntaxError as exc:
-        expected = ", ".join(sorted({str(r) for r in (exc.expected_rules or [])})) or None
+        expected = ", ".join(sorted({_expected(r) for r in (exc.expected_rules or [])})) or None
         reason = exc.message.split(" at position")[0]
         if expected:
             reason = f"syntax error: expected {expected}"
@@ -90,6 +90,13 @@ def parse_text(
     sink.raise_if_errors()
     model.tsmPath, model.fmPath = tree.tsm, tree.fm
     return ResolutionModelFiles(model, system, feature_model, Path(filename))
+
+
+def _expected(rule: Any) -> str:
+    """How a syntax error names what the grammar expected at the spot: the text to match,
+    or for the end of the file its name (its rule has no text; its object's repr, with a
+    memory address, made the message differ from run to run)."""
+    return "end of file" if getattr(rule, "rule_name", "") == "EOF" else str(rule)
 
 
 class _Builder:

@@ -20,8 +20,6 @@ from importlib.resources import files
 from pathlib import Path
 from typing import Any
 
-from textx import TextXSyntaxError, metamodel_from_file
-
 from spl.diagnostics import (
     Diagnostic,
     DiagnosticSink,
@@ -30,7 +28,7 @@ from spl.diagnostics import (
     counted,
     model_text,
 )
-from spl.dsl import transform_types, tsm_bridges, tsm_containers, tsm_transforms
+from spl.dsl import transform_types, tsm_bridges, tsm_containers, tsm_reader, tsm_transforms
 from spl.dsl.fm_plain import without_cyclic_gc
 from spl.dsl.tsm_bridges import (
     bridged_clients,
@@ -58,6 +56,8 @@ __all__ = [
 # -- public entry points ------------------------------------------------------------------
 @cache
 def _grammar() -> Any:
+    from textx import metamodel_from_file  # only what the fast reader leaves needs textX
+
     return metamodel_from_file(
         str(files(__package__).joinpath("tsm.tx")), autokwd=True, use_regexp_group=False
     )
@@ -79,20 +79,31 @@ def parse_text(text: str, filename: str = "<string>") -> Any:
 def _parse(text: str, filename: str) -> Any:
     sink = DiagnosticSink()
     try:
-        tree = _grammar().model_from_str(text, file_name=filename)
+        # the fast reader takes what it can; textX parses the rest and words syntax errors
+        tree = tsm_reader.read(text)
+        if tree is None:
+            tree = _textx_tree(text, filename)
         if isinstance(tree, str):  # textX gives '' for text holding no element at all
             return tsm_metamodel().System(srcFile=filename, srcLine=1, srcCol=1)
         system = _build(tree, Names(text, filename, sink))
         sink.raise_if_errors()
         # types of transform expressions, once every name is known to resolve
         sink.diagnostics.extend(transform_types.check_system(system))
-    except TextXSyntaxError as exc:
-        raise ModelError([syntax_diagnostic(exc, text, filename)]) from None
     except RecursionError:  # only transform expressions nest; a hostile file nests deep
         message = "a transform expression is nested too deeply or too long"
         raise ModelError([Diagnostic(Location(filename, 1, 1), message)]) from None
     sink.raise_if_errors()
     return system
+
+
+def _textx_tree(text: str, filename: str) -> Any:
+    """textX's parse tree of ``text``; a syntax error as a located ModelError."""
+    from textx import TextXSyntaxError
+
+    try:
+        return _grammar().model_from_str(text, file_name=filename)
+    except TextXSyntaxError as exc:
+        raise ModelError([syntax_diagnostic(exc, text, filename)]) from None
 
 
 def _build(tree: Any, names: Names) -> Any:

@@ -39,6 +39,7 @@ class Names:
         # reference costs a dictionary look-up, not a scan of the container
         self.topics: dict[int, dict[str, Any]] = {}
         self.nodes: dict[int, dict[str, Any]] = {}
+        self._literals: dict[tuple[str, str], Any] = {}
         # resolution steps in declaration order, run once every name is declared
         self.pending: list[tuple[Resolve, Any, Any]] = []
 
@@ -62,6 +63,14 @@ class Names:
         if problem:
             self.error(tree, problem)
         return problem is None
+
+    def literal(self, enum: str, name: str) -> Any:
+        """The literal ``name`` of the metamodel's enumeration ``enum`` (looked up once)."""
+        key = (enum, name)
+        found = self._literals.get(key)
+        if found is None:
+            found = self._literals[key] = getattr(self.T, enum).getEEnumLiteral(name)
+        return found
 
     # -- declarations ------------------------------------------------------------------
     def declare(

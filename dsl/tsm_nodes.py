@@ -37,7 +37,7 @@ def node(names: Names, tree: Any) -> Any:
     """The Node of a ``node`` block with its parameters and interfaces."""
     T = names.T
     node = node_common(names, T.Node(name=tree.name.name), tree)
-    node.sharing = T.SharingMode.getEEnumLiteral(tree.sharing or "private")
+    node.sharing = names.literal("SharingMode", tree.sharing or "private")
     implementation(names, node, tree)
     parameters(names, node, [m for m in tree.members if kind(m) == "Parameter"])
     interfaces: dict[str, Any] = {}
@@ -87,7 +87,7 @@ def _parameter(names: Names, tree: Any) -> Any:
     T = names.T
     name = tree.name.name
     parameter = names.locate(
-        T.Parameter(name=name, type=T.ParameterType.getEEnumLiteral(tree.type)), tree.name
+        T.Parameter(name=name, type=names.literal("ParameterType", tree.type)), tree.name
     )
     names.check(tree.name, rosnames.problem_base_name(name, "parameter name"))
     if tree.value is not None:
@@ -172,7 +172,8 @@ def _connect_topic(names: Names, interface: Any, tree: Any) -> None:
         )
         return
     interface.topic = topic
-    interface.type = topic.type
+    if interface.type != topic.type:  # unless declared so already
+        interface.type = topic.type
 
 
 def _connect_server(names: Names, client: Any, tree: Any) -> None:
@@ -217,7 +218,8 @@ def _connect_server(names: Names, client: Any, tree: Any) -> None:
         )
         return
     client.server = server
-    client.type = server.type
+    if client.type != server.type:  # unless declared so already
+        client.type = server.type
 
 
 # the references each kind of interface makes (a server refers to nothing)

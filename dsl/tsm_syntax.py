@@ -10,11 +10,12 @@ tree; :func:`decode` gives their content.
 from __future__ import annotations
 
 import re
-from typing import Any
-
-from textx import TextXSyntaxError
+from typing import TYPE_CHECKING, Any
 
 from spl.diagnostics import Diagnostic, Location
+
+if TYPE_CHECKING:
+    from textx import TextXSyntaxError
 
 _RULE_WORDS = {
     "Ident": "a name",

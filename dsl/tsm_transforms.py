@@ -59,7 +59,7 @@ def data_type(names: Names, tree: Any) -> Any:
     for field_tree in tree.fields:
         name = field_tree.name.name
         field = names.locate(
-            T.Field(name=name, type=T.FieldType.getEEnumLiteral(field_tree.type)),
+            T.Field(name=name, type=names.literal("FieldType", field_tree.type)),
             field_tree.name,
         )
         if name in RESERVED_FIELD_NAMES:

@@ -620,3 +620,15 @@ def test_line_check_finds_services_apart_or_together_in_some_products(tmp_path):
         "farm.rm:17:5: error: cannot migrate Camera to Cloud: container Cloud already has a "
         "node Camera (farm.tsm:14:10)"
     ]
+
+
+def test_a_syntax_error_naming_the_end_of_the_file_says_so_the_same_every_time():
+    # was: "expected <arpeggio.EndOfFile object at 0x7f0742eeb850>, when", the address
+    # differing from run to run
+    text = HEADER + 'fm "farm.fm"\n'
+    messages = set()
+    for _ in range(2):
+        with pytest.raises(ModelError) as caught:
+            rm.parse_text(text, "farm.rm", base=MODELS)
+        messages.add(str(caught.value.diagnostics[0]))
+    assert messages == {"farm.rm:4:1: error: syntax error: expected end of file, when"}
