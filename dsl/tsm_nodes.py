@@ -41,13 +41,15 @@ def node(names: Names, tree: Any) -> Any:
     implementation(names, node, tree)
     parameters(names, node, [m for m in tree.members if kind(m) == "Parameter"])
     interfaces: dict[str, Any] = {}
+    where = f" in node {node.name}"
     for member in tree.members:
-        if kind(member) == "Parameter":
+        rule = kind(member)
+        if rule == "Parameter":
             continue
         interface = _interface(names, member)
-        names.declare(interfaces, interface, member.name, "interface", f" in node {node.name}")
+        names.declare(interfaces, interface, member.name, "interface", where)
         node.interfaces.append(interface)
-        resolve = _RESOLVE.get(kind(member))
+        resolve = _RESOLVE.get(rule)
         if resolve is not None:
             names.later(resolve, interface, member)
     return node
@@ -56,11 +58,10 @@ def node(names: Names, tree: Any) -> Any:
 def parameters(names: Names, node: Any, parameter_trees: list) -> None:
     """Declare ``parameter_trees`` as the parameters of ``node``."""
     declared: dict[str, Any] = {}
+    where = f" in node {node.name}"
     for parameter_tree in parameter_trees:
         parameter = _parameter(names, parameter_tree)
-        names.declare(
-            declared, parameter, parameter_tree.name, "parameter", f" in node {node.name}"
-        )
+        names.declare(declared, parameter, parameter_tree.name, "parameter", where)
         node.parameters.append(parameter)
 
 
