@@ -93,6 +93,20 @@ def container_tsm(name: str, index: int, nodes: int, robot: bool) -> list[str]:
     return out
 
 
+def resolution_element(j: int, chunk: list[tuple[str, str]]) -> list[str]:
+    """Feature ``F<j>``'s element over its twenty nodes: the optional ones required, two
+    given an implementation and a rate, and every fourth element a migration."""
+    qualified = [f"{container}.{node}" for container, node in chunk]
+    statements = [f"require {', '.join(q for q in qualified if int(q[-1]) % 2)}"]
+    for name in qualified[:2]:
+        statements.append(f"implementation {name} = impl{j}/{name.split('.')[1].lower()}")
+        statements.append(f"parameter {name}.rate = {j}.5")
+    if j % 4 == 0:
+        target = CLOUDS[0] if chunk[0][0] in ROBOTS else ROBOTS[0]
+        statements.append(f"migrate {qualified[0]} to {target}")
+    return [f"when F{j} selected {{", *(f"    {s}" for s in statements), "}"]
+
+
 def synthetic_line(folder: Path, nodes: int) -> int:
     """Write ``synthetic.tsm``, ``.fm`` and ``.rm`` of about ``nodes`` nodes into
     ``folder``; the number of lines of the .tsm."""
@@ -134,19 +148,7 @@ def synthetic_line(folder: Path, nodes: int) -> int:
 
     rm = ["resolution model Synthetic", 'tsm "synthetic.tsm"', 'fm "synthetic.fm"', ""]
     for j in range(features):
-        chunk = all_nodes[j * 20 : (j + 1) * 20]
-        optional = [f"{c}.{n}" for c, n in chunk if int(n.split("N")[1]) % 2]
-        rm.append(f"when F{j} selected {{")
-        if optional:
-            rm.append(f"    require {', '.join(optional)}")
-        for container, node in chunk[:2]:
-            rm.append(f"    implementation {container}.{node} = impl{j}/{node.lower()}")
-            rm.append(f"    parameter {container}.{node}.rate = {j}.5")
-        if j % 4 == 0:
-            container, node = chunk[0]
-            target = CLOUDS[0] if container in ROBOTS else ROBOTS[0]
-            rm.append(f"    migrate {container}.{node} to {target}")
-        rm.append("}")
+        rm += resolution_element(j, all_nodes[j * 20 : (j + 1) * 20])
     (folder / "synthetic.rm").write_text("\n".join(rm) + "\n")
     return len(tsm)
 

@@ -1,6 +1,6 @@
 """The Template System Model language (.tsm): parse, resolve names, check, build pyecore.
 
-The textX grammar (``tsm.tx``) only shapes the text; everything that needs a reason
+The grammar (``tsm.tx``) only shapes the text; everything that needs a reason
 (ROS naming rules, references, types, credentials, transform expressions) is checked
 by the builder so every problem is reported at once, at the column of the offending
 name, as ``file:line:col: error: message``. The result is a ``tsm.System`` of
@@ -10,7 +10,8 @@ The builder is split by what the language declares: containers (``tsm_containers
 nodes (``tsm_nodes``), stores, writers and readers (``tsm_data``), data types and
 transforms (``tsm_transforms``) and bridges (``tsm_bridges``, which also names the
 endpoint interfaces a bridge becomes); ``tsm_names`` holds the names and locations
-they share, ``tsm_syntax`` the wording of syntax errors.
+they share, ``tsm_syntax`` the wording of syntax errors. The text is read by
+``tsm_reader`` (fast) or, for what it leaves, by textX: both give the same tree.
 """
 
 from __future__ import annotations

@@ -45,9 +45,9 @@ def container(names: Names, tree: Any) -> Any:
     members: dict[str, Any] = {}  # nodes and stores share one namespace
     topics = names.topics[id(container)] = {}
     nodes = names.nodes[id(container)] = {}
+    where = f" in container {container.name}"
     for member in tree.members:
         rule = kind(member)
-        where = f" in container {container.name}"
         if rule == "Topic":
             topic = _topic(names, member)
             names.declare(topics, topic, member.name, "topic", where)

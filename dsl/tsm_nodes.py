@@ -41,13 +41,15 @@ def node(names: Names, tree: Any) -> Any:
     implementation(names, node, tree)
     parameters(names, node, [m for m in tree.members if kind(m) == "Parameter"])
     interfaces: dict[str, Any] = {}
+    where = f" in node {node.name}"
     for member in tree.members:
-        if kind(member) == "Parameter":
+        rule = kind(member)
+        if rule == "Parameter":
             continue
         interface = _interface(names, member)
-        names.declare(interfaces, interface, member.name, "interface", f" in node {node.name}")
+        names.declare(interfaces, interface, member.name, "interface", where)
         node.interfaces.append(interface)
-        resolve = _RESOLVE.get(kind(member))
+        resolve = _RESOLVE.get(rule)
         if resolve is not None:
             names.later(resolve, interface, member)
     return node
@@ -56,11 +58,10 @@ def node(names: Names, tree: Any) -> Any:
 def parameters(names: Names, node: Any, parameter_trees: list) -> None:
     """Declare ``parameter_trees`` as the parameters of ``node``."""
     declared: dict[str, Any] = {}
+    where = f" in node {node.name}"
     for parameter_tree in parameter_trees:
         parameter = _parameter(names, parameter_tree)
-        names.declare(
-            declared, parameter, parameter_tree.name, "parameter", f" in node {node.name}"
-        )
+        names.declare(declared, parameter, parameter_tree.name, "parameter", where)
         node.parameters.append(parameter)
 
 
@@ -162,18 +163,21 @@ def _connect_topic(names: Names, interface: Any, tree: Any) -> None:
     if tree.topic is None:
         return
     topic = names.topic(_container_of(interface), tree.topic)
-    if topic is None:
-        return
-    if interface.type and topic.type and interface.type != topic.type:
+    if topic is not None:
+        _bind(names, interface, "topic", topic, tree.topic, f"topic {topic.name}")
+
+
+def _bind(names: Names, interface: Any, role: str, target: Any, ref: Any, named: str) -> None:
+    """``interface.ROLE = target`` (its topic, or the server a client calls) when their
+    types agree; the interface takes the target's type."""
+    if interface.type and target.type and interface.type != target.type:
         names.error(
-            tree.topic,
-            f"type mismatch: {interface.name} is {interface.type}, "
-            f"topic {topic.name} is {topic.type}",
+            ref, f"type mismatch: {interface.name} is {interface.type}, {named} is {target.type}"
         )
         return
-    interface.topic = topic
-    if interface.type != topic.type:  # unless declared so already
-        interface.type = topic.type
+    setattr(interface, role, target)
+    if interface.type != target.type:  # unless declared so already
+        interface.type = target.type
 
 
 def _connect_server(names: Names, client: Any, tree: Any) -> None:
@@ -210,16 +214,7 @@ def _connect_server(names: Names, client: Any, tree: Any) -> None:
             f"{node.name}.{server.name} is a {server.eClass.name}, not a service server",
         )
         return
-    if client.type and server.type and client.type != server.type:
-        names.error(
-            server_ref,
-            f"type mismatch: {client.name} is {client.type}, "
-            f"{node.name}.{server.name} is {server.type}",
-        )
-        return
-    client.server = server
-    if client.type != server.type:  # unless declared so already
-        client.type = server.type
+    _bind(names, client, "server", server, server_ref, f"{node.name}.{server.name}")
 
 
 # the references each kind of interface makes (a server refers to nothing)
