@@ -87,8 +87,25 @@ class _InMemoryURI(URI):
         return self.buffer
 
 
+class _ResolvedXMI(XMIResource):
+    """pyecore's XMI writer, with each class's ID attribute looked up once per process:
+    pyecore walks all of a class's attributes again for every reference it writes (a
+    quarter of the time of writing a product's model). The metamodel does not change
+    while spl runs, so neither does the answer."""
+
+    @staticmethod
+    def get_id_attribute(eclass: Any) -> Any:
+        known = _ID_ATTRIBUTES.get(id(eclass))
+        if known is None:  # the class is kept with it, so its id is never reused
+            known = _ID_ATTRIBUTES[id(eclass)] = (eclass, XMIResource.get_id_attribute(eclass))
+        return known[1]
+
+
+_ID_ATTRIBUTES: dict[int, tuple[Any, Any]] = {}
+
+
 def resolved_xmi(system: Any) -> bytes:
-    resource = XMIResource(URI("resolved.xmi"))
+    resource = _ResolvedXMI(URI("resolved.xmi"))
     resource.append(system)
     output = _InMemoryURI()
     try:

@@ -1,6 +1,7 @@
 """The Rapyuta schema's validator is built once, from a copy of the schema with its
 ``$ref``s inlined (for speed): it must find exactly what the schema as written finds,
-same messages at the same JSON paths, on valid and on damaged configurations."""
+same messages at the same JSON paths, on valid and on damaged configurations. A file set
+found clean is not checked again, and only a set with the same content is taken for it."""
 
 from __future__ import annotations
 
@@ -12,13 +13,12 @@ import jsonschema
 from hypothesis import given
 from hypothesis import strategies as st
 
+from spl.generators import rapyuta_rules as rules
 from spl.generators.rapyuta_rules import inline_references, schema, validator
 
 EXAMPLES = Path(__file__).parent / "models" / "rapyuta" / "rce-examples"
-CONFIGS = [
-    json.loads((EXAMPLES / name).read_text())
-    for name in ("debug.cfg", "lo_client.cfg", "lo_server.cfg")
-]
+NAMES = ["debug.cfg", "lo_client.cfg", "lo_server.cfg"]
+CONFIGS = [json.loads((EXAMPLES / name).read_text()) for name in NAMES]
 
 
 PLAIN = jsonschema.Draft202012Validator(
@@ -177,3 +177,36 @@ def test_damaged_configurations_get_the_same_errors_as_from_the_schema_as_writte
             elif isinstance(target, list):
                 target.append(value)
     assert inlined(config) == as_written(config)
+
+
+# --- file sets found clean are not checked again -------------------------------------
+
+
+def test_a_clean_set_is_checked_once_whatever_the_order_of_its_keys(monkeypatch):
+    configs = copy.deepcopy(CONFIGS)
+    assert rules.check_all(configs, NAMES) == []
+    checked = []
+    monkeypatch.setattr(rules, "schema_problems", lambda c, n: checked.append(n) or [])
+    reordered = [dict(reversed(list(c.items()))) for c in json.loads(json.dumps(configs))]
+    assert rules.check_all(reordered, NAMES) == []
+    assert checked == []
+    assert rules.check_all(reordered, list(reversed(NAMES))) == []  # another set: checked
+    assert checked == list(reversed(NAMES))
+
+
+def test_a_value_of_another_type_with_the_same_json_is_checked_again():
+    configs = copy.deepcopy(CONFIGS)
+    assert rules.check_all(configs, NAMES) == []
+    configs[0]["containers"] = tuple(configs[0]["containers"])  # JSON writes it as a list
+    problems = rules.check_all(configs, NAMES)
+    assert ("debug.cfg", "containers", "schema") in [(p.file, p.path, p.rule) for p in problems]
+    configs[0]["containers"] = list(configs[0]["containers"])
+    configs[0]["nodes"][0]["cTag"] = "ghost"  # a changed value: checked, found
+    assert {p.rule for p in rules.check_all(configs, NAMES)} == {"unknown-container"}
+
+
+def test_the_clean_sets_kept_are_bounded():
+    for index in range(rules.CLEAN_SETS + 5):
+        config = dict(CONFIGS[2], password=f"secret{index}")
+        assert rules.check_all([config], ["lo_server.cfg"]) == []
+    assert len(rules._CLEAN) == rules.CLEAN_SETS
