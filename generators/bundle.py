@@ -27,6 +27,7 @@ from pyecore.resources.xmi import XMIResource
 
 from spl import __version__
 from spl.dsl.tsm_printer import print_model
+from spl.generators.zenoh_bridge import transport_reused
 from spl.resolver.product import ResolvedProduct, node_keys
 
 # Each output target and its generator modules; each module offers
@@ -87,8 +88,41 @@ class _InMemoryURI(URI):
         return self.buffer
 
 
+class _ResolvedXMI(XMIResource):
+    """pyecore's XMI writer, with each class's ID attribute looked up once per process
+    and each referenced element's path once per save: pyecore walks all of a class's
+    attributes and the element's containers up to the root again for every reference it
+    writes (half the time of writing a product's model). Neither the metamodel nor the
+    model changes while the file is written, so neither do the answers."""
+
+    def save(self, output: Any = None, options: Any = None) -> None:
+        self._paths: dict[int, tuple[Any, tuple[str, bool]]] = {}
+        try:
+            super().save(output, options)
+        finally:
+            self._paths = {}
+
+    def _build_path_from(self, obj: Any) -> tuple[str, bool]:
+        """The reference to ``obj`` written in this file, computed once per element and
+        save (pyecore walks up to the root for it at every reference)."""
+        known = self._paths.get(id(obj))
+        if known is None:
+            known = self._paths[id(obj)] = (obj, super()._build_path_from(obj))
+        return known[1]
+
+    @staticmethod
+    def get_id_attribute(eclass: Any) -> Any:
+        known = _ID_ATTRIBUTES.get(id(eclass))
+        if known is None:  # the class is kept with it, so its id is never reused
+            known = _ID_ATTRIBUTES[id(eclass)] = (eclass, XMIResource.get_id_attribute(eclass))
+        return known[1]
+
+
+_ID_ATTRIBUTES: dict[int, tuple[Any, Any]] = {}
+
+
 def resolved_xmi(system: Any) -> bytes:
-    resource = XMIResource(URI("resolved.xmi"))
+    resource = _ResolvedXMI(URI("resolved.xmi"))
     resource.append(system)
     output = _InMemoryURI()
     try:
@@ -116,20 +150,21 @@ def build_bundle(
         "resolved.xmi": resolved_xmi(product.system),
     }
     skipped: dict[str, str] = {}
-    for module_name in (m for target in targets for m in TARGETS[target]):
-        generate = importlib.import_module(module_name).generate
-        if module_name in RENDERING and not render_diagrams:
-            generated = generate(product, render=False)
-        else:
-            generated = generate(product)
-        clash = (files.keys() | skipped.keys()) & generated.keys()
-        if clash:
-            raise ValueError(f"{module_name} writes {sorted(clash)} already written")
-        for path, data in generated.items():
-            if isinstance(data, Skipped):
-                skipped[path] = data.reason
+    with transport_reused():  # the Zenoh and Kubernetes generators share it
+        for module_name in (m for target in targets for m in TARGETS[target]):
+            generate = importlib.import_module(module_name).generate
+            if module_name in RENDERING and not render_diagrams:
+                generated = generate(product, render=False)
             else:
-                files[path] = data
+                generated = generate(product)
+            clash = (files.keys() | skipped.keys()) & generated.keys()
+            if clash:
+                raise ValueError(f"{module_name} writes {sorted(clash)} already written")
+            for path, data in generated.items():
+                if isinstance(data, Skipped):
+                    skipped[path] = data.reason
+                else:
+                    files[path] = data
     skipped = dict(sorted(skipped.items()))
     files["manifest.json"] = manifest(product, files, skipped, targets)
     return Bundle(dict(sorted(files.items())), skipped)

@@ -50,11 +50,36 @@ class _Literal(str):
     """A multi-line string written as a YAML literal block (launch files, configs)."""
 
 
+def with_known_tags(base: type) -> type:
+    """``base`` (a PyYAML loader or dumper) looking each plain scalar's implicit tag up
+    once per process: PyYAML matches every scalar against its resolvers' regular
+    expressions, twice per scalar when writing, and a product's manifests repeat the same
+    keys and values many times over. The tag depends on the scalar's text and the
+    resolvers alone (path resolvers, which would make it depend on the place too, are
+    not used: then every scalar is resolved as before)."""
+    known: dict[tuple[str, tuple[bool, bool]], str] = {}
+
+    class KnownTags(base):  # type: ignore[misc, valid-type]
+        def resolve(self, kind: Any, value: Any, implicit: Any) -> Any:
+            if kind is not yaml.ScalarNode or self.yaml_path_resolvers or len(value) > 64:
+                return super().resolve(kind, value, implicit)
+            key = (value, implicit)
+            tag = known.get(key)
+            if tag is None:
+                if len(known) >= 50_000:
+                    known.clear()
+                tag = known[key] = super().resolve(kind, value, implicit)
+            return tag
+
+    KnownTags.__name__ = KnownTags.__qualname__ = f"KnownTags{base.__name__}"
+    return KnownTags
+
+
 def _dumper(base: type) -> type:
     """Safe YAML without anchors (every object written out in full), literal blocks for
     :class:`_Literal`, on ``base``'s emitter."""
 
-    class Dumper(base):  # type: ignore[misc, valid-type]
+    class Dumper(with_known_tags(base)):  # type: ignore[misc]
         def ignore_aliases(self, data: Any) -> bool:
             return True
 

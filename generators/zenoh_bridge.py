@@ -31,6 +31,9 @@ from __future__ import annotations
 
 import json
 import re
+from collections.abc import Iterator
+from contextlib import contextmanager
+from contextvars import ContextVar
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -150,10 +153,40 @@ def _plugin(namespace: str, lists: dict[str, set[str]] | None, localhost: bool) 
     return plugin
 
 
+# Inside transport_reused(): the transports computed so far, by the systems' identities
+# (kept with them, so an identity is not reused while the entry lives).
+_REUSED: ContextVar[dict[tuple[int, ...], tuple[tuple, Transport]] | None] = ContextVar(
+    "transport_reused", default=None
+)
+
+
+@contextmanager
+def transport_reused() -> Iterator[None]:
+    """Within, :func:`transport` of the same system objects is computed once: a bundle's
+    Zenoh and Kubernetes generators both need it, and nothing changes the resolved
+    system while its bundle is generated. The callers treat the result as read-only."""
+    token = _REUSED.set({})
+    try:
+        yield
+    finally:
+        _REUSED.reset(token)
+
+
 def transport(*systems: Any) -> Transport:
     """The bridges of every robot and cloud instance of one resolved system (a product),
     or of several (the robots of a fleet, each resolved on its own, sharing the
     instances their placement tags name alike), the router, or why not carried."""
+    reused = _REUSED.get()
+    if reused is None:
+        return _transport(systems)
+    key = tuple(id(system) for system in systems)
+    known = reused.get(key)
+    if known is None:
+        known = reused[key] = (systems, _transport(systems))
+    return known[1]
+
+
+def _transport(systems: tuple[Any, ...]) -> Transport:
     errors: list[Diagnostic] = []
     placements = [Placement(system, errors) for system in systems]
     wirings = [Wiring(s, p, errors) for s, p in zip(systems, placements, strict=True)]

@@ -15,54 +15,111 @@ from __future__ import annotations
 
 import hashlib
 import json
+from collections import OrderedDict
+from collections.abc import Callable
 
 import yaml
 from lxml import etree
 
+from spl.generators.kubernetes_objects import with_known_tags
 from spl.generators.launch_schema import validate_ros1_launch, validate_ros2_launch
 from spl.generators.rapyuta_rules import check_all
 
 # libyaml's parser when PyYAML has it (Debian's and PyPI's wheels do): the same documents,
-# ten times faster than the pure-Python one on the Kubernetes manifests of every product
-YAML_LOADER = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
+# ten times faster than the pure-Python one on the Kubernetes manifests of every product;
+# each scalar's implicit tag looked up once per process
+YAML_LOADER = with_known_tags(getattr(yaml, "CSafeLoader", yaml.SafeLoader))
 
 
 def validate_bundle(files: dict[str, bytes]) -> list[str]:
     """Problems found in the bundle ``files`` (bundle path -> bytes); empty when valid."""
     problems: list[str] = []
     configs, config_names = [], []
+    digests = {path: hashlib.sha256(data).hexdigest() for path, data in files.items()}
     for path, data in sorted(files.items()):
-        if path.startswith("ros1/") and path.endswith(".launch"):
-            problems += [f"{path}:{m}" for m in validate_ros1_launch(data)]
-        elif path.startswith("ros2/") and path.endswith(".launch.xml"):
-            problems += [f"{path}:{m}" for m in validate_ros2_launch(data)]
-        elif path.startswith("rapyuta/") and path.endswith(".json"):
+        if path.startswith("rapyuta/") and path.endswith(".json"):
             try:
                 configs.append(json.loads(data))
                 config_names.append(path.removeprefix("rapyuta/"))
             except ValueError as exc:
                 problems.append(f"{path}: not JSON: {exc}")
-        elif path.endswith(".py"):
-            try:
-                compile(data, path, "exec")
-            except SyntaxError as exc:
-                problems.append(f"{path}:{exc.lineno}:{exc.offset}: {exc.msg}")
-        elif path.endswith((".yml", ".yaml")):
-            try:
-                list(yaml.load_all(data, Loader=YAML_LOADER))
-            except yaml.YAMLError as exc:
-                problems.append(f"{path}: not YAML: {exc}")
-        elif path.endswith((".svg", ".xmi", ".xml")):
-            try:
-                etree.fromstring(data)
-            except etree.XMLSyntaxError as exc:
-                problems.append(f"{path}: not XML: {exc}")
+            continue
+        check = _file_check(path)
+        if check is None:
+            continue
+        key = (check, digests[path])
+        if key in _CLEAN_FILES:
+            _CLEAN_FILES.move_to_end(key)
+            continue
+        found = check(path, data)
+        if found:
+            problems += found
+        else:
+            _CLEAN_FILES[key] = None
+            if len(_CLEAN_FILES) > CLEAN_FILES:
+                _CLEAN_FILES.popitem(last=False)
     problems += [str(p) for p in check_all(configs, config_names)] if configs else []
-    problems += _manifest_problems(files)
+    problems += _manifest_problems(files, digests)
     return problems
 
 
-def _manifest_problems(files: dict[str, bytes]) -> list[str]:
+def _ros1_launch(path: str, data: bytes) -> list[str]:
+    return [f"{path}:{m}" for m in validate_ros1_launch(data)]
+
+
+def _ros2_launch(path: str, data: bytes) -> list[str]:
+    return [f"{path}:{m}" for m in validate_ros2_launch(data)]
+
+
+def _python(path: str, data: bytes) -> list[str]:
+    try:
+        compile(data, path, "exec")
+    except SyntaxError as exc:
+        return [f"{path}:{exc.lineno}:{exc.offset}: {exc.msg}"]
+    return []
+
+
+def _yaml(path: str, data: bytes) -> list[str]:
+    try:
+        list(yaml.load_all(data, Loader=YAML_LOADER))
+    except yaml.YAMLError as exc:
+        return [f"{path}: not YAML: {exc}"]
+    return []
+
+
+def _xml(path: str, data: bytes) -> list[str]:
+    try:
+        etree.fromstring(data)
+    except etree.XMLSyntaxError as exc:
+        return [f"{path}: not XML: {exc}"]
+    return []
+
+
+def _file_check(path: str) -> Callable[[str, bytes], list[str]] | None:
+    """The check of one file by its path, or None (a file only the manifest covers)."""
+    if path.startswith("ros1/") and path.endswith(".launch"):
+        return _ros1_launch
+    if path.startswith("ros2/") and path.endswith(".launch.xml"):
+        return _ros2_launch
+    if path.endswith(".py"):
+        return _python
+    if path.endswith((".yml", ".yaml")):
+        return _yaml
+    if path.endswith((".svg", ".xmi", ".xml")):
+        return _xml
+    return None
+
+
+# Files found clean in this process, by check and content. Products of a line share
+# files (the same Kubernetes manifest, kustomization or service code in many bundles),
+# and whether a file passes its check depends on its bytes alone (a path only names it
+# in a message), so a file whose bytes already passed the same check passes; only clean
+# results are kept, problems are always found anew. The oldest go first.
+CLEAN_FILES = 4096
+_CLEAN_FILES: OrderedDict[tuple[Callable[[str, bytes], list[str]], str], None] = OrderedDict()
+
+
+def _manifest_problems(files: dict[str, bytes], digests: dict[str, str]) -> list[str]:
     if "manifest.json" not in files:
         return ["manifest.json: missing"]
     listed = json.loads(files["manifest.json"])["files"]
@@ -72,6 +129,6 @@ def _manifest_problems(files: dict[str, bytes]) -> list[str]:
     ]
     problems += [f"manifest.json: does not list {p}" for p in present - listed.keys()]
     for path in sorted(present & listed.keys()):
-        if hashlib.sha256(files[path]).hexdigest() != listed[path]:
+        if digests[path] != listed[path]:
             problems.append(f"manifest.json: sha256 of {path} does not match")
     return problems

@@ -12,6 +12,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 from pyecore.ecore import EAttribute, EObject
+from pyecore.valuecontainer import EValue
 
 _FEATURES: dict[int, tuple] = {}
 _PLANS: dict[int, tuple] = {}
@@ -28,7 +29,8 @@ def _features(obj: EObject) -> tuple:
 
 
 def _plan(obj: EObject) -> tuple[tuple, tuple]:
-    """Per class: (name, many, containment, default) of values to copy, then of references."""
+    """Per class: (name, many, containment, default, single attribute) of values to copy,
+    then (name, many) of references."""
     eclass = obj.eClass
     plan = _PLANS.get(id(eclass))
     if plan is None:
@@ -36,9 +38,10 @@ def _plan(obj: EObject) -> tuple[tuple, tuple]:
         for feature in _features(obj):
             if isinstance(feature, EAttribute):
                 default = None if feature.many else feature.get_default_value()
-                values.append((feature.name, feature.many, False, default))
+                single = None if feature.many else feature
+                values.append((feature.name, feature.many, False, default, single))
             elif feature.containment:
-                values.append((feature.name, feature.many, True, None))
+                values.append((feature.name, feature.many, True, None, None))
             else:
                 references.append((feature.name, feature.many))
         plan = _PLANS[id(eclass)] = (eclass, tuple(values), tuple(references))
@@ -66,14 +69,18 @@ def copy_with_map(root: EObject) -> tuple[EObject, dict[int, EObject]]:
         values, references = _plan(src)
         if references:
             pending.append((src, dst, references))
-        for name, many, containment, default in values:
+        for name, many, containment, default, attribute in values:
             value = getattr(src, name)
             if many:
                 if value:
                     getattr(dst, name).extend(
                         [clone(child) for child in value] if containment else value
                     )
-            elif value is not None and value != default:
+            elif value is None or value == default:
+                continue
+            elif attribute is not None:
+                _set_attribute(dst, attribute, name, value)
+            else:
                 setattr(dst, name, clone(value) if containment else value)
         return dst
 
@@ -87,6 +94,18 @@ def copy_with_map(root: EObject) -> tuple[EObject, dict[int, EObject]]:
             elif value is not None:
                 setattr(dst, name, mapping.get(id(value), value))
     return copy, mapping
+
+
+def _set_attribute(obj: EObject, attribute: EAttribute, name: str, value: object) -> None:
+    """``obj.name = value`` for a single-valued attribute of an object just created and
+    not yet contained anywhere, as pyecore stores it: the value comes from the same
+    attribute of the original (so it has the type), and nobody can listen to the new
+    object yet, so pyecore's type check and notification (which walks up to the
+    object's resource every time) have nothing to do; they were a third of a copy."""
+    slot = EValue(obj, attribute)
+    slot._value = value
+    obj.__dict__[name] = slot
+    obj._isset[attribute] = None
 
 
 def _path(obj: EObject | None) -> str:

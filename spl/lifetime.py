@@ -15,7 +15,6 @@ also records the signal, and every loop that waits (the rehearsal's poll) calls
 from __future__ import annotations
 
 import contextlib
-import ctypes
 import os
 import signal
 import sys
@@ -29,6 +28,8 @@ _keyboard = False
 def die_with_parent() -> None:
     """Ask for SIGTERM when the parent ends (Linux; elsewhere a no-op). Safe between fork
     and exec, and in a pool worker's initializer."""
+    import ctypes  # here: only a process that starts children loads it
+
     with contextlib.suppress(OSError, AttributeError):
         ctypes.CDLL(None, use_errno=True).prctl(_PR_SET_PDEATHSIG, signal.SIGTERM)
 

@@ -1,0 +1,53 @@
+"""A model copy (the Resolution Engine's step 3) is the original again, element for
+element, and a model pyecore handles as any other: attributes set as pyecore sets them,
+containers and references in place, edits and listeners on the copy working."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from pyecore.notification import EObserver
+
+from spl.dsl.tsm import parse_file
+from spl.emf import copy_with_map, differences
+
+MODELS = sorted((Path(__file__).resolve().parents[1] / "product_lines").glob("*/*.tsm"))
+
+
+@pytest.mark.parametrize("path", MODELS, ids=lambda p: p.stem)
+def test_a_copy_equals_its_original_and_maps_every_element(path):
+    original = parse_file(path)
+    copy, mapping = copy_with_map(original)
+    assert list(differences(original, copy)) == []
+    elements = [original, *original.eAllContents()]
+    assert all(mapping[id(e)] is not e for e in elements)
+    for element in elements:
+        twin = mapping[id(element)]
+        assert twin.eClass is element.eClass
+        container = element.eContainer()
+        assert twin.eContainer() is (mapping[id(container)] if container else None)
+        for feature in element.eClass.eAllAttributes():
+            if not feature.many:  # a default value is left unset in the copy
+                value = getattr(element, feature.name)
+                assert getattr(twin, feature.name) == value
+                explicit = value is not None and value != feature.get_default_value()
+                assert twin.eIsSet(feature) == explicit, feature.name
+
+
+def test_edits_and_listeners_on_a_copy_work_and_leave_the_original_alone():
+    original = parse_file(MODELS[0])
+    copy, _ = copy_with_map(original)
+    node = next(n for c in copy.containers for n in c.nodes)
+    heard = []
+
+    class Listener(EObserver):
+        def notifyChanged(self, notification):
+            heard.append((notification.feature.name, notification.new))
+
+    Listener(notifier=node)
+    before = {id(n): n.name for c in original.containers for n in c.nodes}
+    node.name = "Renamed"
+    assert heard == [("name", "Renamed")]
+    assert node.name == "Renamed"
+    assert {id(n): n.name for c in original.containers for n in c.nodes} == before
