@@ -26,11 +26,22 @@ Resolve = Callable[["Names", Any, Any], None]
 class Names:
     """The declared names of one .tsm file, the located problems and pending references."""
 
-    def __init__(self, text: str, filename: str, sink: DiagnosticSink) -> None:
+    def __init__(
+        self,
+        text: str,
+        filename: str,
+        sink: DiagnosticSink,
+        metamodel: Any = None,
+        places: Callable[[int], int] | None = None,
+    ) -> None:
         self.filename = filename
         self.sink = sink
-        self.T = tsm_metamodel()
+        # the classes elements are made of: pyecore's, or spl.dsl.tsm_plain's for a check
+        self.T = metamodel if metamodel is not None else tsm_metamodel()
         self._line_starts = [0] + [m.end() for m in re.finditer("\n", text)]
+        # the offset of a parse tree's stored position (an incremental reading's trees
+        # keep the positions they were read at: spl.dsl.tsm_incremental)
+        self._offset = places
         self.system: Any = None
         self.containers: dict[str, Any] = {}
         self.data_types: dict[str, Any] = {}
@@ -46,6 +57,8 @@ class Names:
     # -- locations and problems --------------------------------------------------------
     def loc(self, tree: Any) -> Location:
         pos = tree._tx_position
+        if self._offset is not None:
+            pos = self._offset(pos)
         index = bisect.bisect_right(self._line_starts, pos) - 1
         return Location(self.filename, index + 1, pos - self._line_starts[index] + 1)
 
