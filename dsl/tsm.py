@@ -118,7 +118,8 @@ def _parse(
             tree = _textx_tree(text, filename)
         if isinstance(tree, str):  # textX gives '' for text holding no element at all
             return metamodel.System(srcFile=filename, srcLine=1, srcCol=1)
-        system = _build(tree, Names(text, filename, sink, metamodel, places))
+        offset = places.offset if places is not None else None
+        system = _build(tree, Names(text, filename, sink, metamodel, offset))
         sink.raise_if_errors()
         # types of transform expressions, once every name is known to resolve
         sink.diagnostics.extend(transform_types.check_system(system))
