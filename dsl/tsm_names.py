@@ -38,6 +38,7 @@ class Names:
         self.sink = sink
         # the classes elements are made of: pyecore's, or spl.dsl.tsm_plain's for a check
         self.T = metamodel if metamodel is not None else tsm_metamodel()
+        self._located_later = getattr(self.T, "located_later", False)
         self._line_starts = [0] + [m.end() for m in re.finditer("\n", text)]
         # the offset of a parse tree's stored position (an incremental reading's trees
         # keep the positions they were read at: spl.dsl.tsm_incremental)
@@ -63,10 +64,19 @@ class Names:
         return Location(self.filename, index + 1, pos - self._line_starts[index] + 1)
 
     def locate(self, element: Any, tree: Any) -> Any:
-        """``element`` with the source location of ``tree`` recorded on it."""
+        """``element`` with the source location of ``tree`` recorded on it (plain
+        elements, spl.dsl.tsm_plain, work it out when it is first read)."""
+        if self._located_later:
+            element._location = (self, tree)
+            return element
         where = self.loc(tree)
         element.srcFile, element.srcLine, element.srcCol = where.file, where.line, where.col
         return element
+
+    def place(self, tree: Any) -> tuple[str, int, int]:
+        """``(file, line, column)`` of ``tree``."""
+        where = self.loc(tree)
+        return where.file, where.line, where.col
 
     def error(self, tree: Any, message: str) -> None:
         self.sink.error(self.loc(tree), message)

@@ -76,6 +76,29 @@ class Contained(list):
         list.__setitem__(self, index, value)
 
 
+LOCATION = ("srcFile", "srcLine", "srcCol")
+
+
+def _location_property(index: int) -> property:
+    """``srcFile``, ``srcLine`` or ``srcCol``, worked out from the stored position when
+    first read: a check builds some 30,000 located elements of a 10,000-node file and
+    reads the place of a handful (those with problems); the editor reads them later."""
+
+    def get(self: Any) -> Any:
+        where = self._location
+        if len(where) == 2:  # (names, parse tree): not worked out yet
+            where = self._location = where[0].place(where[1])
+        return where[index]
+
+    def set_(self: Any, value: Any) -> None:
+        where = self._location
+        if len(where) == 2:
+            where = where[0].place(where[1])
+        self._location = (*where[:index], value, *where[index + 1 :])
+
+    return property(get, set_)
+
+
 def _contained_property(slot: str) -> property:
     """A single-valued containment: the element set gets its owner as container."""
 
@@ -100,6 +123,12 @@ def _plain_class(eclass: EClass) -> type:
     sample = None if eclass.abstract else eclass.python_class()
     for feature in eclass.eAllStructuralFeatures():
         name = feature.name
+        if name in LOCATION:  # see _location_property
+            if "_location" not in slots:
+                slots.append("_location")
+                source.append("    self._location = (None, 0, 0)")
+            members[name] = _location_property(LOCATION.index(name))
+            continue
         containment = isinstance(feature, EReference) and feature.containment
         if feature.many:
             slots.append(name)
@@ -126,9 +155,10 @@ def _plain_class(eclass: EClass) -> type:
 @cache
 def metamodel() -> SimpleNamespace:
     """The .tsm metamodel as plain classes, shaped like :func:`spl.metamodels.tsm`:
-    ``metamodel().Node(name=...)``, ``metamodel().SharingMode.private``."""
+    ``metamodel().Node(name=...)``, ``metamodel().SharingMode.private``; its elements
+    take a location to work out when read (``located_later``)."""
     ecore = tsm_metamodel()
-    members: dict[str, Any] = {"package": ecore.package}
+    members: dict[str, Any] = {"package": ecore.package, "located_later": True}
     for classifier in ecore.package.eClassifiers:
         if isinstance(classifier, EClass):
             members[classifier.name] = _plain_class(classifier)

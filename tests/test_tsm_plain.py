@@ -24,12 +24,27 @@ from spl.dsl.tsm_printer import print_model
 
 
 def outcome(build: Any, text: str) -> tuple[str, ...]:
-    """What a build says of ``text``: its diagnostics, or its summary and printed model."""
+    """What a build says of ``text``: its diagnostics, or its summary, printed model and
+    the class, name and location of every element."""
     try:
         system = build(text, "m.tsm")
     except ModelError as exc:
         return tuple(f"{d} [{d.severity} {d.code}]" for d in exc.diagnostics)
-    return tsm.summary(system), print_model(system)
+    return tsm.summary(system), print_model(system), *places(system)
+
+
+def places(element: Any) -> list[str]:
+    """Every element under ``element`` (containment, in feature order) and its place."""
+    found = [
+        f"{element.eClass.name} {getattr(element, 'name', '')} "
+        f"{element.srcFile}:{element.srcLine}:{element.srcCol}"
+    ]
+    for feature in element.eClass.eAllStructuralFeatures():
+        if getattr(feature, "containment", False):
+            value = getattr(element, feature.name)
+            for child in value if feature.many else [value] if value is not None else []:
+                found += places(child)
+    return found
 
 
 def assert_same(text: str) -> None:
