@@ -246,42 +246,48 @@ class _SplicingReader(_Reader):
         of their own (offset + band), so no stored position means two places."""
         assert self.previous is not None
         generation = self.previous.generation + 1
-        base = generation * BAND
-        fresh: list[int] = []
-        moved: dict[int, Any] = {}
-
-        def band(value: Any) -> Any:
-            kind = type(value)
-            if kind is list:
-                return [band(item) for item in value]
-            if kind in _RULES and id(value) not in self.taken:
-                fresh.append(value[0])
-                banded = kind._make((value[0] + base, *[band(v) for v in value[1:]]))
-                moved[id(value)] = banded
-                return banded
-            return value
-
-        name, elements = band(tree.name), band(tree.elements)
+        band = _Band(generation * BAND, self.taken)
+        name, elements = band.moved(tree.name), band.moved(tree.elements)
         # a system without a name starts where its first element does, taken over or not
         start = elements[0].position
         if name is not None:
-            fresh.append(tree.position)
-            start = tree.position + base
-        tree = tsm_tree.System(start, name, elements)
+            band.fresh.append(tree.position)
+            start = tree.position + band.base
         places = self.places  # bands grow upwards: the fresh segments come last, in order
-        for offset in sorted(set(fresh)):  # each its own segment: no change splits it
-            places.lows.append(offset + base)
-            places.highs.append(offset + base + 1)
-            places.shifts.append(-base)
-
-        def moved_spans(spans: Spans) -> Spans:
-            return {at: (moved.get(id(e), e), end) for at, (e, end) in spans.items()}
-
+        for offset in sorted(set(band.fresh)):  # each its own segment: no change splits it
+            places.lows.append(offset + band.base)
+            places.highs.append(offset + band.base + 1)
+            places.shifts.append(-band.base)
         return Reading(
             self.text,
-            tree,
+            tsm_tree.System(start, name, elements),
             places,
             generation,
-            moved_spans(self.element_spans),
-            moved_spans(self.member_spans),
+            band.spans(self.element_spans),
+            band.spans(self.member_spans),
         )
+
+
+class _Band:
+    """Freshly read elements moved to the stored positions of one band (a class, not
+    a recursive closure: that would be a reference cycle keeping the readings alive)."""
+
+    def __init__(self, base: int, taken: set[int]) -> None:
+        self.base = base
+        self.taken = taken
+        self.fresh: list[int] = []  # the offsets of the elements moved
+        self.by_id: dict[int, Any] = {}  # id of an element read -> the element moved
+
+    def moved(self, value: Any) -> Any:
+        kind = type(value)
+        if kind is list:
+            return [self.moved(item) for item in value]
+        if kind in _RULES and id(value) not in self.taken:
+            self.fresh.append(value[0])
+            moved = kind._make((value[0] + self.base, *[self.moved(v) for v in value[1:]]))
+            self.by_id[id(value)] = moved
+            return moved
+        return value
+
+    def spans(self, spans: Spans) -> Spans:
+        return {at: (self.by_id.get(id(e), e), end) for at, (e, end) in spans.items()}
