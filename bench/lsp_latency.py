@@ -137,7 +137,10 @@ def spread(times: list[float]) -> str:
 
 
 async def main_async(sizes: list[int], runs: int) -> None:
-    print("| model | lines | edit | open (s) | error shown (s) min / median | cleared (s) |")
+    print(
+        "| model | lines | edit | open (s) | error shown (s), min / median "
+        "| error cleared (s), min / median |"
+    )
     print("| --- | ---: | --- | ---: | ---: | ---: |")
     with tempfile.TemporaryDirectory() as tmp:
         for size in sizes:

@@ -20,7 +20,7 @@ those *stored* positions to offsets in the new text, and what is read afresh is
 stored in a band of positions of its own so the two never collide. With positions
 mapped, the tree is the one a full reading gives (``tests/test_tsm_incremental.py``
 compares them on edits of every model). A text the reader refuses is refused here
-too (textX then reads it); it keeps no reading to start from.
+too (textX then reads it).
 """
 
 from __future__ import annotations
@@ -125,13 +125,14 @@ class Trees:
         self._readings: dict[str, Reading] = {}
 
     def read(self, filename: str, text: str) -> tuple[Any, Places] | None:
-        """The parse tree of ``text`` and its places (None where textX must read it)."""
+        """The parse tree of ``text`` and its places (None where textX must read it).
+        A text the reader refuses leaves the last reading in place: the fix of a
+        syntax error is read from the text before it."""
         previous = self._readings.get(filename)
         reading = previous if previous is not None and previous.text == text else None
         if reading is None:
             reading = read(text, previous)
         if reading is None:
-            self._readings.pop(filename, None)
             return None
         self._readings[filename] = reading
         return reading.tree, reading.places

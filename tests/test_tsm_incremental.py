@@ -23,14 +23,16 @@ from spl.dsl import tsm, tsm_incremental, tsm_reader
 
 
 def read_chain(texts: list[str]) -> None:
-    """Each text read from the reading of the one before, as the editor reads them."""
+    """Each text read from the last reading of the texts before, as the editor reads
+    them (a refused text leaves the last reading to start from)."""
     reading = None
     for text in texts:
         expected = tsm_reader.read(text)
-        reading = tsm_incremental.read(text, reading)
-        if reading is None:
+        found = tsm_incremental.read(text, reading)
+        if found is None:
             assert expected is None, "refused a text the reader reads"
             continue
+        reading = found
         assert expected is not None, "read a text the reader refuses"
         assert tsm_incremental.located(reading.tree, reading.places) == expected
 
