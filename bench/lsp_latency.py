@@ -5,22 +5,31 @@ nodes (the generator of bench/resolve_scaling.py) and measures, from the moment 
 client sends it:
 
 * open: the first diagnostics of the file;
-* break: an edit at the end of the file that names an unknown container, until the
-  error is shown (the file alone in its folder: its check is ``spl check FILE``);
+* break: an edit that makes an error, until the error is shown (the file alone in its
+  folder: its check is ``spl check FILE``), at the end of the file (a bridge naming an
+  unknown container) and in the middle (a node subscribing an unknown topic);
 * fix: the edit undone, until the error is gone;
 
-and the same break/fix on the .rm of the shipped orchard line, whose check is
-``spl check FOLDER`` (parse plus the SAT product-line checks). The target is under a
-second for a 10,000-node .tsm on the 2-core development machine.
+each break and fix ``--runs`` times in one session (what an editor does), reported as
+min and median; and the same break/fix on the .rm of the shipped orchard line, whose
+check is ``spl check FOLDER`` (parse plus the SAT product-line checks). The target is
+under a second for a 10,000-node .tsm on the 2-core development machine.
 
-    python bench/lsp_latency.py [--sizes 1000 10000]
+The server runs without PYTHONDONTWRITEBYTECODE, as a user's install does (with
+bytecode). Edits that leave a syntax error are not measured: textX words those, and
+it reads the whole file (seconds on 10,000 nodes).
+
+    python bench/lsp_latency.py [--sizes 1000 10000] [--runs 5]
 """
 
 from __future__ import annotations
 
 import argparse
 import asyncio
+import os
+import re
 import shutil
+import statistics
 import sys
 import tempfile
 import time
@@ -48,7 +57,8 @@ class Session:
             self.seen[params.uri] = (time.perf_counter(), list(params.diagnostics))
 
     async def start(self, root: Path) -> None:
-        await self.client.start_io(sys.executable, "-m", "spl", "lsp")
+        env = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
+        await self.client.start_io(sys.executable, "-m", "spl", "lsp", env=env)
         await self.client.initialize_async(
             types.InitializeParams(capabilities=types.ClientCapabilities(), root_uri=root.as_uri())
         )
@@ -96,25 +106,42 @@ class Session:
         return started
 
 
-async def measure(path: Path, text: str, broken_at: int, broken: str) -> tuple[float, ...]:
+async def measure(path: Path, text: str, edits: list[tuple[int, str]], runs: int) -> list:
+    """Open, then each edit (at, inserted) made and undone ``runs`` times: the open
+    time, and per edit the times the error took to show and to clear."""
     session = Session()
     await session.start(path.parent)
+    times: list = []
     try:
         uri, started = session.open(path, text)
-        opened = await session.until(uri, started, errors=False)
-        started = session.edit(uri, 2, text, broken_at, broken_at, broken)
-        shown = await session.until(uri, started, errors=True)
-        edited = text[:broken_at] + broken + text[broken_at:]
-        started = session.edit(uri, 3, edited, broken_at, broken_at + len(broken), "")
-        cleared = await session.until(uri, started, errors=False)
+        times.append(await session.until(uri, started, errors=False))
+        version = 1
+        for at, inserted in edits:
+            shown, cleared = [], []
+            for _ in range(runs):
+                version += 1
+                started = session.edit(uri, version, text, at, at, inserted)
+                shown.append(await session.until(uri, started, errors=True))
+                edited = text[:at] + inserted + text[at:]
+                version += 1
+                started = session.edit(uri, version, edited, at, at + len(inserted), "")
+                cleared.append(await session.until(uri, started, errors=False))
+            times.append((shown, cleared))
     finally:
         await session.stop()
-    return opened, shown, cleared
+    return times
 
 
-async def main_async(sizes: list[int]) -> None:
-    print("| model | lines | open (s) | error shown (s) | error cleared (s) |")
-    print("| --- | ---: | ---: | ---: | ---: |")
+def spread(times: list[float]) -> str:
+    return f"{min(times):.2f} / {statistics.median(times):.2f}"
+
+
+async def main_async(sizes: list[int], runs: int) -> None:
+    print(
+        "| model | lines | edit | open (s) | error shown (s), min / median "
+        "| error cleared (s), min / median |"
+    )
+    print("| --- | ---: | --- | ---: | ---: | ---: |")
     with tempfile.TemporaryDirectory() as tmp:
         for size in sizes:
             folder = Path(tmp) / f"n{size}"
@@ -124,23 +151,34 @@ async def main_async(sizes: list[int]) -> None:
                 (folder / other).unlink()
             tsm = folder / "synthetic.tsm"
             text = tsm.read_text(encoding="utf-8")
-            times = await measure(tsm, text, len(text), BROKEN)
-            row = " | ".join(f"{t:.2f}" for t in times)
-            print(f"| .tsm, {size} nodes | {text.count(chr(10))} | {row} |", flush=True)
+            subscribed = [m.end() for m in re.finditer(r"subscribes \w+ <- ", text)]
+            edits = {"end": (len(text), BROKEN), "middle": (subscribed[len(subscribed) // 2], "x")}
+            opened, *found = await measure(tsm, text, list(edits.values()), runs)
+            lines = text.count(chr(10))
+            for name, (shown, cleared) in zip(edits, found, strict=True):
+                print(
+                    f"| .tsm, {size} nodes | {lines} | {name} | {opened:.2f} "
+                    f"| {spread(shown)} | {spread(cleared)} |",
+                    flush=True,
+                )
         line = Path(tmp) / "orchard"
         shutil.copytree(ROOT / "product_lines" / "orchard", line)
         rm = line / "orchard.rm"
         text = rm.read_text(encoding="utf-8")
         at = text.index("require YieldMapper") + len("require ")
-        times = await measure(rm, text, at, "Un")
-        row = " | ".join(f"{t:.2f}" for t in times)
-        print(f"| orchard.rm (spl check FOLDER) | {text.count(chr(10))} | {row} |")
+        opened, (shown, cleared) = await measure(rm, text, [(at, "Un")], runs)
+        print(
+            f"| orchard.rm (spl check FOLDER) | {text.count(chr(10))} | require | {opened:.2f} "
+            f"| {spread(shown)} | {spread(cleared)} |"
+        )
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--sizes", type=int, nargs="+", default=[1000, 10000])
-    asyncio.run(main_async(parser.parse_args().sizes))
+    parser.add_argument("--runs", type=int, default=5, help="breaks and fixes of each edit")
+    args = parser.parse_args()
+    asyncio.run(main_async(args.sizes, args.runs))
 
 
 if __name__ == "__main__":

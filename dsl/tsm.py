@@ -29,7 +29,15 @@ from spl.diagnostics import (
     counted,
     model_text,
 )
-from spl.dsl import transform_types, tsm_bridges, tsm_containers, tsm_reader, tsm_transforms
+from spl.dsl import (
+    transform_types,
+    tsm_bridges,
+    tsm_containers,
+    tsm_incremental,
+    tsm_plain,
+    tsm_reader,
+    tsm_transforms,
+)
 from spl.dsl.fm_plain import without_cyclic_gc
 from spl.dsl.tsm_bridges import (
     bridged_clients,
@@ -43,6 +51,8 @@ from spl.dsl.tsm_syntax import kind, syntax_diagnostic
 from spl.metamodels import tsm as tsm_metamodel
 
 __all__ = [
+    "check_file",
+    "check_text",
     "endpoint_client_name",
     "endpoint_publisher_name",
     "endpoint_server_name",
@@ -74,19 +84,42 @@ def parse_text(text: str, filename: str = "<string>") -> Any:
     # Parsing creates a parse tree and model objects that all stay alive until the end:
     # the collector's passes over them free nothing and grew with the file.
     with without_cyclic_gc():
-        return _parse(text, filename)
+        return _parse(text, filename, tsm_metamodel())
 
 
-def _parse(text: str, filename: str) -> Any:
+def check_file(path: str | Path, trees: tsm_incremental.Trees | None = None) -> Any:
+    """``spl check FILE.tsm``: every problem of a .tsm file (raised as a ModelError), or
+    the checked System made of plain objects (:mod:`spl.dsl.tsm_plain`)."""
+    return check_text(model_text(path), str(path), trees)
+
+
+def check_text(
+    text: str, filename: str = "<string>", trees: tsm_incremental.Trees | None = None
+) -> Any:
+    """The problems :func:`parse_text` finds, found by the same builder over plain
+    objects, several times faster; for checks that need no pyecore model (the command
+    line's and the editor's diagnostics of one .tsm). With ``trees`` (the last reading
+    of each file), a file read before is read again incrementally."""
+    with without_cyclic_gc():
+        return _parse(text, filename, tsm_plain.metamodel(), trees)
+
+
+def _parse(
+    text: str, filename: str, metamodel: Any, trees: tsm_incremental.Trees | None = None
+) -> Any:
     sink = DiagnosticSink()
     try:
         # the fast reader takes what it can; textX parses the rest and words syntax errors
-        tree = tsm_reader.read(text)
+        if trees is not None:
+            tree, places = trees.read(filename, text) or (None, None)
+        else:
+            tree, places = tsm_reader.read(text), None
         if tree is None:
             tree = _textx_tree(text, filename)
         if isinstance(tree, str):  # textX gives '' for text holding no element at all
-            return tsm_metamodel().System(srcFile=filename, srcLine=1, srcCol=1)
-        system = _build(tree, Names(text, filename, sink))
+            return metamodel.System(srcFile=filename, srcLine=1, srcCol=1)
+        offset = places.offset if places is not None else None
+        system = _build(tree, Names(text, filename, sink, metamodel, offset))
         sink.raise_if_errors()
         # types of transform expressions, once every name is known to resolve
         sink.diagnostics.extend(transform_types.check_system(system))

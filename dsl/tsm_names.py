@@ -23,14 +23,49 @@ from spl.metamodels import tsm as tsm_metamodel
 Resolve = Callable[["Names", Any, Any], None]
 
 
+class Lines:
+    """Where the lines of a text start, to turn a parse tree's position into a place.
+    Plain elements keep this (not :class:`Names`, which holds them: no cycle)."""
+
+    __slots__ = ("filename", "offset", "starts")
+
+    def __init__(self, text: str, filename: str, offset: Callable[[int], int] | None) -> None:
+        self.filename = filename
+        self.starts = [0] + [m.end() for m in re.finditer("\n", text)]
+        # the offset of a parse tree's stored position (an incremental reading's trees
+        # keep the positions they were read at: spl.dsl.tsm_incremental)
+        self.offset = offset
+
+    def loc(self, tree: Any) -> Location:
+        pos = tree._tx_position
+        if self.offset is not None:
+            pos = self.offset(pos)
+        index = bisect.bisect_right(self.starts, pos) - 1
+        return Location(self.filename, index + 1, pos - self.starts[index] + 1)
+
+    def place(self, tree: Any) -> tuple[str, int, int]:
+        """``(file, line, column)`` of ``tree``."""
+        where = self.loc(tree)
+        return where.file, where.line, where.col
+
+
 class Names:
     """The declared names of one .tsm file, the located problems and pending references."""
 
-    def __init__(self, text: str, filename: str, sink: DiagnosticSink) -> None:
+    def __init__(
+        self,
+        text: str,
+        filename: str,
+        sink: DiagnosticSink,
+        metamodel: Any = None,
+        places: Callable[[int], int] | None = None,
+    ) -> None:
         self.filename = filename
         self.sink = sink
-        self.T = tsm_metamodel()
-        self._line_starts = [0] + [m.end() for m in re.finditer("\n", text)]
+        # the classes elements are made of: pyecore's, or spl.dsl.tsm_plain's for a check
+        self.T = metamodel if metamodel is not None else tsm_metamodel()
+        self._located_later = getattr(self.T, "located_later", False)
+        self.lines = Lines(text, filename, places)
         self.system: Any = None
         self.containers: dict[str, Any] = {}
         self.data_types: dict[str, Any] = {}
@@ -45,13 +80,15 @@ class Names:
 
     # -- locations and problems --------------------------------------------------------
     def loc(self, tree: Any) -> Location:
-        pos = tree._tx_position
-        index = bisect.bisect_right(self._line_starts, pos) - 1
-        return Location(self.filename, index + 1, pos - self._line_starts[index] + 1)
+        return self.lines.loc(tree)
 
     def locate(self, element: Any, tree: Any) -> Any:
-        """``element`` with the source location of ``tree`` recorded on it."""
-        where = self.loc(tree)
+        """``element`` with the source location of ``tree`` recorded on it (plain
+        elements, spl.dsl.tsm_plain, work it out when it is first read)."""
+        if self._located_later:
+            element._location = (self.lines, tree)
+            return element
+        where = self.lines.loc(tree)
         element.srcFile, element.srcLine, element.srcCol = where.file, where.line, where.col
         return element
 

@@ -99,7 +99,13 @@ class _Reader(ExpressionReader):
             rule = rules.get(word)
             if rule is None:
                 return found
-            found.append(rule(self, at))
+            found.append(self.item(rules, rule, at))
+
+    def item(self, rules: dict[str, Any], rule: Any, at: int, *optional: bool) -> Any:
+        """One element of a repetition of ``rules``, read by ``rule`` at ``at``: the
+        place where an incremental reading (``spl.dsl.tsm_incremental``) takes the
+        element of the previous reading instead."""
+        return rule(self, at, *optional)
 
     def robot_container(self, start: int) -> Any:
         self.keyword("robot")
@@ -175,7 +181,7 @@ class _Reader(ExpressionReader):
             if member is None or (optional and word == "topic"):
                 self.pos = start
                 return members
-            members.append(member(self, start, optional))
+            members.append(self.item(_MEMBERS, member, start, optional))
 
     def topic(self, start: int, optional: bool) -> Any:
         self.keyword("topic")

@@ -122,7 +122,13 @@ def parse_model(path: Path) -> tuple[Any, Any]:
 
 
 def model_summary(path: Path) -> str:
-    """Parse one model file; its one-line summary (ModelError with every problem)."""
+    """Parse one model file; its one-line summary (ModelError with every problem). A
+    .tsm is checked without building pyecore objects (``tsm.check_file``, what the
+    editor runs too); the problems are the same."""
+    if path.suffix == ".tsm":
+        from spl.dsl import tsm
+
+        return tsm.summary(tsm.check_file(path))
     language, model = parse_model(path)
     return language.summary(model)
 

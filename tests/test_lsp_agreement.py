@@ -1,8 +1,10 @@
 """The editor and the terminal agree: for every model file of the shipped product lines
 and of the bad-input models the tests keep (tests/models), the diagnostics ``spl lsp``
 publishes are those ``spl check --json`` prints (same line, column, severity, code and
-text), and for UVL and FeatureIDE files those ``spl analyze`` prints. Edited lines are
-checked from the editor's unsaved text against the same edit saved in another folder.
+text; but the product-line checks' errors, which the editor shows as warnings on the
+element), and for UVL and FeatureIDE files those ``spl analyze`` prints. Edited lines
+are checked from the editor's unsaved text against the same edit saved in another
+folder.
 """
 
 from __future__ import annotations
@@ -23,6 +25,9 @@ from pytest_lsp import LanguageClient
 ROOT = Path(__file__).resolve().parents[1]
 MODEL_SUFFIXES = {".tsm", ".fm", ".rm"}
 FEATURE_MODEL_SUFFIXES = {".uvl", ".xml"}
+# product-line checks spl check reports as errors and the editor as warnings (issue 16):
+# an element no product activates, a reachable conflict, a product-dependent statement
+LINE_CHECK_ERRORS = {"SPL010", "SPL012", "SPL016"}
 LOCATED = re.compile(r"^(.*?):(\d+):(\d+): (error|warning|info): (.*?)(?: \[(SPL\d+)\])?$")
 pytestmark = pytest.mark.asyncio(loop_scope="module")
 
@@ -87,15 +92,30 @@ def as_spl(diagnostic: types.Diagnostic, text: str) -> tuple:
     return (line + 1, column, severity, diagnostic.code, diagnostic.message)
 
 
+def comparable(found: list[tuple], editor: bool) -> list[tuple]:
+    """Diagnostics in a comparable order, a product-line check's severity set aside
+    after checking it is the one its side gives it (editor: warning, spl check: error)."""
+    result = []
+    for line, col, severity, code, message in found:
+        if code in LINE_CHECK_ERRORS:
+            if severity != ("warning" if editor else "error"):
+                return [("unexpected severity", line, col, severity, code, message)]
+            severity = "a product-line finding"
+        result.append((line, col, severity, code, message))
+    return sorted(result)
+
+
 async def agree(client: LanguageClient, path: Path, text: str, wanted: list[tuple]) -> None:
+    expected = comparable(wanted, editor=False)
+
     def same(found: list[types.Diagnostic]) -> bool:
-        return sorted(as_spl(d, text) for d in found) == sorted(wanted)
+        return comparable([as_spl(d, text) for d in found], editor=True) == expected
 
     try:
         await diagnostics(client, path, same, timeout=60)
     except AssertionError:
         shown = [as_spl(d, text) for d in client.diagnostics.get(path.resolve().as_uri(), [])]
-        assert sorted(shown) == sorted(wanted), path
+        assert comparable(shown, editor=True) == expected, path
 
 
 @pytest.mark.parametrize("folder", folders(), ids=lambda f: str(f.relative_to(ROOT)))
@@ -166,3 +186,28 @@ async def test_unsaved_edit_gets_the_diagnostics_of_the_saved_edit(
         await agree(client, path, shown, expected)
     assert any(wanted.values())  # every edit is a mistake spl reports
     close(client, *siblings)
+
+
+async def test_a_dead_resolution_element_is_a_warning_on_its_line(
+    client: LanguageClient, tmp_path: Path
+):
+    """spl check says error (exit 1), the editor a warning at the same place and text."""
+    copy = tmp_path / "broken"
+    shutil.copytree(ROOT / "tests" / "models" / "line_checks" / "broken", copy)
+    rm = copy / "broken.rm"
+    text = rm.read_text(encoding="utf-8")
+    assert text.split("\n")[5].startswith("when Gripper selected")
+    dead = [d for d in spl_check(copy)[rm.resolve()] if d[3] == "SPL010"]
+    assert dead and all(d[2] == "error" for d in dead)
+    open_file(client, rm, text)
+
+    def dead_shown(found: list[types.Diagnostic]) -> bool:
+        return any(d.code == "SPL010" for d in found)
+
+    shown = await diagnostics(client, rm, dead_shown, timeout=60)
+    on_line = [d for d in shown if d.code == "SPL010" and d.range.start.line == 5]
+    assert on_line and all(d.severity == types.DiagnosticSeverity.Warning for d in on_line)
+    assert {as_spl(d, text)[:2] + as_spl(d, text)[3:] for d in shown if d.code == "SPL010"} == {
+        d[:2] + d[3:] for d in dead
+    }
+    close(client, rm)

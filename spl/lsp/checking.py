@@ -18,15 +18,19 @@ one module to re-point.
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import importlib
 import os
 import re
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from spl.diagnostics import Diagnostic, Location, ModelError, unsaved_texts
+
+if TYPE_CHECKING:
+    from spl.dsl.tsm_incremental import Trees
 
 MODEL_SUFFIXES = (".tsm", ".fm", ".rm")
 FEATURE_MODEL_SUFFIXES = (".uvl", ".xml")
@@ -64,12 +68,17 @@ def is_featureide(text: str) -> bool:
     return _FEATUREIDE_ROOT.search(text[:4096]) is not None
 
 
-def check_file(path: str, texts: Mapping[str, str]) -> FileCheck:
+def check_file(path: str, texts: Mapping[str, str], trees: Trees | None = None) -> FileCheck:
     """``spl check FILE`` (or the feature-model reading of ``spl analyze``) on ``path``,
-    reading the open files from ``texts``."""
+    reading the open files from ``texts``; a .tsm read incrementally from its last
+    reading in ``trees``."""
     suffix = os.path.splitext(path)[1].lower()
     try:
         with unsaved_texts(texts):
+            if suffix == ".tsm":  # what spl check FILE.tsm runs: the plain-object check
+                from spl.dsl import tsm
+
+                return FileCheck(path, (), tsm.check_file(path, trees))
             if suffix in MODEL_SUFFIXES:
                 return FileCheck(path, (), _parse_model(path, suffix))
             if suffix == ".xml" and path in texts:
@@ -104,7 +113,8 @@ def _parse_featureide(path: str, text: str) -> Any:
 
 
 def check_line(folder: str, texts: Mapping[str, str]) -> tuple[Diagnostic, ...]:
-    """``spl check FOLDER``: every finding, in every file of the line."""
+    """``spl check FOLDER``: every finding, in every file of the line, a product-line
+    check's error shown as a warning (:func:`editor_severity`)."""
     from spl.pipeline import NothingToCheck, check_models
 
     with unsaved_texts(texts):
@@ -114,7 +124,27 @@ def check_line(folder: str, texts: Mapping[str, str]) -> tuple[Diagnostic, ...]:
             found = exc.diagnostics
         except NothingToCheck:
             found = []
-    return tuple(found)
+    return tuple(editor_severity(d) for d in found)
+
+
+def product_line_errors() -> frozenset[str]:
+    """The codes of the product-line checks ``spl check`` reports as errors: an element
+    no product activates (SPL010), a conflict a valid selection reaches (SPL012), a
+    statement that fails in some product (SPL016)."""
+    from spl.resolver.line_checks.conflicts import CONFLICT
+    from spl.resolver.line_checks.dead_elements import DEAD_ELEMENT
+    from spl.resolver.line_checks.lookups import PRODUCT_DEPENDENT
+
+    return frozenset((DEAD_ELEMENT, CONFLICT, PRODUCT_DEPENDENT))
+
+
+def editor_severity(diagnostic: Diagnostic) -> Diagnostic:
+    """A product-line check's finding as the editor shows it: a warning on the element
+    (issue 16: the element is written correctly, the finding is about the line as a
+    whole), with the text, code and place ``spl check`` gives it."""
+    if diagnostic.severity == "error" and diagnostic.code in product_line_errors():
+        return dataclasses.replace(diagnostic, severity="warning")
+    return diagnostic
 
 
 def internal_error(path: str, error: BaseException) -> Diagnostic:

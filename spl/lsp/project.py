@@ -16,7 +16,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from spl.lsp.occurrences import Occurrence, occurrences
-from spl.lsp.positions import UTF16
+from spl.lsp.positions import UTF16, LineIndex
 from spl.lsp.symbols import Decl, SymbolIndex
 from spl.lsp.tokens import Tokens, tokenize
 
@@ -55,6 +55,7 @@ class Project:
         self._lock = threading.Lock()
         self.encoding = UTF16  # the position encoding the client and server agreed on
         self._tokens: dict[str, tuple[str, Tokens]] = {}
+        self._lines: dict[str, tuple[str, LineIndex]] = {}
         self._occurrences: dict[str, tuple[SymbolIndex, Tokens, list[Occurrence]]] = {}
         self._indexes: list[tuple[Any, Any, SymbolIndex]] = []  # the last few, newest last
 
@@ -84,6 +85,22 @@ class Project:
         with self._lock:
             self._tokens[path] = (text, tokens)
         return tokens
+
+    def lines(self, path: str) -> LineIndex:
+        """The line index of ``path``'s text, without tokenizing it (what diagnostics
+        need; a 10,000-node .tsm takes a second to tokenize)."""
+        text = self.text(path) or ""
+        with self._lock:
+            cached = self._tokens.get(path)
+            if cached is not None and cached[0] == text:
+                return cached[1].lines
+            known = self._lines.get(path)
+            if known is not None and known[0] == text:
+                return known[1]
+        lines = LineIndex(text, self.encoding)
+        with self._lock:
+            self._lines[path] = (text, lines)
+        return lines
 
     # -- models -------------------------------------------------------------------------
     def store_model(self, path: str, text: str, model: Any) -> None:

@@ -27,6 +27,7 @@ from pygls.uris import from_fs_path, to_fs_path
 
 from spl import __version__
 from spl.diagnostics import Diagnostic
+from spl.dsl.tsm_incremental import Trees
 from spl.lsp import checking
 from spl.lsp.positions import LineIndex
 from spl.lsp.project import Project, header_paths
@@ -57,6 +58,7 @@ class SplLanguageServer(LanguageServer):
     def __init__(self) -> None:
         super().__init__("spl", __version__)
         self.project = Project()
+        self.trees = Trees()  # the last reading of each .tsm: a change is read incrementally
         # deep models recurse deeply in textX and the analysis: the checking thread gets
         # the stack of a main thread, not a small thread default
         threading.stack_size(CHECK_STACK_BYTES)
@@ -161,7 +163,7 @@ class SplLanguageServer(LanguageServer):
             text = self.project.text(path)
             if text is not None and self.project.read_texts.get(path) != text:
                 try:
-                    result = checking.check_file(path, texts)
+                    result = checking.check_file(path, texts, self.trees)
                 except Exception:
                     logger.error("parsing %s failed:\n%s", path, traceback.format_exc())
                     continue
@@ -175,7 +177,7 @@ class SplLanguageServer(LanguageServer):
         kind, where = unit
         if kind == "file":
             text = self.project.text(where)
-            result = checking.check_file(where, texts)
+            result = checking.check_file(where, texts, self.trees)
             self._keep_models(result, texts, text)
             diagnostics: Iterable[Diagnostic] = result.diagnostics
         else:
@@ -262,7 +264,7 @@ class SplLanguageServer(LanguageServer):
         ]
 
     def lines(self, path: str) -> LineIndex:
-        return self.project.tokens(path).lines
+        return self.project.lines(path)
 
     # -- navigation ----------------------------------------------------------------------------
     def location(self, decl: Decl) -> types.Location:
