@@ -25,7 +25,7 @@ from random_lines import line_specs, tsm_text
 from textx import TextXSyntaxError
 
 from spl.diagnostics import ModelError
-from spl.dsl import tsm, tsm_expression_reader, tsm_reader, tsm_tree
+from spl.dsl import parse_tree, tsm, tsm_expression_reader, tsm_reader, tsm_tree
 
 ROOT = Path(__file__).resolve().parent.parent
 SHIPPED = sorted(p for base in ("product_lines", "tests") for p in (ROOT / base).rglob("*.tsm"))
@@ -211,8 +211,8 @@ def test_the_readers_terminals_are_the_grammars() -> None:
     }
     for rule, regex in terminals.items():
         assert patterns(rule) == [(regex.pattern, regex.flags)], rule
-    assert [pattern for pattern, _ in patterns("Comment")] == list(tsm_tree.COMMENTS)
-    assert grammar._parser_blueprint.ws == tsm_tree.WHITESPACE
+    assert [pattern for pattern, _ in patterns("Comment")] == list(parse_tree.COMMENTS)
+    assert grammar._parser_blueprint.ws == parse_tree.WHITESPACE
     assert grammar.autokwd and grammar._parser_blueprint.skipws
 
 
