@@ -21,7 +21,6 @@ from __future__ import annotations
 
 import bisect
 import re
-from collections import namedtuple
 from collections.abc import Callable
 from operator import itemgetter
 from typing import Any
@@ -38,12 +37,43 @@ BLANKS = re.compile(rf"[{WHITESPACE}]*")  # a grammar without a Comment rule
 # A keyword ``kw`` (matched as ``kw\b``, textX's autokwd) is next exactly when the run
 # of word characters there is ``kw``.
 _WORD = re.compile(r"\w*")
+_new_tuple = tuple.__new__
+try:  # the C accessor namedtuple's fields use
+    from _collections import _tuplegetter as _field
+except ImportError:  # pragma: no cover - an interpreter without it
+
+    def _field(index: int, doc: str) -> Any:
+        return property(itemgetter(index), doc=doc)
 
 
 def rule(name: str, attributes: str) -> Any:
-    """The class of a grammar rule's objects: its attributes, and where it starts."""
-    base = namedtuple(name, "position " + attributes)  # type: ignore[misc]
-    return type(name, (base,), {"__slots__": (), "_tx_position": property(itemgetter(0))})
+    """The class of a grammar rule's objects: its attributes, and where it starts.
+
+    A tuple like a namedtuple's, made without namedtuple's code generation (the
+    readers' hundred classes cost a tenth of ``spl check``'s start that way)."""
+    fields = ("position", *attributes.split())
+    count = len(fields)
+
+    def __new__(cls: type, *values: Any) -> Any:
+        if len(values) != count:
+            raise TypeError(f"{name} takes {count} values, got {len(values)}")
+        return _new_tuple(cls, values)
+
+    namespace: dict[str, Any] = {
+        "__slots__": (),
+        "__new__": __new__,
+        "__repr__": _repr,
+        "_fields": fields,
+        "_tx_position": _field(0, "where the rule's first token starts"),
+    }
+    for index, field in enumerate(fields):
+        namespace[field] = _field(index, field)
+    return type(name, (tuple,), namespace)
+
+
+def _repr(tree: Any) -> str:
+    values = ", ".join(f"{f}={v!r}" for f, v in zip(tree._fields, tree, strict=True))
+    return f"{type(tree).__name__}({values})"
 
 
 class Refused(Exception):
