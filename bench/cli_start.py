@@ -97,7 +97,8 @@ def main() -> int:
     command = [*spl_command(), *arguments]
     measure(command, 1)  # writes the bytecode a first run lacks
 
-    print(f"`spl {' '.join(arguments)}`, {args.runs} processes each:")
+    load = os.getloadavg()[0]
+    print(f"`spl {' '.join(arguments)}`, {args.runs} processes each, load average {load:.1f}:")
     print()
     print("| process | wall min s | wall median s | CPU min s | CPU median s |")
     print("| --- | ---: | ---: | ---: | ---: |")
