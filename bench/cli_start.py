@@ -10,6 +10,9 @@ a core; on an idle machine the two nearly agree. The verdict compares the median
 time with the 0.3 s target of issue 17 (``--target S`` for other commands).
 ``--importtime`` adds the modules whose import (with what they import) took longest,
 from ``python -X importtime``.
+
+The processes run without ``PYTHONDONTWRITEBYTECODE`` (whatever the calling shell has),
+so they read cached bytecode as an installed spl does; a first run writes it.
 """
 
 from __future__ import annotations
@@ -32,13 +35,21 @@ def spl_command() -> list[str]:
     return [str(script)] if script.exists() else [sys.executable, "-m", "spl"]
 
 
+# as a user's install runs: with bytecode (compiling spl from source costs ~80 ms)
+ENVIRONMENT = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
+
+
 def measure(command: list[str], runs: int) -> tuple[list[float], list[float]]:
     """Wall and CPU seconds of ``runs`` processes (output discarded, must succeed)."""
     walls, cpus = [], []
     for _ in range(runs):
         start = time.perf_counter()
         process = subprocess.Popen(
-            command, cwd=ROOT, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL
+            command,
+            cwd=ROOT,
+            env=ENVIRONMENT,
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL,
         )
         _, status, usage = os.wait4(process.pid, 0)
         walls.append(time.perf_counter() - start)
@@ -57,7 +68,9 @@ def row(label: str, walls: list[float], cpus: list[float]) -> str:
 
 def slowest_imports(command: list[str], count: int = 15) -> list[str]:
     python = [sys.executable, "-X", "importtime", "-m", "spl", *command[1:]]
-    done = subprocess.run(python, cwd=ROOT, capture_output=True, text=True, check=True)
+    done = subprocess.run(
+        python, cwd=ROOT, env=ENVIRONMENT, capture_output=True, text=True, check=True
+    )
     found = []
     for line in done.stderr.splitlines():
         match = re.match(r"import time:\s+(\d+) \|\s+(\d+) \|(\s*)(\S+)", line)
@@ -82,8 +95,10 @@ def main() -> int:
     args = parser.parse_args()
     arguments = args.arguments or ["check", "product_lines/mapping3d"]
     command = [*spl_command(), *arguments]
+    measure(command, 1)  # writes the bytecode a first run lacks
 
-    print(f"`spl {' '.join(arguments)}`, {args.runs} processes each:")
+    load = os.getloadavg()[0]
+    print(f"`spl {' '.join(arguments)}`, {args.runs} processes each, load average {load:.1f}:")
     print()
     print("| process | wall min s | wall median s | CPU min s | CPU median s |")
     print("| --- | ---: | ---: | ---: | ---: |")

@@ -1,24 +1,21 @@
 """The extended Feature Model language (.fm): parse, build the pyecore model, check.
 
-The textX grammar (``fm.tx``) only recognises the shape of the text; this module
+The grammar (``fm.tx``) only recognises the shape of the text; this module
 turns the parse tree into an ``fm.FeatureModel`` (metamodels/fm.ecore), resolves the
 feature names used in constraints and reports every problem at once, located at the
 offending name, so a user fixes a file in one pass. UVL and FeatureIDE XML readers
 build the same model (``dsl/uvl.py``, ``dsl/featureide.py``); ``fm_printer`` writes it
-back in the canonical form described there.
+back in the canonical form described there. The text is read by ``fm_reader`` (fast)
+or, for what it leaves, by textX: both give the same tree.
 """
 
 from __future__ import annotations
 
-import bisect
 import re
 from collections.abc import Iterator
 from functools import cache
-from importlib.resources import files
 from pathlib import Path
 from typing import Any
-
-from textx import TextXSyntaxError, metamodel_from_file
 
 from spl.diagnostics import (
     DiagnosticSink,
@@ -27,7 +24,7 @@ from spl.diagnostics import (
     counted,
     model_text,
 )
-from spl.dsl import literals
+from spl.dsl import fm_reader, literals
 from spl.dsl.fm_capability import capability_condition
 from spl.dsl.fm_syntax import syntax_diagnostic
 from spl.dsl.fm_vocabulary import ATTRIBUTE_TYPES as ATTRIBUTE_TYPES
@@ -37,13 +34,16 @@ from spl.dsl.fm_vocabulary import RESERVED_WORDS as RESERVED_WORDS
 from spl.dsl.fm_vocabulary import SHARING_MODES as SHARING_MODES
 from spl.dsl.fm_vocabulary import canonical_value, too_deep
 from spl.dsl.fm_vocabulary import is_feature_name as is_feature_name
+from spl.dsl.parse_tree import Positions
 from spl.metamodels import fm as fm_metamodel
 
 
 @cache
-def _grammar():
+def _grammar() -> Any:
+    from textx import metamodel_from_file  # only what the fast reader leaves needs textX
+
     return metamodel_from_file(
-        str(files(__package__).joinpath("fm.tx")), autokwd=True, use_regexp_group=False
+        str(Path(__file__).with_name("fm.tx")), autokwd=True, use_regexp_group=False
     )
 
 
@@ -56,15 +56,26 @@ def parse_file(path: str | Path) -> Any:
 def parse_text(text: str, filename: str = "<string>") -> Any:
     """Parse .fm source text; ``filename`` is only used in locations."""
     try:
-        tree = _grammar().model_from_str(text, file_name=filename)
+        # the fast reader takes what it can; textX parses the rest and words syntax errors
+        tree = fm_reader.read(text)
+        if tree is None:
+            tree = _textx_tree(text, filename)
         sink = DiagnosticSink()
         model = _Builder(text, filename, sink).build(tree)
-    except TextXSyntaxError as exc:
-        raise ModelError([syntax_diagnostic(exc, filename)]) from None
     except RecursionError:
         raise ModelError([too_deep(filename)]) from None
     sink.raise_if_errors()
     return model
+
+
+def _textx_tree(text: str, filename: str) -> Any:
+    """textX's parse tree of ``text``; a syntax error as a located ModelError."""
+    from textx import TextXSyntaxError
+
+    try:
+        return _grammar().model_from_str(text, file_name=filename)
+    except TextXSyntaxError as exc:
+        raise ModelError([syntax_diagnostic(exc, filename)]) from None
 
 
 def summary(model: Any) -> str:
@@ -99,23 +110,19 @@ def _unquote(literal: str) -> str:
 
 
 class _Builder:
-    """Turns the textX tree into an fm.FeatureModel, collecting located problems."""
+    """Turns the parse tree into an fm.FeatureModel, collecting located problems."""
 
     def __init__(self, text: str, filename: str, sink: DiagnosticSink) -> None:
         self.text = text
         self.filename = filename
         self.sink = sink
         self.F = fm_metamodel()
-        self.line_starts = [0] + [m.end() for m in re.finditer("\n", text)]
+        self.positions = Positions(text, filename)
         self.features: dict[str, Any] = {}
 
     # -- locations -------------------------------------------------------------------
-    def loc_at(self, position: int) -> Location:
-        line = bisect.bisect_right(self.line_starts, position)
-        return Location(self.filename, line, position - self.line_starts[line - 1] + 1)
-
     def loc(self, node: Any) -> Location:
-        return self.loc_at(node._tx_position)
+        return self.positions.of(node)
 
     def name_loc(self, decl: Any) -> Location:
         """Where the feature's name is written (after a leading ``abstract``)."""
@@ -123,7 +130,7 @@ class _Builder:
         if decl.abstract:
             match = re.compile(r"\b" + re.escape(decl.name) + r"\b").search(self.text, position)
             position = match.start() if match else position
-        return self.loc_at(position)
+        return self.positions.at(position)
 
     def locate(self, element: Any, where: Location) -> Any:
         element.srcFile, element.srcLine, element.srcCol = where.file, where.line, where.col

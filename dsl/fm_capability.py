@@ -2,28 +2,30 @@
 
 Written ``capability KEY [OP VALUE]`` in a .fm file (``base = "youbot"``,
 ``memory >= 4``, ``onboard_pc``), and as the text of a string attribute in UVL and
-FeatureIDE files; the small grammar ``capability.tx`` reads that text, so the three
-formats build the same ``fm.CapabilityCondition`` and report the same problems.
+FeatureIDE files; the small grammar ``capability.tx`` reads that text (``fm_reader``
+does, or textX for what it leaves), so the three formats build the same
+``fm.CapabilityCondition`` and report the same problems.
 """
 
 from __future__ import annotations
 
 from functools import cache
-from importlib.resources import files
+from pathlib import Path
 from typing import Any
 
-from textx import TextXSyntaxError, metamodel_from_file
-
 from spl.diagnostics import Diagnostic, DiagnosticSink, Location, ModelError
+from spl.dsl import fm_reader
 from spl.dsl.fm_syntax import syntax_diagnostic
 from spl.dsl.fm_vocabulary import canonical_value
 from spl.metamodels import fm as fm_metamodel
 
 
 @cache
-def _capability_grammar():
+def _capability_grammar() -> Any:
+    from textx import metamodel_from_file  # only what the fast reader leaves needs textX
+
     return metamodel_from_file(
-        str(files(__package__).joinpath("capability.tx")), autokwd=True, use_regexp_group=False
+        str(Path(__file__).with_name("capability.tx")), autokwd=True, use_regexp_group=False
     )
 
 
@@ -31,17 +33,26 @@ def parse_capability_conditions(text: str, where: Location | None) -> list[Any]:
     """The ``capability`` conditions written as text (``base = "youbot" and onboard_pc``),
     as UVL and FeatureIDE files carry them in a string attribute; problems are reported
     at ``where``, the attribute."""
+    tree = fm_reader.read_capabilities(text)
+    if tree is None:
+        tree = _textx_conditions(text, where)
+    sink = DiagnosticSink()
+    conditions = [capability_condition(node, where, sink) for node in tree.conditions]
+    sink.raise_if_errors()
+    return conditions
+
+
+def _textx_conditions(text: str, where: Location | None) -> Any:
+    """textX's tree of capability conditions; a syntax error as a ModelError at ``where``."""
+    from textx import TextXSyntaxError
+
     try:
-        tree = _capability_grammar().model_from_str(text)
+        return _capability_grammar().model_from_str(text)
     except TextXSyntaxError as exc:
         reason = syntax_diagnostic(exc, "capability").message
         raise ModelError(
             [Diagnostic(where, f"capability {text!r}: {reason} at column {exc.col}")]
         ) from None
-    sink = DiagnosticSink()
-    conditions = [capability_condition(node, where, sink) for node in tree.conditions]
-    sink.raise_if_errors()
-    return conditions
 
 
 _CAPABILITY_LITERALS = {

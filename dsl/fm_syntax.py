@@ -7,11 +7,12 @@ capability grammar also reads conditions written inside UVL and FeatureIDE files
 
 from __future__ import annotations
 
-from typing import Any
-
-from textx import TextXSyntaxError
+from typing import TYPE_CHECKING, Any
 
 from spl.diagnostics import Diagnostic, Location
+
+if TYPE_CHECKING:
+    from textx import TextXSyntaxError
 
 
 def syntax_diagnostic(exc: TextXSyntaxError, filename: str) -> Diagnostic:

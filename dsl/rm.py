@@ -3,7 +3,9 @@
 A resolution model names its template system model and feature model by paths
 relative to itself; every feature, node, interface, topic, parameter and container it
 mentions is resolved here, so the engine only ever sees references that exist and
-whose types agree. Problems are reported all at once, located in the .rm file.
+whose types agree. Problems are reported all at once, located in the .rm file. The
+text is read by ``rm_reader`` (fast) or, for what it leaves, by textX: both give the
+same tree.
 """
 
 from __future__ import annotations
@@ -11,16 +13,14 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from functools import cache
-from importlib.resources import files
 from pathlib import Path
 from typing import Any
 
-from textx import TextXSyntaxError, metamodel_from_file
-
 from spl.diagnostics import Diagnostic, DiagnosticSink, Location, ModelError, counted, model_text
-from spl.dsl import literals, rosnames
+from spl.dsl import literals, rm_reader, rosnames
 from spl.dsl.fm import all_features
-from spl.dsl.rm_models import referenced_models, tree_location
+from spl.dsl.parse_tree import Positions
+from spl.dsl.rm_models import referenced_models
 from spl.dsl.rm_names import (
     BRIDGE_FORMS,
     NameProblem,
@@ -51,8 +51,10 @@ class ResolutionModelFiles:
 
 
 @cache
-def _grammar():
-    return metamodel_from_file(str(files(__package__).joinpath("rm.tx")), use_regexp_group=False)
+def _grammar() -> Any:
+    from textx import metamodel_from_file  # only what the fast reader leaves needs textX
+
+    return metamodel_from_file(str(Path(__file__).with_name("rm.tx")), use_regexp_group=False)
 
 
 def parse_file(path: str | Path) -> Any:
@@ -74,22 +76,33 @@ def load(path: str | Path) -> ResolutionModelFiles:
 def parse_text(
     text: str, filename: str = "<string>", base: Path | None = None
 ) -> ResolutionModelFiles:
+    # the fast reader takes what it can; textX parses the rest and words syntax errors
+    tree = rm_reader.read(text)
+    if tree is None:
+        tree = _textx_tree(text, filename)
+    base = base or Path(filename).parent
+    positions = Positions(text, filename)
+    sink = DiagnosticSink()
+    system, feature_model = referenced_models(tree, positions.of(tree), base, sink)
+    sink.raise_if_errors()
+    model = _Builder(positions, system, feature_model, sink).build(tree)
+    sink.raise_if_errors()
+    model.tsmPath, model.fmPath = tree.tsm, tree.fm
+    return ResolutionModelFiles(model, system, feature_model, Path(filename))
+
+
+def _textx_tree(text: str, filename: str) -> Any:
+    """textX's parse tree of ``text``; a syntax error as a located ModelError."""
+    from textx import TextXSyntaxError
+
     try:
-        tree = _grammar().model_from_str(text, file_name=filename)
+        return _grammar().model_from_str(text, file_name=filename)
     except TextXSyntaxError as exc:
         expected = ", ".join(sorted({_expected(r) for r in (exc.expected_rules or [])})) or None
         reason = exc.message.split(" at position")[0]
         if expected:
             reason = f"syntax error: expected {expected}"
         raise ModelError([Diagnostic(Location(filename, exc.line, exc.col), reason)]) from None
-    base = base or Path(filename).parent
-    sink = DiagnosticSink()
-    system, feature_model = referenced_models(tree, filename, base, sink)
-    sink.raise_if_errors()
-    model = _Builder(filename, system, feature_model, sink).build(tree)
-    sink.raise_if_errors()
-    model.tsmPath, model.fmPath = tree.tsm, tree.fm
-    return ResolutionModelFiles(model, system, feature_model, Path(filename))
 
 
 def _expected(rule: Any) -> str:
@@ -100,14 +113,14 @@ def _expected(rule: Any) -> str:
 
 
 class _Builder:
-    """Turns the textX tree into an rm.ResolutionModel with references into the models.
+    """Turns the parse tree into an rm.ResolutionModel with references into the models.
 
     Statements are read in file order through :class:`~spl.dsl.rm_names.Names`, which
     follows the model as the statements before leave it; what cannot be known before a
     product is chosen is checked again by the Resolution Engine (docs/semantics.md)."""
 
-    def __init__(self, filename: str, system: Any, feature_model: Any, sink: DiagnosticSink):
-        self.filename = filename
+    def __init__(self, positions: Positions, system: Any, feature_model: Any, sink: DiagnosticSink):
+        self.positions = positions
         self.sink = sink
         self.R = rm_metamodel()
         self.T = tsm_metamodel()
@@ -116,7 +129,7 @@ class _Builder:
 
     # -- locations -------------------------------------------------------------------
     def loc(self, node: Any) -> Location:
-        return tree_location(self.filename, node)
+        return self.positions.of(node)
 
     def locate(self, element: Any, node: Any) -> Any:
         where = self.loc(node)

@@ -12,16 +12,7 @@ import importlib
 from pathlib import Path
 from typing import Any
 
-from textx import get_location
-
 from spl.diagnostics import DiagnosticSink, Location, ModelError
-
-
-def tree_location(filename: str, node: Any) -> Location:
-    """Where a parse-tree object of ``filename`` is written."""
-    loc = get_location(node)
-    return Location(filename, loc["line"], loc["col"])
-
 
 # How each model named in a .rm header is read: the module and function of its
 # language (imported when first needed) and the files it may be; a feature model may
@@ -33,19 +24,18 @@ _READERS = {
 
 
 def referenced_models(
-    tree: Any, filename: str, base: Path, sink: DiagnosticSink
+    tree: Any, where: Location, base: Path, sink: DiagnosticSink
 ) -> tuple[Any, Any]:
-    """(tsm.System, fm.FeatureModel) named by the parsed header ``tree``; None for one
-    that could not be read, its problems reported to ``sink``."""
-    return _load("tsm", tree, filename, base, sink), _load("fm", tree, filename, base, sink)
+    """(tsm.System, fm.FeatureModel) named by the parsed header ``tree`` (written at
+    ``where``); None for one that could not be read, its problems reported to ``sink``."""
+    return _load("tsm", tree, where, base, sink), _load("fm", tree, where, base, sink)
 
 
-def _load(attr: str, tree: Any, filename: str, base: Path, sink: DiagnosticSink) -> Any:
+def _load(attr: str, tree: Any, where: Location, base: Path, sink: DiagnosticSink) -> Any:
     """The model named by header field ``attr``, when it is an existing file of its kind."""
     module, function, suffixes = _READERS[attr]
     relative = getattr(tree, attr)
     path = (base / relative) if not Path(relative).is_absolute() else Path(relative)
-    where = tree_location(filename, tree)
     if path.suffix not in suffixes:
         sink.error(where, f"{attr} {str(path)!r}: expected a {' or '.join(sorted(suffixes))} file")
         return None

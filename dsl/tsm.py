@@ -17,7 +17,6 @@ they share, ``tsm_syntax`` the wording of syntax errors. The text is read by
 from __future__ import annotations
 
 from functools import cache
-from importlib.resources import files
 from pathlib import Path
 from typing import Any
 
@@ -70,7 +69,7 @@ def _grammar() -> Any:
     from textx import metamodel_from_file  # only what the fast reader leaves needs textX
 
     return metamodel_from_file(
-        str(files(__package__).joinpath("tsm.tx")), autokwd=True, use_regexp_group=False
+        str(Path(__file__).with_name("tsm.tx")), autokwd=True, use_regexp_group=False
     )
 
 

@@ -32,7 +32,7 @@ from spl.dsl.tsm_tree import (
     Reference,
     Refused,
     StringLiteral,
-    Tokens,
+    TsmTokens,
 )
 
 # Nesting (parentheses, calls, indexes, not, unary minus) read here; deeper is textX's.
@@ -40,7 +40,7 @@ MAX_DEPTH = 12
 _COMPARISONS = ("<=", ">=", "==", "!=", "<", ">")
 
 
-class ExpressionReader(Tokens):
+class ExpressionReader(TsmTokens):
     """The expression rules of the .tsm reader."""
 
     def __init__(self, text: str) -> None:

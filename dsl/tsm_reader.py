@@ -84,14 +84,14 @@ class _Reader(ExpressionReader):
         if word == "system":
             self.pos = at + len(word)
             name = self.name()
-        elements = self.repeated(_ELEMENTS)
+        elements = self.by_keyword(_ELEMENTS)
         if self.skip() != len(self.text):
             raise Refused
         if name is None and not elements:
             raise Refused  # textX gives '' for text holding no element at all
         return System(at if name is not None else elements[0].position, name, elements)
 
-    def repeated(self, rules: dict[str, Any]) -> list[Any]:
+    def by_keyword(self, rules: dict[str, Any]) -> list[Any]:
         """``(A | B | ...)*`` where each alternative starts with a keyword of its own."""
         found = []
         while True:
@@ -201,7 +201,7 @@ class _Reader(ExpressionReader):
             sharing = self.one_of(("private", "protected", "public"))
         self.punct("{")
         implementation, args = self.implementation()
-        members = self.repeated(_NODE_MEMBERS)
+        members = self.by_keyword(_NODE_MEMBERS)
         self.punct("}")
         return Node(start, optional, name, sharing, implementation, args, members)
 

@@ -3,17 +3,18 @@
 One class per grammar rule, named after it, holding the rule's attributes (``None``,
 ``False`` or ``[]`` where textX leaves them unset) and ``_tx_position``, the offset of
 its first token: the builder (``spl.dsl.tsm``) reads these exactly as it reads textX's
-objects. :class:`Tokens` matches the terminals the way textX does: blanks and comments
-are skipped before every terminal, keywords must end at a word boundary (textX's
-autokwd), regular expressions are the grammar's own.
+objects. :class:`TsmTokens` adds the .tsm's names and strings to the shared
+:class:`~spl.dsl.parse_tree.Tokens`; the regular expressions are the grammar's own.
 """
 
 from __future__ import annotations
 
 import re
-from collections import namedtuple
-from operator import itemgetter
 from typing import Any
+
+from spl.dsl.parse_tree import Refused as Refused
+from spl.dsl.parse_tree import Tokens
+from spl.dsl.parse_tree import rule as _rule
 
 # The regular expressions of tsm.tx, as textX compiles them (re.MULTILINE is arpeggio's
 # default; tests/test_tsm_reader.py compares them with the grammar's).
@@ -25,20 +26,6 @@ BOOLEAN = re.compile(r"(true|false)(?![\w])", re.MULTILINE)
 _NUMBER = r"(\d+\.\d*([eE][-+]?\d+)?|\.\d+([eE][-+]?\d+)?|\d+[eE][-+]?\d+|\d+)(?![\w.])"
 UNSIGNED_NUMBER = re.compile(_NUMBER, re.MULTILINE)
 SIGNED_NUMBER = re.compile(r"[-+]?" + _NUMBER, re.MULTILINE)
-# What textX skips before every terminal: its whitespace (arpeggio's default), then the
-# alternatives of the grammar's Comment rule, each followed by whitespace.
-WHITESPACE = "\t\n\r "
-COMMENTS = (r"\/\/[^\n]*", r"\/\*(.|\n)*?\*\/")
-_SKIP = re.compile(rf"(?:[{WHITESPACE}]+|{COMMENTS[0]}|{COMMENTS[1]})*")
-# A keyword ``kw`` (matched as ``kw\b``, textX's autokwd) is next exactly when the run
-# of word characters there is ``kw``.
-_WORD = re.compile(r"\w*")
-
-
-def _rule(name: str, attributes: str) -> Any:
-    """The class of a grammar rule's objects: its attributes, and where it starts."""
-    base = namedtuple(name, "position " + attributes)
-    return type(name, (base,), {"__slots__": (), "_tx_position": property(itemgetter(0))})
 
 
 System = _rule("System", "name elements")
@@ -91,66 +78,11 @@ Str = _rule("Str", "value")
 Int = _rule("Int", "value")
 
 
-class Refused(Exception):
-    """The reader does not take this text (textX parses it)."""
-
-
-class Tokens:
-    """One text read from the start; ``pos`` is where the next terminal is looked for.
+class TsmTokens(Tokens):
+    """The shared cursor with the .tsm's names, qualified references and strings.
 
     Every method that reads commits: where the text holds something else it raises
     :class:`Refused` (no backtracking, see ``spl.dsl.tsm_reader``)."""
-
-    def __init__(self, text: str) -> None:
-        self.text = text
-        self.pos = 0
-        self._skipped = (-1, -1)  # the last skip: from, to
-
-    # -- terminals -------------------------------------------------------------------
-    def skip(self) -> int:
-        """Where the next terminal starts: past blanks and comments."""
-        start, end = self._skipped
-        if start != self.pos:
-            end = _SKIP.match(self.text, self.pos).end()
-            self._skipped = (self.pos, end)
-        return end
-
-    def word(self) -> tuple[int, str]:
-        """Where the next token starts, and its run of word characters ('' if none)."""
-        at = self.skip()
-        return at, _WORD.match(self.text, at).group()
-
-    def keyword(self, keyword: str) -> int:
-        at, word = self.word()
-        if word != keyword:
-            raise Refused
-        self.pos = at + len(keyword)
-        return at
-
-    def at(self, literal: str) -> bool:
-        return self.text.startswith(literal, self.skip())
-
-    def punct(self, literal: str) -> int:
-        at = self.skip()
-        if not self.text.startswith(literal, at):
-            raise Refused
-        self.pos = at + len(literal)
-        return at
-
-    def match(self, regex: re.Pattern[str]) -> tuple[int, str]:
-        at = self.skip()
-        found = regex.match(self.text, at)
-        if found is None:
-            raise Refused
-        self.pos = found.end()
-        return at, found.group()
-
-    def one_of(self, keywords: tuple[str, ...]) -> str:
-        at, word = self.word()
-        if word not in keywords:
-            raise Refused
-        self.pos = at + len(word)
-        return word
 
     def name(self, rule: Any = Name) -> Any:
         return rule(*self.match(IDENT))

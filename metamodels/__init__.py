@@ -10,7 +10,6 @@ and its imports are paid only by code that saves or loads XMI models).
 from __future__ import annotations
 
 from functools import cache
-from importlib.resources import files
 from pathlib import Path
 from types import SimpleNamespace
 from typing import Any
@@ -27,7 +26,7 @@ NAMES = ("tsm", "fm", "rm")
 @cache
 def packages() -> dict[str, EPackage]:
     """Every metamodel package by name, cross-metamodel references resolved."""
-    folder = Path(str(files(__name__)))
+    folder = Path(__file__).parent  # not importlib.resources: it imports zipfile, tempfile...
     found = read_packages([folder / f"{name}.ecore" for name in NAMES])
     return {package.name: package for package in found.values()}
 

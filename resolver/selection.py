@@ -18,7 +18,6 @@ It is one of three things:
 
 from __future__ import annotations
 
-import difflib
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import Any, Literal
@@ -105,6 +104,8 @@ def check_selection(
     problems: list[Diagnostic] = []
     for name in (*selected, *deselected):
         if name not in cnf.var:
+            import difflib  # only a misspelt name needs it, not every spl start
+
             close = difflib.get_close_matches(name, cnf.names, n=1)
             hint = f" (did you mean {close[0]}?)" if close else ""
             problems.append(Diagnostic(where(name), f"unknown feature {name!r}{hint}"))

@@ -10,97 +10,43 @@ the nesting bound).
 
 from __future__ import annotations
 
-import random
-import re
 from pathlib import Path
-from typing import Any
 
 import pytest
-from arpeggio import RegExMatch
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from hypothesis_budget import examples
 from model_mutations import mutate, mutations
 from random_lines import line_specs, tsm_text
-from textx import TextXSyntaxError
+from textx_trees import (
+    ROOT,
+    grammar_patterns,
+    mutated_texts,
+    shipped,
+    textx_tree,
+)
+from textx_trees import assert_reads_as_textx as reads_as_textx
 
 from spl.diagnostics import ModelError
-from spl.dsl import tsm, tsm_expression_reader, tsm_reader, tsm_tree
+from spl.dsl import parse_tree, tsm, tsm_expression_reader, tsm_reader, tsm_tree
 
-ROOT = Path(__file__).resolve().parent.parent
-SHIPPED = sorted(p for base in ("product_lines", "tests") for p in (ROOT / base).rglob("*.tsm"))
-TOKEN = re.compile(r"[A-Za-z_][A-Za-z0-9_]*|\d+(\.\d+)?|\"[^\"]*\"|->|<-|[{}:=.,()\[\]+*/-]")
+SHIPPED = shipped(".tsm")
 SUBSTITUTES = ("", "Zz", "2", '"/a b"', "optional", "-", "(", "node", "//", "/*", "é", "{", "->")
 
 
-def textx_tree(text: str) -> Any:
-    """textX's tree of ``text``, or the name of its refusal."""
-    try:
-        return tsm._grammar().model_from_str(text)
-    except TextXSyntaxError:
-        return "syntax error"
-    except RecursionError:
-        return "too deep"
-
-
-def difference(expected: Any, found: Any, path: str = "System") -> str | None:
-    """Where the reader's tree ``found`` differs from textX's ``expected`` (None: nowhere)."""
-    if expected is None or isinstance(expected, str | bool):
-        if type(found) is not type(expected) or found != expected:
-            return f"{path}: textX {expected!r}, reader {found!r}"
-        return None
-    if isinstance(expected, list):
-        if not isinstance(found, list) or len(found) != len(expected):
-            return f"{path}: textX {len(expected)} items, reader {found!r}"
-        for index, (a, b) in enumerate(zip(expected, found, strict=True)):
-            if (where := difference(a, b, f"{path}[{index}]")) is not None:
-                return where
-        return None
-    rule = type(expected)
-    if type(found).__name__ != rule.__name__:
-        return f"{path}: textX {rule.__name__}, reader {type(found).__name__}"
-    if found._tx_position != expected._tx_position:
-        return f"{path}: textX at {expected._tx_position}, reader at {found._tx_position}"
-    if set(found._fields) - {"position"} != set(rule._tx_attrs):
-        return f"{path}: textX attributes {sorted(rule._tx_attrs)}, reader {found._fields}"
-    for attribute in rule._tx_attrs:
-        value = getattr(found, attribute)
-        if (
-            where := difference(getattr(expected, attribute), value, f"{path}.{attribute}")
-        ) is not None:
-            return where
-    return None
-
-
 def assert_reads_as_textx(text: str, must_read: bool = False) -> None:
-    found = tsm_reader.read(text)
-    expected = textx_tree(text)
-    if found is None:
-        assert not must_read, f"the reader refused a text textX reads as {expected!r}"
-        return
-    assert not isinstance(expected, str), f"the reader took a text textX refuses: {expected}"
-    assert difference(expected, found) is None, difference(expected, found)
+    reads_as_textx(tsm_reader.read, tsm._grammar(), text, must_read)
 
 
 @pytest.mark.parametrize("path", SHIPPED, ids=lambda p: str(p.relative_to(ROOT)))
 def test_every_shipped_model_is_read_as_textx_reads_it(path: Path) -> None:
     text = path.read_text(encoding="utf-8")
-    assert_reads_as_textx(text, must_read=not isinstance(textx_tree(text), str))
+    assert_reads_as_textx(text, must_read=not isinstance(textx_tree(tsm._grammar(), text), str))
 
 
 def test_mutated_shipped_models_are_read_as_textx_reads_them() -> None:
     """Lines deleted and doubled, tokens deleted or replaced: a fixed random sample."""
-    rng = random.Random(17)
-    cases = []
-    for path in SHIPPED:
-        lines = path.read_text(encoding="utf-8").split("\n")
-        for i, line in enumerate(lines):
-            cases.append("\n".join(lines[:i] + lines[i + 1 :]))
-            cases.append("\n".join(lines[: i + 1] + lines[i:]))
-            for token in TOKEN.finditer(line):
-                new = line[: token.start()] + rng.choice(SUBSTITUTES) + line[token.end() :]
-                cases.append("\n".join([*lines[:i], new, *lines[i + 1 :]]))
-    for text in rng.sample(cases, 600):
+    for text in mutated_texts(SHIPPED, SUBSTITUTES, 600):
         assert_reads_as_textx(text)
 
 
@@ -189,16 +135,7 @@ def test_the_readers_terminals_are_the_grammars() -> None:
     grammar = tsm._grammar()
 
     def patterns(rule: str) -> list[tuple[str, int]]:
-        found, stack, seen = [], [grammar[rule]._tx_peg_rule], set()
-        while stack:
-            expression = stack.pop()
-            if id(expression) in seen:
-                continue
-            seen.add(id(expression))
-            if isinstance(expression, RegExMatch):
-                found.append((expression.regex.pattern, expression.regex.flags))
-            stack.extend(reversed(getattr(expression, "nodes", [])))
-        return found
+        return grammar_patterns(grammar, rule)
 
     terminals = {
         "Ident": tsm_tree.IDENT,
@@ -211,8 +148,8 @@ def test_the_readers_terminals_are_the_grammars() -> None:
     }
     for rule, regex in terminals.items():
         assert patterns(rule) == [(regex.pattern, regex.flags)], rule
-    assert [pattern for pattern, _ in patterns("Comment")] == list(tsm_tree.COMMENTS)
-    assert grammar._parser_blueprint.ws == tsm_tree.WHITESPACE
+    assert [pattern for pattern, _ in patterns("Comment")] == list(parse_tree.COMMENTS)
+    assert grammar._parser_blueprint.ws == parse_tree.WHITESPACE
     assert grammar.autokwd and grammar._parser_blueprint.skipws
 
 
