@@ -64,11 +64,18 @@ def rule(name: str, attributes: str) -> Any:
         "__new__": __new__,
         "__repr__": _repr,
         "_fields": fields,
+        "_make": classmethod(_make),
         "_tx_position": _field(0, "where the rule's first token starts"),
     }
     for index, field in enumerate(fields):
         namespace[field] = _field(index, field)
     return type(name, (tuple,), namespace)
+
+
+def _make(cls: type, values: Any) -> Any:
+    """namedtuple's ``_make``: an object of ``cls`` from an iterable of its values, as
+    the incremental reading rebuilds a tree at a new position."""
+    return _new_tuple(cls, tuple(values))
 
 
 def _repr(tree: Any) -> str:

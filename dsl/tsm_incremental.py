@@ -30,8 +30,8 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from spl.dsl import tsm_tree
+from spl.dsl.parse_tree import _WORD, SKIP, Refused
 from spl.dsl.tsm_reader import _ELEMENTS, _MEMBERS, _Reader
-from spl.dsl.tsm_tree import _SKIP, _WORD, Refused
 
 CHUNK = 4096  # characters compared at once when looking for the common prefix and suffix
 BAND = 1 << 40  # stored positions of one reading's fresh elements: offset + its band
@@ -224,7 +224,7 @@ class _SplicingReader(_Reader):
         if found is None:
             return None
         old = self.previous.text
-        peeked = _SKIP.match(old, found[1]).end()
+        peeked = SKIP.match(old, found[1]).end()
         if peeked + max(1, len(_WORD.match(old, peeked).group())) > self.prefix:
             return None
         self._take_members(found[0], 0)

@@ -7,16 +7,17 @@ the mutation corpus of tests/test_tsm_reader.py and generated, mutated lines.
 
 from __future__ import annotations
 
-import random
 from typing import Any
 
 import pytest
+import textx_trees
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from hypothesis_budget import examples
 from model_mutations import mutate, mutations
 from random_lines import line_specs, tsm_text
-from test_tsm_reader import ROOT, SHIPPED, SUBSTITUTES, TOKEN
+from test_tsm_reader import SHIPPED, SUBSTITUTES
+from textx_trees import ROOT
 
 from spl.diagnostics import ModelError
 from spl.dsl import tsm, tsm_plain
@@ -53,17 +54,7 @@ def assert_same(text: str) -> None:
 
 def mutated_texts(count: int, seed: int) -> list[str]:
     """Lines deleted and doubled, tokens deleted or replaced: a fixed random sample."""
-    rng = random.Random(seed)
-    cases = []
-    for path in SHIPPED:
-        lines = path.read_text(encoding="utf-8").split("\n")
-        for i, line in enumerate(lines):
-            cases.append("\n".join(lines[:i] + lines[i + 1 :]))
-            cases.append("\n".join(lines[: i + 1] + lines[i:]))
-            for token in TOKEN.finditer(line):
-                new = line[: token.start()] + rng.choice(SUBSTITUTES) + line[token.end() :]
-                cases.append("\n".join([*lines[:i], new, *lines[i + 1 :]]))
-    return rng.sample(cases, count)
+    return textx_trees.mutated_texts(SHIPPED, SUBSTITUTES, count, seed)
 
 
 @pytest.mark.parametrize("path", SHIPPED, ids=lambda p: str(p.relative_to(ROOT)))

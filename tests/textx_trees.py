@@ -83,10 +83,12 @@ def assert_reads_as_textx(
 TOKEN = re.compile(r"[A-Za-z_][A-Za-z0-9_]*|\d+(\.\d+)?|\"[^\"]*\"|->|<-|[{}:=.,()\[\]+*/-]")
 
 
-def mutated_texts(paths: list[Path], substitutes: tuple[str, ...], count: int) -> list[str]:
+def mutated_texts(
+    paths: list[Path], substitutes: tuple[str, ...], count: int, seed: int = 17
+) -> list[str]:
     """A fixed random sample of ``count`` texts of ``paths`` with a line deleted or
     doubled, or a token deleted or replaced by one of ``substitutes``."""
-    rng = random.Random(17)
+    rng = random.Random(seed)
     cases = []
     for path in paths:
         lines = path.read_text(encoding="utf-8").split("\n")
