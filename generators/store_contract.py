@@ -10,28 +10,28 @@ from __future__ import annotations
 
 from typing import Any
 
-from spl.resolver.generated_names import dns_name, snake_case
 from spl.resolver.product import ResolvedProduct
-from spl.resolver.stores import database_kind
+from spl.resolver.stores import database_kind, store_names
 
 POSTGRES_DEFAULT_URL = "postgresql://spl@localhost:5432/spl"
 
 
 def store_context(store: Any, product: ResolvedProduct) -> dict[str, Any]:
-    """The names one store's service, clients and deployment files agree on."""
-    slug = snake_case(store.name)
+    """The names one store's service, clients and deployment files agree on (unique
+    across the product's stores: :func:`spl.resolver.stores.store_names`)."""
+    key, slug, dns = store_names(product.system)[id(store)]
     upper = slug.upper()
     default_url = (
         POSTGRES_DEFAULT_URL if database_kind(product) == "postgresql" else f"sqlite:///./{slug}.db"
     )
     return {
-        "name": store.name,
-        "name_repr": repr(store.name),
+        "name": key,
+        "name_repr": repr(key),
         "slug": slug,
-        "dns": dns_name(store.name),
+        "dns": dns,
         "package": f"{slug}_service",
         "distribution": f"{slug.replace('_', '-')}-service",
-        "prefix": f"/{store.name}",
+        "prefix": f"/{key}",
         "token_env": f"{upper}_TOKEN",
         "protect_reads_env": f"{upper}_PROTECT_READS",
         "period_env": f"{upper}_TRANSFORM_PERIOD",
