@@ -134,7 +134,7 @@ def build_bundle(
             else:
                 files[path] = data
     skipped = dict(sorted(skipped.items()))
-    check_paths([*files, *skipped, "manifest.json"])
+    check_paths([*files, "manifest.json"])
     files["manifest.json"] = manifest(product, files, skipped, targets)
     return Bundle(dict(sorted(files.items())), skipped)
 
@@ -175,6 +175,8 @@ def manifest(
         "toolchain": {"name": "spl-robotics", "version": __version__},
         "files": {path: hashlib.sha256(data).hexdigest() for path, data in sorted(files.items())},
     }
+    if product.left_out:  # only then, so bundles that leave nothing out keep their bytes
+        document["left_out"] = dict(product.left_out)
     return (json.dumps(document, indent=2, sort_keys=True) + "\n").encode("utf-8")
 
 

@@ -99,8 +99,8 @@ def generate_client(
                 Diagnostic(
                     location_of(node),
                     (
-                        f"{node.name} reads {node.dataType.name}, which store {store.name} does not "
-                        f"refine (it refines {', '.join(refined_names) or 'nothing'})"
+                        f"{node.name} reads {node.dataType.name}, which store {store.name} "
+                        f"does not refine (it refines {', '.join(refined_names) or 'nothing'})"
                     ),
                 )
             ]
