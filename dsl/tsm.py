@@ -34,6 +34,7 @@ from spl.dsl.fm_plain import without_cyclic_gc
 from spl.dsl.tsm_bridges import (
     bridged_clients,
     endpoint_client_name,
+    endpoint_name_choices,
     endpoint_publisher_name,
     endpoint_server_name,
     endpoint_subscriber_name,
@@ -44,6 +45,7 @@ from spl.metamodels import tsm as tsm_metamodel
 
 __all__ = [
     "endpoint_client_name",
+    "endpoint_name_choices",
     "endpoint_publisher_name",
     "endpoint_server_name",
     "endpoint_subscriber_name",

@@ -256,7 +256,9 @@ class _Server(ThreadingMixIn, SimpleXMLRPCServer):
 def run_endpoint() -> None:
     plan, container, description = load_plan()
     node = description["endpoint"]
-    rospy.init_node("endpoint", argv=sys.argv[:1])  # namespace: ROS_NAMESPACE, as roslaunch
+    # the name the plan gave it (no node of the container has it); the namespace comes
+    # from ROS_NAMESPACE, as roslaunch gives it to nodes
+    rospy.init_node(node["ros_name"].rsplit("/", 1)[-1], argv=sys.argv[:1])
     name = rospy.get_name()
     status = Status(status_path(plan, container, name), name)
     relay = _Relay(plan, container, status)
