@@ -8,7 +8,7 @@ keyed by their two ends, so several nodes sharing a topic or a server share one
 bridge. Interface tags are the TSM's canonical endpoint-interface names:
 ``sub_<Topic>``, ``pub_<Topic>``, ``srv_<ServerNode>_<service>``,
 ``cli_<ServerNode>_<service>`` (where another bridge of the place has that tag, the next
-name the TSM language gives, :func:`spl.dsl.tsm.endpoint_name_choices`: qualified with
+name the TSM language gives, :func:`spl.resolver.endpoints.endpoint_name_choices`: qualified with
 the server's or topic's container); robots take ``...Converter`` types, containers
 ``...Interface`` types; connections run from the side the data or call enters
 (``tagA``) to the side that delivers it (``tagB``).
@@ -24,7 +24,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from spl.diagnostics import Diagnostic
-from spl.dsl.tsm import endpoint_name_choices
+from spl.resolver.endpoints import endpoint_name_choices
 from spl.resolver.placement import Place, Placement
 from spl.resolver.wiring import Crossing, Wiring
 

@@ -162,7 +162,8 @@ def load_plan() -> tuple[dict, str, dict]:
 def status_path(plan: dict, container: str, node: str) -> str:
     folder = os.path.join(plan["status_dir"], container)
     os.makedirs(folder, exist_ok=True)
-    return os.path.join(folder, node.strip("/").replace("/", "__") + ".json")
+    # '.' is in no ROS name, so two nodes never share a file (with '__', /a/b and /a__b did)
+    return os.path.join(folder, node.strip("/").replace("/", ".") + ".json")
 
 
 # --------------------------------------------------------------------------- node role
