@@ -20,7 +20,7 @@ from spl.generators.jinja_templates import render
 from spl.generators.store_contract import store_context
 from spl.resolver.generated_names import IDENTIFIER, snake_case
 from spl.resolver.product import ResolvedProduct
-from spl.resolver.stores import cloud_stores, store_errors
+from spl.resolver.stores import cloud_stores, store_errors, store_tables, table_indexes
 
 PYTHON_TYPES = {"double": "float", "int": "int", "string": "str", "bool": "bool"}
 COLUMN_TYPES = {
@@ -80,15 +80,17 @@ def _fields(data_type: Any) -> list[dict[str, str]]:
     ]
 
 
-def _refinement_context(slug: str, refinement: Any) -> dict[str, Any]:
+def _refinement_context(slug: str, store: Any, refinement: Any) -> dict[str, Any]:
     neighbours = neighbours_used(refinement.transform)
     output = refinement.output
+    table = store_tables(slug, store).refined[output.name]
     return {
         "name": output.name,
         "transform": refinement.transform.name,
         "function": function_name(refinement.transform.name),
         "table_var": f"table_{snake_case(output.name)}",
-        "table_name": f"{slug}_{snake_case(output.name)}",
+        "table_name": table,
+        "indexes": table_indexes(table),
         "fields": _fields(output),
         "period": float(refinement.period) if refinement.period else DEFAULT_PERIOD,
         "uses_prev": "prev" in neighbours,
@@ -107,7 +109,7 @@ def generate_store(store: Any, product: ResolvedProduct) -> dict[str, bytes]:
             "class_name": f"{store.raw.name}Record",
             "fields": _fields(store.raw),
         },
-        "refinements": [_refinement_context(names["slug"], r) for r in store.refinements],
+        "refinements": [_refinement_context(names["slug"], store, r) for r in store.refinements],
     }
     root = f"services/{names['name']}"
     package = f"{root}/{context['store']['package']}"

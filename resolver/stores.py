@@ -8,9 +8,10 @@ generated file, so they are decided here once.
 
 from __future__ import annotations
 
+import hashlib
 from typing import Any, NamedTuple
 
-from spl.diagnostics import Diagnostic
+from spl.diagnostics import Diagnostic, location_of
 from spl.dsl.transform_types import check_system
 from spl.resolver.generated_names import dns_name, lower_identifier, snake_case, unique_names
 from spl.resolver.product import ResolvedProduct
@@ -41,13 +42,58 @@ class StoreNames(NamedTuple):
 RESERVED_STORE_FORMS = frozenset({"dns:postgres", "dir:postgres"})
 
 
-def store_tables(slug: str, store: Any) -> list[str]:
-    """The tables a store keeps in the product's one database: raw records, transformer
-    watermarks, failed records and one per refined type."""
-    refined = [snake_case(r.output.name) for r in store.refinements if r.output is not None]
-    return [f"{slug}_raw", f"{slug}_watermarks", f"{slug}_errors"] + [
-        f"{slug}_{name}" for name in refined
-    ]
+POSTGRES_NAME_LIMIT = 63  # bytes PostgreSQL keeps of a table or index name
+
+
+def relation_name(name: str) -> str:
+    """A table or index name as the database keeps it: as is up to 63 characters, else
+    its start and a digest of the whole (PostgreSQL would cut it silently, and two long
+    names that start alike would become one)."""
+    if len(name) <= POSTGRES_NAME_LIMIT:
+        return name
+    digest = hashlib.sha256(name.encode("utf-8")).hexdigest()[:8]
+    return f"{name[: POSTGRES_NAME_LIMIT - 9]}_{digest}"
+
+
+class StoreTables(NamedTuple):
+    """The tables one store keeps in the product's one database."""
+
+    raw: str  # records as they arrive
+    watermarks: str  # each transformer's progress
+    errors: str  # records a transform failed on
+    refined: dict[str, str]  # refined data type name -> its table
+
+
+def store_tables(slug: str, store: Any) -> StoreTables:
+    refined = {
+        r.output.name: relation_name(f"{slug}_{snake_case(r.output.name)}")
+        for r in store.refinements
+        if r.output is not None
+    }
+    return StoreTables(
+        relation_name(f"{slug}_raw"),
+        relation_name(f"{slug}_watermarks"),
+        relation_name(f"{slug}_errors"),
+        refined,
+    )
+
+
+def table_indexes(table: str) -> tuple[str, str]:
+    """The indexes of a raw or refined table: by time, and by robot and time."""
+    return relation_name(f"{table}_time"), relation_name(f"{table}_robot_time")
+
+
+def store_relations(slug: str, store: Any) -> list[tuple[str, Any]]:
+    """Every table and index name of a store, with the element it comes from (the
+    store, or the refinement of a refined table), in order."""
+    tables = store_tables(slug, store)
+    found = [(tables.raw, store), (tables.watermarks, store), (tables.errors, store)]
+    found += [(index, store) for index in table_indexes(tables.raw)]
+    for refinement in store.refinements:
+        if refinement.output is not None:
+            table = tables.refined[refinement.output.name]
+            found += [(name, refinement) for name in (table, *table_indexes(table))]
+    return found
 
 
 def _names(key: str) -> StoreNames:
@@ -57,8 +103,8 @@ def _names(key: str) -> StoreNames:
 
 def _forms(store: Any, key: str) -> set[str]:
     names = _names(key)
-    tables = {f"table:{table}" for table in store_tables(names.slug, store)}
-    return {f"dir:{key.lower()}", f"py:{names.slug}", f"dns:{names.dns}"} | tables
+    relations = {f"table:{name}" for name, _ in store_relations(names.slug, store)}
+    return {f"dir:{key.lower()}", f"py:{names.slug}", f"dns:{names.dns}"} | relations
 
 
 def store_names(system: Any) -> dict[int, StoreNames]:
@@ -92,7 +138,25 @@ def database_kind(product: ResolvedProduct) -> str:
 
 def store_errors(system: Any) -> list[Diagnostic]:
     """What keeps the stores of ``system`` from being generated: ill-typed transforms,
-    reserved field names, refinements that do not fit their store. The .tsm parser
-    reports them too; a generator checks again, as a rewritten or hand-built model
-    reaches it without the parser."""
-    return [d for d in check_system(system) if d.severity == "error"]
+    reserved field names, refinements that do not fit their store, a refined type whose
+    table or index would take a name the store already uses (``Raw``, ``Errors``...).
+    The .tsm parser reports most of them too; a generator checks again, as a rewritten
+    or hand-built model reaches it without the parser."""
+    problems = [d for d in check_system(system) if d.severity == "error"]
+    names = store_names(system)
+    for store in cloud_stores(system):
+        seen: dict[str, Any] = {}
+        refused: set[int] = set()  # one error per refined type, at its first clash
+        for name, element in store_relations(names[id(store)].slug, store):
+            first = seen.setdefault(name, element)
+            if first is not element and id(element) not in refused:
+                refused.add(id(element))
+                what = f"refined type {element.output.name}" if element is not store else "it"
+                problems.append(
+                    Diagnostic(
+                        location_of(element) or location_of(store),
+                        f"store {store.name}: {what} would be kept under the database name "
+                        f"{name}, which the store already uses; rename the refined type",
+                    )
+                )
+    return problems

@@ -15,6 +15,7 @@ from pathlib import Path
 
 import pytest
 import yaml
+from cli_outcome import LOCATED_ERROR, run
 from service_runtime import TOKEN, RunningService, load_module, request, wait_for, write_files
 
 from spl.diagnostics import ModelError
@@ -25,7 +26,7 @@ from spl.resolver.engine import resolve
 from spl.resolver.generated_names import dns_name, unique_names
 from spl.resolver.product_line import load_product_line
 from spl.resolver.product_selection import selection_from_list
-from spl.resolver.stores import store_names, store_tables
+from spl.resolver.stores import store_errors, store_names, store_relations
 
 DNS_1035 = re.compile(r"[a-z]([-a-z0-9]{0,61}[a-z0-9])?\Z")
 TYPES = """
@@ -59,10 +60,10 @@ robot container {name} {{
 """
 
 
-def line(folder: Path, clouds: str, robots: str = "") -> Path:
-    """A one-feature product line whose .tsm holds ``clouds`` and ``robots``."""
+def line(folder: Path, clouds: str, robots: str = "", types: str = TYPES) -> Path:
+    """A one-feature product line whose .tsm holds ``types``, ``clouds`` and ``robots``."""
     folder.mkdir(parents=True, exist_ok=True)
-    (folder / "n.tsm").write_text(f"system Names\n{TYPES}{clouds}{robots}", encoding="utf-8")
+    (folder / "n.tsm").write_text(f"system Names\n{types}{clouds}{robots}", encoding="utf-8")
     (folder / "n.fm").write_text("feature model Names\nroot Base {\n}\n", encoding="utf-8")
     (folder / "n.rm").write_text(
         'resolution model Names\ntsm "n.tsm"\nfm "n.fm"\n', encoding="utf-8"
@@ -227,9 +228,10 @@ def test_names_that_meet_in_one_container_are_told_apart(tmp_path: Path) -> None
     slugs = [names[id(s)].slug for s in stores]
     dns = [names[id(s)].dns for s in stores]
     keys = [names[id(s)].key.lower() for s in stores]
-    tables = [t for s in stores for t in store_tables(names[id(s)].slug, s)]
+    tables = [t for s in stores for t, _ in store_relations(names[id(s)].slug, s)]
     assert len(set(slugs)) == len(set(dns)) == len(set(keys)) == len(stores)
     assert len(set(tables)) == len(tables)
+    assert max(len(t) for t in tables) <= 63  # PostgreSQL would cut longer ones silently
     assert "postgres" not in dns and all(DNS_1035.match(d) for d in dns)
     assert all(s.isidentifier() and s[0].isalpha() for s in slugs)
     files = bundle_of(folder)
@@ -324,3 +326,19 @@ def _two_clouds_product():  # type: ignore[no-untyped-def]
         + cloud("LabCloud", ("PositionStore", 2))
     )
     return ResolvedProduct("two", tsm_language.parse_text(text, "two.tsm"), ())
+
+
+def test_a_refined_type_taking_a_table_name_of_its_store_is_refused(tmp_path: Path) -> None:
+    """Refined type ``Raw`` of store ``S`` would be kept in ``s_raw``, the raw table."""
+    types = TYPES.replace("PositionDeg", "Raw")
+    folder = line(tmp_path / "raw", cloud("C", ("S", 5)).replace("PositionDeg", "Raw"), "", types)
+    system = load_product_line(folder).tsm
+    (problem,) = store_errors(system)
+    assert problem.message == (
+        "store S: refined type Raw would be kept under the database name s_raw, which the "
+        "store already uses; rename the refined type"
+    )
+    assert problem.location is not None and problem.location.line > 0
+    result = run("resolve", folder, "--features", "Base", "-o", tmp_path / "out")
+    assert result.exit_code == 1 and LOCATED_ERROR.search(result.stderr), result.output
+    assert not (tmp_path / "out").exists()
