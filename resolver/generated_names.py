@@ -52,6 +52,16 @@ def dns_name(name: str) -> str:
     return f"{label[: DNS_LIMIT - 9].rstrip('-')}-{digest}"
 
 
+ZENOH_ROUTER = "zenoh-router"  # the Kubernetes objects of the product's Zenoh router
+
+
+def kubernetes_label(text: str) -> str:
+    """The DNS-1035 label a model name or placement tag maps to by Kubernetes' rule:
+    lower case, ``_`` -> ``-``, no leading or trailing ``-`` (may still be invalid: the
+    Kubernetes generator checks)."""
+    return text.lower().replace("_", "-").strip("-")
+
+
 def unique_names(
     elements: Sequence[tuple[T, str, str]],
     forms: Callable[[T, str], set[str]],

@@ -13,7 +13,15 @@ from typing import Any, NamedTuple
 
 from spl.diagnostics import Diagnostic, location_of
 from spl.dsl.transform_types import check_system
-from spl.resolver.generated_names import dns_name, lower_identifier, snake_case, unique_names
+from spl.resolver.generated_names import (
+    ZENOH_ROUTER,
+    dns_name,
+    kubernetes_label,
+    lower_identifier,
+    snake_case,
+    unique_names,
+)
+from spl.resolver.placement import Placement
 from spl.resolver.product import ResolvedProduct
 
 DATABASE_ATTRIBUTE = "database"  # a selected feature's attribute, one of DATABASES
@@ -39,7 +47,8 @@ class StoreNames(NamedTuple):
 
 
 # the deployment's own PostgreSQL (compose service, Kubernetes StatefulSet and Service)
-RESERVED_STORE_FORMS = frozenset({"dns:postgres", "dir:postgres"})
+# and the Zenoh router's Kubernetes objects
+RESERVED_STORE_FORMS = frozenset({"dns:postgres", "dir:postgres", f"dns:{ZENOH_ROUTER}"})
 
 
 POSTGRES_NAME_LIMIT = 63  # bytes PostgreSQL keeps of a table or index name
@@ -118,7 +127,11 @@ def store_names(system: Any) -> dict[int, StoreNames]:
         if container.eClass.name == "CloudContainer"
         for store in container.stores
     ]
-    keys = unique_names(stores, _forms, RESERVED_STORE_FORMS)
+    # the cloud instances' Deployments and Services (kubernetes/) may share a namespace
+    # with the stores' (deploy/kubernetes/): a store does not take an instance's name
+    instances = Placement(system, []).cloud_instances()
+    taken = {f"dns:{kubernetes_label(instance.place.tag)}" for instance in instances}
+    keys = unique_names(stores, _forms, RESERVED_STORE_FORMS | taken)
     return {id(store): _names(key) for (store, _, _), key in zip(stores, keys, strict=True)}
 
 

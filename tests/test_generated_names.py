@@ -342,3 +342,31 @@ def test_a_refined_type_taking_a_table_name_of_its_store_is_refused(tmp_path: Pa
     result = run("resolve", folder, "--features", "Base", "-o", tmp_path / "out")
     assert result.exit_code == 1 and LOCATED_ERROR.search(result.stderr), result.output
     assert not (tmp_path / "out").exists()
+
+
+def test_a_store_never_takes_a_cloud_instance_s_kubernetes_name(tmp_path: Path) -> None:
+    """Cloud container ``Position`` serving robot ``store`` is the Kubernetes instance
+    ``position-store``: store ``PositionStore`` must not deploy under that name too."""
+    clouds = (
+        cloud("DataCloud", ("PositionStore", 5))
+        + """cloud container Position {
+    topic Gps : rover_msgs/Position name "/gps"
+    node Logger {
+        implementation logger/logger
+        subscribes fix <- Gps
+    }
+}
+bridge Rover.Gps -> Position.Gps
+"""
+    )
+    robots = robot("Rover", "DataCloud.PositionStore").replace('"rover_1"', '"store"')
+    files = bundle_of(line(tmp_path / "k8s", clouds, robots))
+    assert "kubernetes/position-store.yaml" in files  # the instance keeps its name
+    assert folders(files, "services") == ["DataCloud_PositionStore"]
+    kinds: dict[tuple[str, str], str] = {}
+    for path, data in files.items():
+        if path.endswith(".yaml") and "kubernetes/" in path and "kustomization" not in path:
+            for document in yaml.safe_load_all(data):
+                key = (document["kind"], document["metadata"]["name"])
+                assert key not in kinds, f"{key} in {kinds.get(key)} and {path}"
+                kinds[key] = path
