@@ -23,15 +23,18 @@ from typing import TypeVar
 IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
 DNS_LIMIT = 63  # an RFC 1035 label (a Kubernetes Service name)
 T = TypeVar("T")
+_LOWER_UPPER = re.compile(r"([a-z0-9])([A-Z])")  # positionStore -> position_Store
+_ACRONYM_WORD = re.compile(r"([A-Z]+)([A-Z][a-z])")  # EV3Writer -> EV3_Writer
+_UNDERSCORES = re.compile(r"_+")
 
 
 def snake_case(name: str) -> str:
     """``PositionStore`` -> ``position_store``; ``EV3Writer`` -> ``ev3_writer``."""
     if not IDENTIFIER.match(name):
         raise ValueError(f"not an identifier: {name!r}")
-    words = re.sub(r"([a-z0-9])([A-Z])", r"\1_\2", name)
-    words = re.sub(r"([A-Z]+)([A-Z][a-z])", r"\1_\2", words)
-    return re.sub(r"_+", "_", words).strip("_").lower() or "x"
+    words = _LOWER_UPPER.sub(r"\1_\2", name)
+    words = _ACRONYM_WORD.sub(r"\1_\2", words)
+    return _UNDERSCORES.sub("_", words).strip("_").lower() or "x"
 
 
 def lower_identifier(name: str, lead: str) -> str:
@@ -81,12 +84,15 @@ def unique_names(
     taken = set(reserved)
     names = []
     for (element, container, name), derived in zip(elements, plain, strict=True):
-        shared = derived & taken or any(seen[form] > 1 for form in derived)
-        base = f"{container}_{name}" if shared else name
-        candidate, number = base, 1
-        while forms(element, candidate) & taken:
-            number += 1
-            candidate = f"{base}_{number}"
-        taken |= forms(element, candidate)
+        if derived & taken or any(seen[form] > 1 for form in derived):
+            base = f"{container}_{name}"
+            candidate, number, derived = base, 1, forms(element, base)
+            while derived & taken:
+                number += 1
+                candidate = f"{base}_{number}"
+                derived = forms(element, candidate)
+        else:
+            candidate = name
+        taken |= derived
         names.append(candidate)
     return names
