@@ -41,6 +41,7 @@ from spl.dsl.fm_plain import without_cyclic_gc
 from spl.dsl.tsm_bridges import (
     bridged_clients,
     endpoint_client_name,
+    endpoint_name_choices,
     endpoint_publisher_name,
     endpoint_server_name,
     endpoint_subscriber_name,
@@ -53,6 +54,7 @@ __all__ = [
     "check_file",
     "check_text",
     "endpoint_client_name",
+    "endpoint_name_choices",
     "endpoint_publisher_name",
     "endpoint_server_name",
     "endpoint_subscriber_name",

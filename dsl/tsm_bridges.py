@@ -9,6 +9,7 @@ node migration uses too, so the printer can write every connection back as a bri
 from __future__ import annotations
 
 from collections.abc import Iterator
+from itertools import count
 from typing import Any
 
 from spl.dsl.tsm_names import Names, find_interface
@@ -33,6 +34,26 @@ def endpoint_server_name(server: Any) -> str:
 def endpoint_client_name(server: Any) -> str:
     """The endpoint ServiceClient calling node server ``server`` in its container."""
     return f"cli_{server.eContainer().name}_{server.name}"
+
+
+def endpoint_name_choices(name: str, target: Any) -> Iterator[str]:
+    """The names an endpoint interface for ``target`` (a topic or a node server) may
+    take, in order: its canonical ``name``; qualified with the container of ``target``
+    (``srv_C2_Db_get``); then numbered. Canonical names can coincide: ``srv_Db_get``
+    stands for server ``Db.get`` of any cloud container, ``srv_a_b_c`` for ``a_b.c`` and
+    ``a.b_c``. The first bridge takes the first name free and a later one for another
+    target the next, in the order bridges are made, which the printer keeps; so every
+    interface of an endpoint has a name of its own and a resolved model parses back to
+    the same names."""
+    yield name
+    owner = target.eContainer()
+    if owner.eClass.name == "Node":
+        owner = owner.eContainer()
+    prefix, _, rest = name.partition("_")
+    qualified = f"{prefix}_{owner.name}_{rest}"
+    yield qualified
+    for number in count(2):
+        yield f"{qualified}_{number}"
 
 
 def bridged_clients(stand_in: Any) -> Iterator[tuple[Any, Any]]:
@@ -178,21 +199,18 @@ class Bridges:
     def _endpoint_interface(
         self, tree: Any, container: Any, kind: str, name: str, role: str, target: Any
     ) -> Any:
-        """The endpoint interface ``name`` for ``target``: reused when it exists."""
+        """The endpoint interface for ``target``: reused when it exists, else made under
+        the first of its names (:func:`endpoint_name_choices`) no other one has."""
         names = self.names
         endpoint = container.endpoint
-        existing = self._interfaces.get((id(endpoint), name))
-        # An endpoint server is linked to the server it stands in for by its connection.
-        if existing is not None:
+        for choice in endpoint_name_choices(name, target):
+            existing = self._interfaces.get((id(endpoint), choice))
+            if existing is None:
+                name = choice
+                break
+            # An endpoint server is linked to the server it stands in for by its connection.
             if existing.eClass.name == kind and self._serves(existing, role, target):
                 return existing
-            names.error(
-                tree.source,
-                f"endpoint interface name {name} in container {container.name} is already "
-                f"used by another bridge (line {existing.srcLine}); rename a node, "
-                "server or topic",
-            )
-            return None
         T = names.T
         if kind == "ServiceServer":
             interface = T.ServiceServer(name=name, type=target.type, rosName=target.rosName)

@@ -27,6 +27,7 @@ from pyecore.resources.xmi import XMIResource
 
 from spl import __version__
 from spl.dsl.tsm_printer import print_model
+from spl.generators.bundle_paths import BundleFiles, BundlePathClash, check_paths
 from spl.generators.zenoh_bridge import transport_reused
 from spl.resolver.product import ResolvedProduct, node_keys
 
@@ -145,10 +146,12 @@ def build_bundle(
     """Every file of the product's bundle (of ``targets``, default all), in memory, and
     the files that were skipped; without ``render_diagrams`` no picture is rendered."""
     targets = tuple(TARGETS) if targets is None else targets
-    files = {
-        "resolved.tsm": print_model(product.system).encode("utf-8"),
-        "resolved.xmi": resolved_xmi(product.system),
-    }
+    files = BundleFiles(
+        {
+            "resolved.tsm": print_model(product.system).encode("utf-8"),
+            "resolved.xmi": resolved_xmi(product.system),
+        }
+    )
     skipped: dict[str, str] = {}
     with transport_reused():  # the Zenoh and Kubernetes generators share it
         for module_name in (m for target in targets for m in TARGETS[target]):
@@ -159,13 +162,14 @@ def build_bundle(
                 generated = generate(product)
             clash = (files.keys() | skipped.keys()) & generated.keys()
             if clash:
-                raise ValueError(f"{module_name} writes {sorted(clash)} already written")
+                raise BundlePathClash(f"{module_name} writes {sorted(clash)} already written")
             for path, data in generated.items():
                 if isinstance(data, Skipped):
                     skipped[path] = data.reason
                 else:
                     files[path] = data
     skipped = dict(sorted(skipped.items()))
+    check_paths([*files, "manifest.json"])
     files["manifest.json"] = manifest(product, files, skipped, targets)
     return Bundle(dict(sorted(files.items())), skipped)
 
@@ -206,10 +210,15 @@ def manifest(
         "toolchain": {"name": "spl-robotics", "version": __version__},
         "files": {path: hashlib.sha256(data).hexdigest() for path, data in sorted(files.items())},
     }
+    if product.left_out:  # only then, so bundles that leave nothing out keep their bytes
+        document["left_out"] = dict(product.left_out)
     return (json.dumps(document, indent=2, sort_keys=True) + "\n").encode("utf-8")
 
 
 def write_bundle(files: dict[str, bytes], out: Path) -> None:
+    """Write ``files`` as the folder ``out``, all or nothing; paths that would land on
+    one file are refused before anything is written (:func:`check_paths`)."""
+    check_paths(files)
     out = Path(out)
     out.parent.mkdir(parents=True, exist_ok=True)
     staging = out.parent / f".{out.name}.tmp-{os.getpid()}"

@@ -12,17 +12,20 @@ import re
 from typing import Any
 
 from spl.diagnostics import Diagnostic, ModelError, location_of
+from spl.generators.bundle_paths import BundleFiles
 from spl.generators.jinja_templates import render
 from spl.generators.store_contract import store_context
-from spl.resolver.data_clients import client_package_name
+from spl.resolver.data_clients import client_package_name, client_packages
 from spl.resolver.generated_names import IDENTIFIER, snake_case
 from spl.resolver.product import ResolvedProduct
 
 ROS_PACKAGE = re.compile(r"[a-z][a-z0-9_]*\Z")
 MESSAGE_TYPE = re.compile(r"([A-Za-z][A-Za-z0-9_]*)/(?:msg/)?([A-Za-z][A-Za-z0-9_]*)\Z")
 DEFAULT_STORE_URL = "http://localhost:8000"
-KINDS = {"Writer": ("writer", "Subscriber", "writer_node"),
-         "Reader": ("reader", "Publisher", "reader_node")}
+KINDS = {
+    "Writer": ("writer", "Subscriber", "writer_node"),
+    "Reader": ("reader", "Publisher", "reader_node"),
+}
 
 
 def client_nodes(system: Any) -> list[tuple[Any, Any]]:
@@ -42,38 +45,66 @@ def _message(node: Any, interface_kind: str) -> tuple[str, str, str]:
         None,
     )
     if interface is None:
-        raise ModelError([Diagnostic(
-            location_of(node), f"{node.name}: no {interface_kind.lower()} interface 'records'"
-        )])
+        raise ModelError(
+            [
+                Diagnostic(
+                    location_of(node),
+                    f"{node.name}: no {interface_kind.lower()} interface 'records'",
+                )
+            ]
+        )
     topic = getattr(interface, "topic", None)
     type_text = (topic.type if topic is not None and topic.type else interface.type) or ""
     match = MESSAGE_TYPE.match(type_text)
     if match is None:
-        raise ModelError([Diagnostic(
-            location_of(interface), f"{node.name}: invalid message type {type_text!r}"
-        )])
+        raise ModelError(
+            [Diagnostic(location_of(interface), f"{node.name}: invalid message type {type_text!r}")]
+        )
     return type_text, match.group(1), match.group(2)
 
 
-def generate_client(container: Any, node: Any, product: ResolvedProduct) -> dict[str, bytes]:
+def package_of(node: Any, generated: dict[int, str]) -> str:
+    """The client package of ``node``: the Resolution Engine names it in the node (launch
+    files start it); a model built without the engine gets the one it would name."""
+    if ROS_PACKAGE.match(node.package or ""):
+        return node.package
+    return generated.get(id(node)) or client_package_name(node.name)
+
+
+def generate_client(
+    container: Any, node: Any, product: ResolvedProduct, package: str
+) -> dict[str, bytes]:
     if not IDENTIFIER.match(node.name or ""):
         raise ModelError([Diagnostic(location_of(node), f"invalid node name {node.name!r}")])
     kind, interface_kind, module = KINDS[node.eClass.name]
     msg_type, msg_package, msg_name = _message(node, interface_kind)
     store = node.store
-    # the Resolution Engine names the package in the node (launch files start it)
-    package = node.package if ROS_PACKAGE.match(node.package or "") else client_package_name(
-        node.name)
     executable = node.executable if ROS_PACKAGE.match(node.executable or "") else package
     refined_names = [r.output.name for r in store.refinements if r.output is not None]
     if kind == "writer" and node.dataType is not store.raw:
-        raise ModelError([Diagnostic(location_of(node), (
-            f"{node.name} writes {node.dataType.name}, but store {store.name} "
-            f"keeps {store.raw.name}"))])
+        raise ModelError(
+            [
+                Diagnostic(
+                    location_of(node),
+                    (
+                        f"{node.name} writes {node.dataType.name}, but store {store.name} "
+                        f"keeps {store.raw.name}"
+                    ),
+                )
+            ]
+        )
     if kind == "reader" and node.dataType.name not in refined_names:
-        raise ModelError([Diagnostic(location_of(node), (
-            f"{node.name} reads {node.dataType.name}, which store {store.name} does not "
-            f"refine (it refines {', '.join(refined_names) or 'nothing'})"))])
+        raise ModelError(
+            [
+                Diagnostic(
+                    location_of(node),
+                    (
+                        f"{node.name} reads {node.dataType.name}, which store {store.name} "
+                        f"does not refine (it refines {', '.join(refined_names) or 'nothing'})"
+                    ),
+                )
+            ]
+        )
     fields = {f.name: f.type.name for f in node.dataType.fields}
     for name in fields:
         if not IDENTIFIER.match(name):
@@ -103,14 +134,32 @@ def generate_client(container: Any, node: Any, product: ResolvedProduct) -> dict
         f"{root}/resource/{package}": b"",
         f"{root}/{package}/__init__.py": render("clients/package/__init__.py.j2", **context),
         f"{root}/{package}/store_client.py": render(
-            "clients/package/store_client.py.j2", **context),
+            "clients/package/store_client.py.j2", **context
+        ),
         f"{root}/{package}/{module}.py": render(f"clients/package/{module}.py.j2", **context),
     }
 
 
 def generate(product: ResolvedProduct) -> dict[str, bytes]:
-    """``clients/<package>/...`` for every writer and reader of the product."""
-    files: dict[str, bytes] = {}
+    """``clients/<package>/...`` for every writer and reader of the product; two that
+    the model gives one package are refused (located), never folded into one folder."""
+    files = BundleFiles()
+    generated = client_packages(product.system)
+    owners: dict[str, Any] = {}
     for container, node in client_nodes(product.system):
-        files.update(generate_client(container, node, product))
+        package = package_of(node, generated)
+        first = owners.setdefault(package, node)
+        if first is not node:
+            raise ModelError(
+                [
+                    Diagnostic(
+                        location_of(node),
+                        (
+                            f"{node.name} and {first.name} ({location_of(first)}) both run package "
+                            f"{package}: give one of them another implementation"
+                        ),
+                    )
+                ]
+            )
+        files.update(generate_client(container, node, product, package))
     return files

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from typing import Any
 
+from spl.generators.bundle_paths import BundleFiles
 from spl.generators.jinja_templates import render
 from spl.generators.store_contract import store_context
 from spl.resolver.generated_names import dns_name
@@ -54,12 +55,14 @@ def generate(product: ResolvedProduct) -> dict[str, bytes]:
         "port": SERVICE_PORT,
         "secret": secret,
     }
-    files = {
-        "deploy/docker-compose.yml": render(
-            "deploy/docker-compose.yml.j2", stores=entries, **common
-        ),
-        "deploy/README.md": render("deploy/README.md.j2", stores=entries, **common),
-    }
+    files = BundleFiles(
+        {
+            "deploy/docker-compose.yml": render(
+                "deploy/docker-compose.yml.j2", stores=entries, **common
+            ),
+            "deploy/README.md": render("deploy/README.md.j2", stores=entries, **common),
+        }
+    )
     for entry in entries:
         store = entry["store"]
         files[f"deploy/{store['name']}/Dockerfile"] = render(

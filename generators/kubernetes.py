@@ -20,6 +20,7 @@ from __future__ import annotations
 from spl import __version__
 from spl.diagnostics import Diagnostic, ModelError
 from spl.generators import ros2_launch
+from spl.generators.bundle_paths import BundleFiles
 from spl.generators.kubernetes_names import CONFIG_SUFFIX, ROUTER, instance_names
 from spl.generators.kubernetes_objects import (
     ROS_IMAGE,
@@ -138,7 +139,7 @@ def generate(product: ResolvedProduct) -> dict[str, bytes]:
     wiring = transport(product.system)
     if errors:
         raise ModelError(list(dict.fromkeys(errors)))
-    files: dict[str, bytes] = {}
+    files = BundleFiles()
     for instance in instances:
         name = names[instance.place.tag]
         launch = ros2_launch.launch_file(

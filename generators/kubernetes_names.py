@@ -22,15 +22,14 @@ import re
 from typing import Any
 
 from spl.diagnostics import Diagnostic, Location, location_of
+from spl.resolver.generated_names import ZENOH_ROUTER, kubernetes_label
 
 DNS_LABEL = re.compile(r"[a-z]([-a-z0-9]*[a-z0-9])?")
 LABEL_VALUE = re.compile(r"([A-Za-z0-9]([-A-Za-z0-9_.]*[A-Za-z0-9])?)?")
 MAX_LENGTH = 63
 
 
-def dns_label(text: str) -> str:
-    """The DNS-1035 label a model name maps to (may be invalid: check with DNS_LABEL)."""
-    return text.lower().replace("_", "-").strip("-")
+dns_label = kubernetes_label  # a model name's label (may be invalid: check with DNS_LABEL)
 
 
 def label_value(text: str) -> str:
@@ -82,7 +81,7 @@ class ObjectNames:
         return name
 
 
-ROUTER = "zenoh-router"  # the Zenoh router's objects
+ROUTER = ZENOH_ROUTER  # the Zenoh router's objects
 CONFIG_SUFFIX = "-config"  # an instance's ConfigMap: <name>-config
 
 

@@ -7,7 +7,9 @@ ServiceProvider next to the client and a ServiceClient next to the server. Bridg
 keyed by their two ends, so several nodes sharing a topic or a server share one
 bridge. Interface tags are the TSM's canonical endpoint-interface names:
 ``sub_<Topic>``, ``pub_<Topic>``, ``srv_<ServerNode>_<service>``,
-``cli_<ServerNode>_<service>``; robots take ``...Converter`` types, containers
+``cli_<ServerNode>_<service>`` (where another bridge of the place has that tag, the next
+name the TSM language gives, :func:`spl.resolver.endpoints.endpoint_name_choices`: qualified with
+the server's or topic's container); robots take ``...Converter`` types, containers
 ``...Interface`` types; connections run from the side the data or call enters
 (``tagA``) to the side that delivers it (``tagB``).
 
@@ -21,11 +23,13 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from spl.diagnostics import Diagnostic, location_of
+from spl.diagnostics import Diagnostic
+from spl.resolver.endpoints import endpoint_name_choices
 from spl.resolver.placement import Place, Placement
 from spl.resolver.wiring import Crossing, Wiring
 
-# one side of a bridge: the place, the interface tag, its engine entry, the model element
+# one side of a bridge: the place, the interface tag, its engine entry, and the topic or
+# node server it is for (which qualifies the tag when another interface has it)
 End = tuple[Place, str, dict[str, str], Any]
 
 
@@ -45,7 +49,7 @@ class Bridge:
         }
 
 
-def _end(place: Place, tag: str, role: str, cls: str | None, addr: str, element: Any) -> End:
+def _end(place: Place, tag: str, role: str, cls: str | None, addr: str, target: Any) -> End:
     """One side of a bridge: the interface ``tag`` on ``place`` and its engine entry."""
     suffix = "Converter" if place.is_robot else "Interface"
     spec = {
@@ -55,7 +59,7 @@ def _end(place: Place, tag: str, role: str, cls: str | None, addr: str, element:
         "iCls": cls or "",
         "addr": addr,
     }
-    return place, tag, spec, element
+    return place, tag, spec, target
 
 
 def _ends(crossing: Crossing) -> tuple[End, End]:
@@ -89,7 +93,7 @@ def _ends(crossing: Crossing) -> tuple[End, End]:
             "ServiceProvider",
             server.type,
             crossing.source_name,
-            crossing.source_element,
+            server,
         ),
         _end(
             crossing.target,
@@ -128,20 +132,16 @@ class Bridges:
             for crossing in wiring.crossings(robot):
                 if _declared_by(robot_id, crossing):
                     source, target = _ends(crossing)
-                    self._register(source)
-                    self._register(target)
-                    bridges.add(Bridge(crossing.source, source[1], crossing.target, target[1]))
+                    source_tag, target_tag = self._register(source), self._register(target)
+                    bridges.add(Bridge(crossing.source, source_tag, crossing.target, target_tag))
             self.of_robot[id(robot)] = bridges
 
-    def _register(self, end: End) -> None:
-        place, tag, spec, element = end
-        known = self.interfaces.setdefault((place.tag, tag), spec)
-        if known != spec:
-            self.errors.append(
-                Diagnostic(
-                    location_of(element),
-                    f"interface {place.tag}/{tag} is needed both as {known['iType']} "
-                    f"{known['iCls']} on {known['addr']} and as {spec['iType']} "
-                    f"{spec['iCls']} on {spec['addr']}: rename a topic or node",
-                )
-            )
+    def _register(self, end: End) -> str:
+        """The tag of ``end`` on its place: its canonical one unless another interface
+        of the place has it, then the next the TSM language offers."""
+        place, tag, spec, target = end
+        for choice in endpoint_name_choices(tag, target):
+            entry = {**spec, "iTag": choice}
+            if self.interfaces.setdefault((place.tag, choice), entry) == entry:
+                return choice
+        raise AssertionError("endpoint_name_choices never ends")

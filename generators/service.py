@@ -14,12 +14,13 @@ from __future__ import annotations
 from typing import Any
 
 from spl.diagnostics import Diagnostic, ModelError, location_of
+from spl.generators.bundle_paths import BundleFiles
 from spl.generators.expressions import function_name, neighbours_used, transforms_module
 from spl.generators.jinja_templates import render
 from spl.generators.store_contract import store_context
 from spl.resolver.generated_names import IDENTIFIER, snake_case
 from spl.resolver.product import ResolvedProduct
-from spl.resolver.stores import cloud_stores, store_errors
+from spl.resolver.stores import cloud_stores, store_errors, store_tables, table_indexes
 
 PYTHON_TYPES = {"double": "float", "int": "int", "string": "str", "bool": "bool"}
 COLUMN_TYPES = {
@@ -79,16 +80,17 @@ def _fields(data_type: Any) -> list[dict[str, str]]:
     ]
 
 
-def _refinement_context(store: Any, refinement: Any) -> dict[str, Any]:
+def _refinement_context(slug: str, store: Any, refinement: Any) -> dict[str, Any]:
     neighbours = neighbours_used(refinement.transform)
-    slug = snake_case(store.name)
     output = refinement.output
+    table = store_tables(slug, store).refined[output.name]
     return {
         "name": output.name,
         "transform": refinement.transform.name,
         "function": function_name(refinement.transform.name),
         "table_var": f"table_{snake_case(output.name)}",
-        "table_name": f"{slug}_{snake_case(output.name)}",
+        "table_name": table,
+        "indexes": table_indexes(table),
         "fields": _fields(output),
         "period": float(refinement.period) if refinement.period else DEFAULT_PERIOD,
         "uses_prev": "prev" in neighbours,
@@ -97,18 +99,19 @@ def _refinement_context(store: Any, refinement: Any) -> dict[str, Any]:
 
 
 def generate_store(store: Any, product: ResolvedProduct) -> dict[str, bytes]:
+    names = store_context(store, product)
     context = {
         "product": product.name,
-        "store": store_context(store, product),
+        "store": names,
         "raw": {
             "name": store.raw.name,
             "name_repr": repr(store.raw.name),
             "class_name": f"{store.raw.name}Record",
             "fields": _fields(store.raw),
         },
-        "refinements": [_refinement_context(store, r) for r in store.refinements],
+        "refinements": [_refinement_context(names["slug"], store, r) for r in store.refinements],
     }
-    root = f"services/{store.name}"
+    root = f"services/{names['name']}"
     package = f"{root}/{context['store']['package']}"
     files = {f"{root}/{name}": render(f"service/{name}.j2", **context) for name in TOP_FILES}
     for name in PACKAGE_FILES:
@@ -119,13 +122,14 @@ def generate_store(store: Any, product: ResolvedProduct) -> dict[str, bytes]:
 
 
 def generate(product: ResolvedProduct) -> dict[str, bytes]:
-    """``services/<Store>/...`` for every store of a cloud container of the product."""
+    """``services/<Store>/...`` for every store of a cloud container of the product
+    (``services/<Container>_<Store>/`` where two containers hold stores of one name)."""
     system = product.system
     _check_names(system)
     problems = store_errors(system)
     if problems:
         raise ModelError(problems)
-    files: dict[str, bytes] = {}
+    files = BundleFiles()
     for store in cloud_stores(system):
         files.update(generate_store(store, product))
     return files

@@ -10,35 +10,37 @@ from __future__ import annotations
 
 from typing import Any
 
-from spl.resolver.generated_names import dns_name, snake_case
 from spl.resolver.product import ResolvedProduct
-from spl.resolver.stores import database_kind
+from spl.resolver.stores import database_kind, store_names, store_tables, table_indexes
 
 POSTGRES_DEFAULT_URL = "postgresql://spl@localhost:5432/spl"
 
 
 def store_context(store: Any, product: ResolvedProduct) -> dict[str, Any]:
-    """The names one store's service, clients and deployment files agree on."""
-    slug = snake_case(store.name)
+    """The names one store's service, clients and deployment files agree on (unique
+    across the product's stores: :func:`spl.resolver.stores.store_names`)."""
+    key, slug, dns = store_names(product.system)[id(store)]
+    tables = store_tables(slug, store)
     upper = slug.upper()
     default_url = (
         POSTGRES_DEFAULT_URL if database_kind(product) == "postgresql" else f"sqlite:///./{slug}.db"
     )
     return {
-        "name": store.name,
-        "name_repr": repr(store.name),
+        "name": key,
+        "name_repr": repr(key),
         "slug": slug,
-        "dns": dns_name(store.name),
+        "dns": dns,
         "package": f"{slug}_service",
         "distribution": f"{slug.replace('_', '-')}-service",
-        "prefix": f"/{store.name}",
+        "prefix": f"/{key}",
         "token_env": f"{upper}_TOKEN",
         "protect_reads_env": f"{upper}_PROTECT_READS",
         "period_env": f"{upper}_TRANSFORM_PERIOD",
         "default_database_url": default_url,
-        "raw_table": f"{slug}_raw",
-        "raw_table_repr": repr(f"{slug}_raw"),
-        "watermark_table_repr": repr(f"{slug}_watermarks"),
-        "error_table": f"{slug}_errors",
-        "error_table_repr": repr(f"{slug}_errors"),
+        "raw_table": tables.raw,
+        "raw_table_repr": repr(tables.raw),
+        "raw_indexes": table_indexes(tables.raw),
+        "watermark_table_repr": repr(tables.watermarks),
+        "error_table": tables.errors,
+        "error_table_repr": repr(tables.errors),
     }

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 from spl import __version__
 from spl.generators.bundle import Skipped
+from spl.generators.bundle_paths import BundleFiles
 from spl.generators.zenoh_bridge import ROUTER_FILE, USERS_FILE, ZENOH_PORT, Transport, transport
 from spl.resolver.product import ResolvedProduct
 
@@ -67,10 +68,10 @@ instance's nodes.
 
 def folder(owner: str, wiring: Transport) -> dict[str, bytes]:
     """``zenoh/`` of a carried product or fleet (``owner`` says which, for the README)."""
-    files = {
-        f"zenoh/{robot_id}.json5": text.encode("utf-8")
+    files = BundleFiles(
+        (f"zenoh/{robot_id}.json5", text.encode("utf-8"))
         for robot_id, text in wiring.robot_configs.items()
-    }
+    )
     for tag, bridges in wiring.cloud_bridges.items():
         for path, bridge in zip(cloud_files(tag, len(bridges)), bridges, strict=True):
             files[path] = bridge.config.encode("utf-8")

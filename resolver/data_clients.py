@@ -2,6 +2,11 @@
 for them (``clients/<package>`` in the bundle). Naming that package is a resolution
 decision: the resolved model states ``package/executable`` like for any other node, and
 the generators only read it.
+
+A node's name is unique only in its container, and every client package of a product
+lands in one ``clients/`` folder (and one ROS workspace): two robot containers' writers
+``PositionWriter`` get ``<container>_position_writer`` packages, any other writer keeps
+``position_writer`` (:func:`spl.resolver.generated_names.unique_names`).
 """
 
 from __future__ import annotations
@@ -9,28 +14,43 @@ from __future__ import annotations
 from typing import Any
 
 from spl.metamodels import tsm
-from spl.resolver.generated_names import snake_case
+from spl.resolver.generated_names import lower_identifier, unique_names
 
 
 def client_package_name(node_name: str) -> str:
     """ROS package and executable of a writer/reader: ``PositionWriter`` -> ``position_writer``."""
-    return snake_case(node_name)
+    return lower_identifier(node_name, "client")
 
 
-def data_client_implementation(node: Any) -> str | None:
-    """``package/executable`` of a writer or reader the models leave unimplemented: the
-    ROS package generated for it (clients/<package>); None for any other node."""
+def _package_form(node: Any, name: str) -> set[str]:
+    return {client_package_name(name)}
+
+
+def client_packages(system: Any) -> dict[int, str]:
+    """The generated package of every writer and reader of ``system`` that the models
+    leave unimplemented (by ``id``), unique across the system and apart from the
+    packages other writers and readers name."""
     T = tsm()
-    if isinstance(node, (T.Writer, T.Reader)) and not node.package:
-        name = client_package_name(node.name)
-        return f"{name}/{name}"
-    return None
+    clients = [
+        (node, container.name, node.name)
+        for container in system.containers
+        for node in container.nodes
+        if isinstance(node, T.Writer | T.Reader)
+    ]
+    named = frozenset(node.package for node, _, _ in clients if node.package)
+    open_clients = [client for client in clients if not client[0].package]
+    names = unique_names(open_clients, _package_form, named)
+    return {
+        id(node): client_package_name(name)
+        for (node, _, _), name in zip(open_clients, names, strict=True)
+    }
 
 
 def implement_data_clients(system: Any) -> None:
     """Writers and readers run the ROS package generated for them (clients/<package>)."""
+    packages = client_packages(system)
     for container in system.containers:
         for node in container.nodes:
-            implementation = data_client_implementation(node)
-            if implementation is not None:
-                node.package, node.executable = implementation.split("/")
+            package = packages.get(id(node))
+            if package is not None:
+                node.package, node.executable = package, package

@@ -37,7 +37,7 @@ from typing import Any
 
 from spl.diagnostics import Location, location_of
 from spl.metamodels import tsm
-from spl.resolver.data_clients import data_client_implementation
+from spl.resolver.data_clients import client_packages
 from spl.resolver.line_checks.unreachable_optionals import touched_elements
 from spl.resolver.placement import sharing_mode
 from spl.resolver.product import topic_ros_name
@@ -121,14 +121,18 @@ class LineEffects:
         self.robot_containers = {
             c.name for c in line.tsm.containers if isinstance(c, T.RobotContainer)
         }
+        packages = client_packages(line.tsm)  # the writers' and readers' generated ones
         for container in line.tsm.containers:
             for node in container.nodes:
                 effects = NodeEffects(node, container.name)
                 where = location_of(node)
                 effects.aspects[PLACEMENT] = Aspect(PLACEMENT, container.name, where)
                 effects.aspects[SHARING] = Aspect(SHARING, sharing_mode(node), where)
-                implementation = data_client_implementation(node) or (
-                    f"{node.package}/{node.executable}" if node.package else None
+                package = packages.get(id(node))
+                implementation = (
+                    f"{package}/{package}"
+                    if package
+                    else (f"{node.package}/{node.executable}" if node.package else None)
                 )
                 effects.aspects["implementation"] = Aspect("implementation", implementation, where)
                 for parameter in node.parameters:

@@ -6,7 +6,10 @@ sends it over an EndpointConnection to an endpoint Publisher, which publishes it
 the other container; an endpoint ServiceServer stands in for a remote server and an
 endpoint ServiceClient calls the real one. Interfaces carry the canonical names of the
 .tsm language (:mod:`spl.dsl.tsm`), so a topic or server is never bridged twice and the
-printer writes them back as ``bridge`` statements.
+printer writes them back as ``bridge`` statements. Where two canonical names coincide
+(stand-ins for servers ``Db.get`` of two cloud containers), the second interface takes
+the next name the language gives it (:func:`spl.dsl.tsm.endpoint_name_choices`), so a
+client is never bound to another container's server.
 """
 
 from __future__ import annotations
@@ -15,6 +18,7 @@ from typing import Any
 
 from spl.dsl.tsm import (
     endpoint_client_name,
+    endpoint_name_choices,
     endpoint_publisher_name,
     endpoint_server_name,
     endpoint_subscriber_name,
@@ -37,14 +41,37 @@ class EndpointWiring:
             for i in c.endpoint.interfaces
         }
         self.connections = {(id(c.source), id(c.target)) for c in system.connections}
+        # what each endpoint interface is for: its topic, or the node server it calls or
+        # stands in for (a stand-in knows it through its connection)
+        self.targets = {
+            id(c.source): c.target.server
+            for c in system.connections
+            if c.source.eClass.name == "ServiceServer"
+        }
 
-    def _find_or_add(self, container: Any, kind: str, name: str, **features: Any) -> Any:
-        key = (id(container), kind, name)
-        interface = self.interfaces.get(key)
-        if interface is None:
-            interface = self.interfaces[key] = getattr(tsm(), kind)(name=name, **features)
-            container.endpoint.interfaces.append(interface)
-        return interface
+    def _target(self, interface: Any) -> Any:
+        if interface.eClass.name in ("Subscriber", "Publisher"):
+            return interface.topic
+        if interface.eClass.name == "ServiceClient":
+            return interface.server
+        return self.targets.get(id(interface))
+
+    def _find_or_add(
+        self, container: Any, kind: str, name: str, target: Any, **features: Any
+    ) -> Any:
+        """The endpoint interface of ``container`` for ``target``: the one made before,
+        else a new one under the first of its names no other interface has."""
+        for choice in endpoint_name_choices(name, target):
+            interface = self.interfaces.get((id(container), kind, choice))
+            if interface is None:
+                interface = getattr(tsm(), kind)(name=choice, **features)
+                self.interfaces[id(container), kind, choice] = interface
+                self.targets[id(interface)] = target
+                container.endpoint.interfaces.append(interface)
+                return interface
+            if self._target(interface) is target:
+                return interface
+        raise AssertionError("endpoint_name_choices never ends")
 
     def connect(self, source: Any, target: Any) -> None:
         """The EndpointConnection source -> target, created once."""
@@ -58,6 +85,7 @@ class EndpointWiring:
             source_topic.eContainer(),
             "Subscriber",
             endpoint_subscriber_name(source_topic),
+            source_topic,
             topic=source_topic,
             type=source_topic.type,
         )
@@ -65,6 +93,7 @@ class EndpointWiring:
             target_topic.eContainer(),
             "Publisher",
             endpoint_publisher_name(target_topic),
+            target_topic,
             topic=target_topic,
             type=target_topic.type,
         )
@@ -76,6 +105,7 @@ class EndpointWiring:
             client.eContainer().eContainer(),
             "ServiceServer",
             endpoint_server_name(server),
+            server,
             type=server.type,
             rosName=server.rosName,
         )
@@ -83,6 +113,7 @@ class EndpointWiring:
             server.eContainer().eContainer(),
             "ServiceClient",
             endpoint_client_name(server),
+            server,
             server=server,
             type=server.type,
         )

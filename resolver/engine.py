@@ -103,7 +103,7 @@ def _resolve(line: ProductLine, selection: ProductSelection) -> Resolution:
     pruning.prune_unkept(system, ctx.kept, trace)  # step 7
     implement_data_clients(system)
     warnings = rewiring.rewire(system, trace, {m.node for m in ctx.migrations})
-    pruning.prune_unused(system, trace)
+    left_out = pruning.prune_unused(system, trace)
 
     problems = check_architecture(system) + warnings  # step 8
     errors = [p for p in problems if p.severity == "error"]
@@ -117,6 +117,7 @@ def _resolve(line: ProductLine, selection: ProductSelection) -> Resolution:
         attributes=attributes,
         migrations=tuple(ctx.migrations),
         warnings=tuple(problems),
+        left_out=left_out,
     )
     system.name = line.tsm.name
     remaining = {id(n) for c in system.containers for n in c.nodes}
@@ -247,4 +248,6 @@ def summary_lines(resolution: Resolution) -> list[str]:
     )
     for migration in product.migrations:
         lines.append(f"  migrated: {migration.node} from {migration.source} to {migration.target}")
+    for container, reason in product.left_out:
+        lines.append(f"  left out: {container} ({reason})")
     return lines

@@ -34,6 +34,9 @@ class ResolvedProduct:
     attributes: dict[str, Any] = field(default_factory=dict)  # "Feature.attr" -> value
     migrations: tuple[NodeMigration, ...] = ()
     warnings: tuple[Diagnostic, ...] = ()
+    # (container, reason) of every container pruning left out: no file of the bundle
+    # deploys it (a robot container none of whose nodes the selection uses)
+    left_out: tuple[tuple[str, str], ...] = ()
 
     def migrated(self, node_name: str) -> NodeMigration | None:
         return next((m for m in self.migrations if m.node == node_name), None)

@@ -2,8 +2,16 @@
 
 Elements go in two passes around the endpoint rewiring: optional nodes and stores
 nobody kept go first (so their interfaces stop feeding or calling anything), then,
-once cross-container wiring has been rebuilt, topics nothing uses any more and cloud
+once cross-container wiring has been rebuilt, topics nothing uses any more and
 containers left empty.
+
+A container left with no node and no store is not deployed, robot or cloud alike: a
+product without the scout drone has no scout launch file, Rapyuta configuration, Zenoh
+bridge or Kubernetes reference, rather than empty ones a robotics engineer would have
+to recognise as dead. Every generator reads the resolved model, so leaving the
+container out of it leaves it out of every target; the product records which
+containers were left out and why (manifest ``left_out``, the resolve summary, ``spl
+explain``).
 """
 
 from __future__ import annotations
@@ -33,7 +41,15 @@ def prune_unkept(system: Any, kept: set[int], trace: Trace) -> None:
                     )
 
 
-def prune_unused(system: Any, trace: Trace) -> None:
+LEFT_OUT = {
+    "RobotContainer": "robot container left with no node in this product: not deployed",
+    "CloudContainer": "cloud container left with no node and no store in this product",
+}
+
+
+def prune_unused(system: Any, trace: Trace) -> tuple[tuple[str, str], ...]:
+    """Remove unused topics and empty containers; returns ``(container, reason)`` for
+    every container left out, in model order."""
     used: set[int] = set()
     for container in system.containers:
         interfaces = [i for node in container.nodes for i in node.interfaces]
@@ -49,16 +65,11 @@ def prune_unused(system: Any, trace: Trace) -> None:
                     "no node or endpoint of the product uses this topic",
                     location_of(topic),
                 )
+    left_out = []
     for container in list(system.containers):
-        if (
-            container.eClass.name == "CloudContainer"
-            and not container.nodes
-            and not container.stores
-        ):
+        if not container.nodes and not container.stores:
+            reason = LEFT_OUT[container.eClass.name]
             system.containers.remove(container)
-            trace.record(
-                container.name,
-                "removed",
-                "cloud container left with no node and no store in this product",
-                location_of(container),
-            )
+            trace.record(container.name, "removed", reason, location_of(container))
+            left_out.append((container.name, reason))
+    return tuple(left_out)

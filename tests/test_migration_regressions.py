@@ -101,7 +101,9 @@ def test_migrating_a_publisher_across_a_renaming_bridge_keeps_its_flow(tmp_path)
     assert v["placement"] == {"N0": "Cloud1", "N1": "Cloud1"}
     assert v["bindings"] == {"N0.p0": "Cloud1.Scan", "N1.s0": "Cloud1.Scan"}
     assert v["bridges"] == []
-    assert v["topics"] == {"Robot0": [], "Cloud1": ["Scan"]}
+    # the robot kept no node: it is left out of the product (not deployed empty)
+    assert v["topics"] == {"Cloud1": ["Scan"]}
+    assert [name for name, _ in resolved.left_out] == ["Robot0"]
     assert not [w for w in resolved.warnings if w.code == "SPL031"]
 
 

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import psycopg
 import pytest
-from service_models import product
+from service_models import PRODUCT_LINE, product
 from service_runtime import (
     TOKEN,
     PostgresCluster,
@@ -21,11 +21,14 @@ from service_runtime import (
     post_concurrently,
     post_in_batches,
     postgres_binaries,
+    request,
     wait_for,
     write_files,
 )
 
+from spl.dsl import tsm as tsm_language
 from spl.generators import clients, service
+from spl.resolver.product import ResolvedProduct
 
 BINARIES = postgres_binaries()
 # On a developer machine without Debian's postgresql the tests are skipped; CI installs
@@ -171,3 +174,59 @@ def test_concurrent_posts_get_their_own_ids_on_postgres(
         stored[i] == (record["robot"], record["timestamp"], record["data"])
         for i, record in answered.items()
     )
+
+
+LONG_STORE = "Readings" + "x" * 64  # its table and index names pass PostgreSQL's 63 bytes
+
+
+def _clashing_names() -> ResolvedProduct:
+    """Two stores ``PositionStore`` in two cloud containers and a store whose derived
+    table and index names are longer than PostgreSQL keeps, all in one database."""
+    types = (PRODUCT_LINE / "data.tsm").read_text(encoding="utf-8").split("cloud container")[0]
+    store = """    store {name} {{
+        raw PositionInSecond
+        refined PositionInDEG by SecondToDEG every 5 s
+    }}
+"""
+    text = (
+        types
+        + "cloud container FieldCloud {\n"
+        + store.format(name="PositionStore")
+        + store.format(name=LONG_STORE)
+        + "}\ncloud container LabCloud {\n"
+        + store.format(name="PositionStore")
+        + "}\n"
+    )
+    return ResolvedProduct("clash", tsm_language.parse_text(text, "clash.tsm"), ())
+
+
+def test_stores_of_one_name_and_long_names_share_one_database(
+    cluster: PostgresCluster, tmp_path: Path
+) -> None:
+    root = write_files(service.generate(_clashing_names()), tmp_path)
+    slugs = {
+        "FieldCloud_PositionStore": "field_cloud_position_store",
+        "LabCloud_PositionStore": "lab_cloud_position_store",
+        LONG_STORE: "readings" + "x" * 64,
+    }
+    running = [_service(root, cluster, key, slug).start() for key, slug in slugs.items()]
+    try:
+        for service_, key in zip(running, slugs, strict=True):
+            body = {"records": [{"robot": "r", "timestamp": 1.0,
+                                 "data": {"lat": 3600.0, "lon": 0.0}}]}  # fmt: skip
+            assert request("POST", f"{service_.url}/{key}/records/batch", body)[0] == 201
+        for service_, key in zip(running, slugs, strict=True):
+            items = wait_for(
+                lambda s=service_, k=key: (
+                    request("GET", f"{s.url}/{k}/PositionInDEG?from=0&to=10")[2]["items"] or None
+                )
+            )
+            assert [(i["robot"], i["lat"]) for i in items] == [("r", 1.0)]  # its own, once
+    finally:
+        for service_ in running:
+            service_.stop()
+    with psycopg.connect(cluster.dsn()) as conn:
+        names = [row[0] for row in conn.execute(
+            "SELECT relname FROM pg_class WHERE relname LIKE '%raw%'")]  # fmt: skip
+    assert len(names) == len(set(names)) and max(len(n) for n in names) <= 63
+    assert {"field_cloud_position_store_raw", "lab_cloud_position_store_raw"} <= set(names)

@@ -242,31 +242,6 @@ def test_service_bridge_problems() -> None:
     )
 
 
-def test_endpoint_interface_name_collision() -> None:
-    assert_errors(
-        """\
-        robot container R {
-            node N {
-                calls a : std_srvs/Empty
-                calls b : std_srvs/Empty
-            }
-        }
-        cloud container C {
-            node a_b {
-                provides c : std_srvs/Empty
-            }
-            node a {
-                provides b_c : std_srvs/Empty
-            }
-        }
-        bridge R.N.a -> C.a_b.c
-        bridge @@R.N.b -> C.a.b_c
-        """,
-        "endpoint interface name srv_a_b_c in container R is already used by another bridge "
-        "(line 15); rename a node, server or topic",
-    )
-
-
 def test_parameter_values_of_the_wrong_type() -> None:
     assert_errors(
         """\

@@ -30,7 +30,7 @@ from spl.metamodels import tsm
 from spl.resolver.product import topic_ros_name
 from spl.resolver.ros_names import remappings, server_ros_name
 
-ENDPOINT = "endpoint"  # how the rehearsal names every container's endpoint node
+ENDPOINT = "endpoint"  # how the rehearsal names a container's endpoint node, if free
 KINDS = {
     "Publisher": "publisher",
     "Subscriber": "subscriber",
@@ -42,7 +42,7 @@ KINDS = {
 @dataclass
 class Interface:
     container: str
-    node: str  # model node name, or ENDPOINT
+    node: str  # model node name, or the container's endpoint node name
     name: str
     kind: str  # publisher | subscriber | server | client
     type: str
@@ -51,6 +51,7 @@ class Interface:
     server: str | None = None  # clients: id of the node server that must answer
     forward: tuple[str, str] | None = None  # endpoint: (peer container, peer interface)
     required: bool = True  # must see traffic (endpoint interfaces only when on a path)
+    endpoint: bool = False  # an interface of the container's endpoint, not of a node
 
     @property
     def id(self) -> str:
@@ -67,7 +68,7 @@ class Parameter:
 @dataclass
 class NodePlan:
     container: str
-    name: str  # model name, or ENDPOINT
+    name: str  # model name, or the endpoint's (see endpoint_name)
     ros_name: str  # the node's full ROS name
     role: str  # launched | data client | endpoint
     interfaces: list[Interface] = field(default_factory=list)
@@ -128,6 +129,11 @@ def join(namespace: str, name: str) -> str:
     return name if name.startswith("/") else f"{namespace}/{name}"
 
 
+def node_ros_name(namespace: str, name: str) -> str:
+    """The full ROS name of node ``name`` started in ``namespace`` ("" for the root)."""
+    return join(namespace, name) if namespace else f"/{name}"
+
+
 def _namespace(container: Any) -> str:
     return "/" + container.namespace.strip("/") if container.namespace else ""
 
@@ -157,7 +163,7 @@ def _containers(system: Any, bundle: Path) -> list[ContainerPlan]:
             node_plan = NodePlan(
                 container.name,
                 node.name,
-                join(ros_namespace, node.name) if ros_namespace else f"/{node.name}",
+                node_ros_name(ros_namespace, node.name),
                 "data client" if data_client else "launched",
                 remaps=remaps,
             )
@@ -187,7 +193,9 @@ def _containers(system: Any, bundle: Path) -> list[ContainerPlan]:
                     )
             plan.nodes.append(node_plan)
         if container.endpoint is not None and container.endpoint.interfaces:
-            plan.nodes.append(_endpoint(container, namespace, system))
+            taken = {n.name for n in plan.nodes} | {n.ros_name for n in plan.nodes}
+            name = endpoint_name(taken, namespace)
+            plan.nodes.append(_endpoint(container, namespace, system, name))
         plans.append(plan)
     _expect_flows(system, plans)
     return plans
@@ -211,11 +219,22 @@ def _typed(kind: str, text: str) -> Any:
     return text
 
 
-def _endpoint(container: Any, namespace: str, system: Any) -> NodePlan:
+def endpoint_name(taken: set[str], namespace: str) -> str:
+    """The node name of a container's endpoint stand-in: ``endpoint``, or ``endpoint_2``,
+    ``endpoint_3``... when a node of the container already has that name or ROS name
+    (``taken`` holds both). The stand-in is a node of the container's ROS graph: one
+    sharing a node's name would make the master shut the other down, and its interfaces'
+    ids would meet that node's."""
+    candidate, number = ENDPOINT, 1
+    while candidate in taken or node_ros_name(namespace, candidate) in taken:
+        number += 1
+        candidate = f"{ENDPOINT}_{number}"
+    return candidate
+
+
+def _endpoint(container: Any, namespace: str, system: Any, name: str) -> NodePlan:
     T = tsm()
-    node = NodePlan(container.name, ENDPOINT, join(namespace or "", ENDPOINT), "endpoint")
-    if not namespace:
-        node.ros_name = f"/{ENDPOINT}"
+    node = NodePlan(container.name, name, node_ros_name(namespace, name), "endpoint")
     forward = {}
     for connection in system.connections:
         target = connection.target
@@ -231,12 +250,13 @@ def _endpoint(container: Any, namespace: str, system: Any) -> NodePlan:
         node.interfaces.append(
             Interface(
                 container.name,
-                ENDPOINT,
+                name,
                 interface.name,
                 KINDS[interface.eClass.name],
                 _type(interface),
                 join(namespace, ros_name),
                 forward=forward.get(id(interface)),
+                endpoint=True,
             )
         )
     return node
@@ -264,28 +284,39 @@ def _expect_flows(system: Any, plans: list[ContainerPlan]) -> None:
     """Fill in the sources of every subscriber and the server of every client, and mark
     the endpoint interfaces that lie on some path as required."""
     by_id = {i.id: i for c in plans for n in c.nodes for i in n.interfaces}
+    endpoints = {c.name: c.endpoint.name for c in plans if c.endpoint is not None}
     reaches: dict[tuple[str, str], set[tuple[str, str]]] = {}  # topic -> topics it feeds
     for interface in by_id.values():
         if interface.kind == "subscriber" and interface.forward:
-            peer = by_id.get(".".join((interface.forward[0], ENDPOINT, interface.forward[1])))
+            peer = _peer(interface, by_id, endpoints)
             if peer is not None:
                 reaches.setdefault(_topic(interface), set()).add(_topic(peer))
     fed: dict[tuple[str, str], list[str]] = {}
     for publisher in by_id.values():
-        if publisher.kind != "publisher" or publisher.node == ENDPOINT:
+        if publisher.kind != "publisher" or publisher.endpoint:
             continue
         for topic in _closure(_topic(publisher), reaches):
             fed.setdefault(topic, []).append(publisher.id)
     for interface in by_id.values():
         if interface.kind == "subscriber":
             interface.sources = tuple(sorted(fed.get(_topic(interface), ())))
-            if interface.node == ENDPOINT:
+            if interface.endpoint:
                 interface.required = bool(interface.sources)
-        elif interface.kind == "client" and interface.node == ENDPOINT:
+        elif interface.kind == "client" and interface.endpoint:
             interface.required = False  # until a node client's calls pass through it
     for interface in by_id.values():
-        if interface.kind == "client" and interface.node != ENDPOINT:
-            interface.server = _server_on_path(interface, by_id)
+        if interface.kind == "client" and not interface.endpoint:
+            interface.server = _server_on_path(interface, by_id, endpoints)
+
+
+def _peer(
+    interface: Interface, by_id: dict[str, Interface], endpoints: dict[str, str]
+) -> Interface | None:
+    """The endpoint interface an endpoint interface's connection leads to."""
+    if interface.forward is None or interface.forward[0] not in endpoints:
+        return None
+    container, name = interface.forward
+    return by_id.get(".".join((container, endpoints[container], name)))
 
 
 def _topic(interface: Interface) -> tuple[str, str]:
@@ -302,7 +333,9 @@ def _closure(start: tuple[str, str], edges: dict) -> set[tuple[str, str]]:
     return seen
 
 
-def _server_on_path(client: Interface, by_id: dict[str, Interface]) -> str | None:
+def _server_on_path(
+    client: Interface, by_id: dict[str, Interface], endpoints: dict[str, str]
+) -> str | None:
     """The node server a client's calls end at: the server of its ROS name in its
     container or, when that is an endpoint stand-in, the server behind the peer
     endpoint's client, and so on. Endpoint clients on the path become required and
@@ -322,13 +355,11 @@ def _server_on_path(client: Interface, by_id: dict[str, Interface]) -> str | Non
         )
         if server is None:
             return None
-        if server.node != ENDPOINT:
+        if not server.endpoint:
             for peer in passed:
                 peer.required, peer.server = True, server.id
             return server.id
-        if server.forward is None:
-            return None
-        peer = by_id.get(".".join((server.forward[0], ENDPOINT, server.forward[1])))
+        peer = _peer(server, by_id, endpoints)
         if peer is None:
             return None
         passed.append(peer)

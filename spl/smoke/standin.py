@@ -162,7 +162,8 @@ def load_plan() -> tuple[dict, str, dict]:
 def status_path(plan: dict, container: str, node: str) -> str:
     folder = os.path.join(plan["status_dir"], container)
     os.makedirs(folder, exist_ok=True)
-    return os.path.join(folder, node.strip("/").replace("/", "__") + ".json")
+    # '.' is in no ROS name, so two nodes never share a file (with '__', /a/b and /a__b did)
+    return os.path.join(folder, node.strip("/").replace("/", ".") + ".json")
 
 
 # --------------------------------------------------------------------------- node role
@@ -256,7 +257,9 @@ class _Server(ThreadingMixIn, SimpleXMLRPCServer):
 def run_endpoint() -> None:
     plan, container, description = load_plan()
     node = description["endpoint"]
-    rospy.init_node("endpoint", argv=sys.argv[:1])  # namespace: ROS_NAMESPACE, as roslaunch
+    # the name the plan gave it (no node of the container has it); the namespace comes
+    # from ROS_NAMESPACE, as roslaunch gives it to nodes
+    rospy.init_node(node["ros_name"].rsplit("/", 1)[-1], argv=sys.argv[:1])
     name = rospy.get_name()
     status = Status(status_path(plan, container, name), name)
     relay = _Relay(plan, container, status)

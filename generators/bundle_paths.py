@@ -1,0 +1,59 @@
+"""Bundle paths: one file per path, and no two paths that land on one file.
+
+Generators build their files as ``{bundle path: bytes}``; a plain dict silently keeps
+the last of two writes to one path, which is how two stores of one name once shared
+``services/<store>/`` without anyone noticing. :class:`BundleFiles` refuses a second
+write, and :func:`check_paths` refuses paths that are different strings but one file
+on disk (``a//b``, ``A/B`` next to ``a/b`` on a case-insensitive file system) or a
+file where another path needs a folder. Both are internal checks: a product line can
+never cause them, only a generator bug, so they fail loudly rather than write a
+bundle that is missing a file.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping
+from pathlib import PurePosixPath
+from typing import Any
+
+
+class BundlePathClash(RuntimeError):
+    """Two files of one bundle would be written to one path (a generator bug)."""
+
+
+class BundleFiles(dict[str, Any]):
+    """``{bundle path: bytes}`` that refuses to write a path twice."""
+
+    def __init__(self, files: Mapping[str, Any] | Iterable[tuple[str, Any]] = ()) -> None:
+        super().__init__()
+        self.update(files)
+
+    def __setitem__(self, path: str, data: Any) -> None:
+        if path in self:
+            raise BundlePathClash(f"two files for bundle path {path}")
+        super().__setitem__(path, data)
+
+    def update(self, files: Mapping[str, Any] | Iterable[tuple[str, Any]] = ()) -> None:  # type: ignore[override]
+        for path, data in files.items() if isinstance(files, Mapping) else files:
+            self[path] = data
+
+
+def check_paths(paths: Iterable[str]) -> None:
+    """Every path relative, normalised and its own file: no ``.``/``..``/empty part, no
+    two paths equal but for case, no path that is the folder of another."""
+    seen: dict[str, str] = {}
+    files = []
+    for path in paths:
+        parts = path.split("/")
+        if path.startswith("/") or any(part in ("", ".", "..") for part in parts):
+            raise BundlePathClash(f"bundle path {path!r} is not a plain relative path")
+        other = seen.setdefault(path.casefold(), path)
+        if other != path:
+            raise BundlePathClash(
+                f"bundle paths {other} and {path} are one file on a case-insensitive file system"
+            )
+        files.append(path)
+    folders = {str(parent).casefold() for path in files for parent in PurePosixPath(path).parents}
+    for path in files:
+        if path.casefold() in folders:
+            raise BundlePathClash(f"bundle path {path} is a file and the folder of another")
