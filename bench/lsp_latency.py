@@ -7,7 +7,9 @@ client sends it:
 * open: the first diagnostics of the file;
 * break: an edit that makes an error, until the error is shown (the file alone in its
   folder: its check is ``spl check FILE``), at the end of the file (a bridge naming an
-  unknown container) and in the middle (a node subscribing an unknown topic);
+  unknown container) and in the middle (a node subscribing an unknown topic), and two
+  edits that leave a syntax error there (a bridge cut short at the end, a brace in
+  the middle of a node);
 * fix: the edit undone, until the error is gone;
 
 each break and fix ``--runs`` times in one session (what an editor does), reported as
@@ -16,8 +18,8 @@ check is ``spl check FOLDER`` (parse plus the SAT product-line checks). The targ
 under a second for a 10,000-node .tsm on the 2-core development machine.
 
 The server runs without PYTHONDONTWRITEBYTECODE, as a user's install does (with
-bytecode). Edits that leave a syntax error are not measured: textX words those, and
-it reads the whole file (seconds on 10,000 nodes).
+bytecode). textX words syntax errors, from an excerpt of the file that leaves out the
+declarations before the one in error (``tsm_reader.error_excerpt``).
 
     python bench/lsp_latency.py [--sizes 1000 10000] [--runs 5]
 """
@@ -43,6 +45,7 @@ from resolve_scaling import synthetic_line
 
 ROOT = Path(__file__).resolve().parents[1]
 BROKEN = "\nbridge Robot.T0 -> Nowhere.T0\n"
+SYNTAX_BROKEN = "\nbridge Robot.\n"
 
 
 class Session:
@@ -152,7 +155,13 @@ async def main_async(sizes: list[int], runs: int) -> None:
             tsm = folder / "synthetic.tsm"
             text = tsm.read_text(encoding="utf-8")
             subscribed = [m.end() for m in re.finditer(r"subscribes \w+ <- ", text)]
-            edits = {"end": (len(text), BROKEN), "middle": (subscribed[len(subscribed) // 2], "x")}
+            middle = subscribed[len(subscribed) // 2]
+            edits = {
+                "end": (len(text), BROKEN),
+                "middle": (middle, "x"),
+                "end, syntax": (len(text), SYNTAX_BROKEN),
+                "middle, syntax": (middle, "{ "),
+            }
             opened, *found = await measure(tsm, text, list(edits.values()), runs)
             lines = text.count(chr(10))
             for name, (shown, cleared) in zip(edits, found, strict=True):

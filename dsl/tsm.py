@@ -135,7 +135,11 @@ def _textx_tree(text: str, filename: str) -> Any:
     """textX's parse tree of ``text``; a syntax error as a located ModelError."""
     from textx import TextXSyntaxError
 
+    excerpt = tsm_reader.error_excerpt(text)
     try:
+        if excerpt is not None:
+            # the reader gave up where it did: textX words the error from an excerpt
+            _grammar().model_from_str(excerpt, file_name=filename)
         return _grammar().model_from_str(text, file_name=filename)
     except TextXSyntaxError as exc:
         raise ModelError([syntax_diagnostic(exc, text, filename)]) from None

@@ -24,6 +24,7 @@ _RULE_WORDS = {
     "UnsignedNumber": "a number",
     "SignedNumber": "a number",
     "Boolean": "true or false",
+    "EOF": "end of file",  # arpeggio's EndOfFile prints as an object and its address
 }
 
 

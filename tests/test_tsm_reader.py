@@ -171,3 +171,80 @@ def test_parse_text_gives_the_same_model_and_errors_through_either_parser(monkey
     monkeypatch.setattr(tsm_reader, "read", lambda text: None)
     assert [outcome(text) for text in texts] == fast
     assert "error" in fast[-1]
+
+
+def whole_and_excerpt_errors(text: str) -> tuple[str, str] | None:
+    """The syntax error textX words from the whole ``text`` and from the reader's
+    excerpt of it; None where the reader reads the text or textX reads the excerpt."""
+    from textx import TextXSyntaxError
+
+    from spl.dsl.tsm_syntax import syntax_diagnostic
+
+    excerpt = tsm_reader.error_excerpt(text)
+    if excerpt is None:
+        return None
+    assert excerpt.count("\n") == text.count("\n")
+    worded = []
+    for parsed in (text, excerpt):
+        try:
+            tsm._grammar().model_from_str(parsed)
+        except TextXSyntaxError as exc:
+            worded.append(str(syntax_diagnostic(exc, text, "m.tsm")))
+        else:
+            worded.append(None)
+    if worded[1] is None:  # the reader's own bound: the whole text is parsed
+        return None
+    return worded[0], worded[1]
+
+
+def test_syntax_errors_are_worded_from_the_excerpt_as_from_the_whole_text() -> None:
+    """The excerpt textX reads to word a syntax error (every declaration read before the
+    one in error left out) gives the same line, column and expectation as the whole
+    file, on the mutation corpus."""
+    compared = 0
+    for text in mutated_texts(SHIPPED, SUBSTITUTES, 600, seed=5):
+        errors = whole_and_excerpt_errors(text)
+        if errors is not None:
+            assert errors[1] == errors[0], text
+            compared += 1
+    assert compared > 200
+
+
+@settings(max_examples=examples(40), deadline=None)
+@given(line_specs(), st.data())
+def test_syntax_errors_of_generated_lines_are_worded_from_the_excerpt_alike(spec, data) -> None:
+    text = mutate(tsm_text(spec), data.draw(mutations(tsm_text(spec))))
+    errors = whole_and_excerpt_errors(text)
+    if errors is not None:
+        assert errors[1] == errors[0]
+
+
+def test_a_syntax_error_late_in_a_large_file_is_worded_from_a_small_excerpt() -> None:
+    """Only the declaration in error (and the one before, emptied) reach textX."""
+    nodes = "".join(
+        f"    node N{i} {{\n        implementation pkg/exe\n        publishes out -> T\n    }}\n"
+        for i in range(300)
+    )
+    text = (
+        f"robot container R {{\n    topic T : std_msgs/String\n{nodes}    node Bad {{ nope }}\n}}\n"
+    )
+    excerpt = tsm_reader.error_excerpt(text)
+    assert excerpt is not None and "N0" not in excerpt and "N298" not in excerpt
+    errors = whole_and_excerpt_errors(text)
+    assert errors is not None and errors[0] == errors[1]
+    assert errors[0].startswith("m.tsm:1203:16: error: syntax error: expected")
+
+
+def test_an_error_after_a_large_container_keeps_the_container_but_not_its_nodes() -> None:
+    nodes = "".join(
+        f"    node N{i} {{\n        implementation pkg/exe\n    }}\n" for i in range(50)
+    )
+    text = f"robot container R {{\n{nodes}}}\n}} stray\n"
+    excerpt = tsm_reader.error_excerpt(text)
+    assert excerpt is not None and "robot container R" in excerpt and "N7" not in excerpt
+    errors = whole_and_excerpt_errors(text)
+    assert errors is not None and errors[0] == errors[1]
+    assert errors[0] == (
+        "m.tsm:153:1: error: syntax error: expected 'bridge', 'cloud', 'data', 'robot', "
+        "'transform', end of file, found '}'"
+    )
