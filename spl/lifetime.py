@@ -43,9 +43,13 @@ def _unwinding(signum: int) -> BaseException:
 def _leave(signum: int, _frame: object) -> None:
     global _signalled
     if os.getpid() != _owner:
-        # a child forked by subprocess runs Python (at-fork hooks, preexec_fn) before it
-        # execs, with this handler inherited: raising there is printed as "Exception
-        # ignored" and changes nothing; the owner stops that child anyway
+        # a forked child running with this handler inherited, before handlers of its own
+        # (subprocess's child in at-fork hooks before exec, a pool worker before its
+        # initializer): raising there may be swallowed ("Exception ignored"), and a pool
+        # worker terminated while it starts would then wait for work for ever, its pool
+        # waiting for it. The signal's own default action ends it, as without spl.
+        signal.signal(signum, signal.SIG_DFL)
+        os.kill(os.getpid(), signum)
         return
     if _signalled is not None:
         return  # already unwinding (Ctrl-C, then the pool's SIGTERM): let cleanup finish
