@@ -19,7 +19,7 @@ under a second for a 10,000-node .tsm on the 2-core development machine.
 
 The server runs without PYTHONDONTWRITEBYTECODE, as a user's install does (with
 bytecode). textX words syntax errors, from an excerpt of the file that leaves out the
-declarations before the one in error (``tsm_reader.error_excerpt``).
+declarations before the one in error (``tsm_syntax_excerpt.error_excerpt``).
 
     python bench/lsp_latency.py [--sizes 1000 10000] [--runs 5]
 """

@@ -35,6 +35,7 @@ from spl.dsl import (
     tsm_incremental,
     tsm_plain,
     tsm_reader,
+    tsm_syntax_excerpt,
     tsm_transforms,
 )
 from spl.dsl.fm_plain import without_cyclic_gc
@@ -135,7 +136,7 @@ def _textx_tree(text: str, filename: str) -> Any:
     """textX's parse tree of ``text``; a syntax error as a located ModelError."""
     from textx import TextXSyntaxError
 
-    excerpt = tsm_reader.error_excerpt(text)
+    excerpt = tsm_syntax_excerpt.error_excerpt(text)
     try:
         if excerpt is not None:
             # the reader gave up where it did: textX words the error from an excerpt

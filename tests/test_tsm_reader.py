@@ -28,7 +28,14 @@ from textx_trees import (
 from textx_trees import assert_reads_as_textx as reads_as_textx
 
 from spl.diagnostics import ModelError
-from spl.dsl import parse_tree, tsm, tsm_expression_reader, tsm_reader, tsm_tree
+from spl.dsl import (
+    parse_tree,
+    tsm,
+    tsm_expression_reader,
+    tsm_reader,
+    tsm_syntax_excerpt,
+    tsm_tree,
+)
 
 SHIPPED = shipped(".tsm")
 SUBSTITUTES = ("", "Zz", "2", '"/a b"', "optional", "-", "(", "node", "//", "/*", "é", "{", "->")
@@ -180,7 +187,7 @@ def whole_and_excerpt_errors(text: str) -> tuple[str, str] | None:
 
     from spl.dsl.tsm_syntax import syntax_diagnostic
 
-    excerpt = tsm_reader.error_excerpt(text)
+    excerpt = tsm_syntax_excerpt.error_excerpt(text)
     if excerpt is None:
         return None
     assert excerpt.count("\n") == text.count("\n")
@@ -228,7 +235,7 @@ def test_a_syntax_error_late_in_a_large_file_is_worded_from_a_small_excerpt() ->
     text = (
         f"robot container R {{\n    topic T : std_msgs/String\n{nodes}    node Bad {{ nope }}\n}}\n"
     )
-    excerpt = tsm_reader.error_excerpt(text)
+    excerpt = tsm_syntax_excerpt.error_excerpt(text)
     assert excerpt is not None and "N0" not in excerpt and "N298" not in excerpt
     errors = whole_and_excerpt_errors(text)
     assert errors is not None and errors[0] == errors[1]
@@ -240,7 +247,7 @@ def test_an_error_after_a_large_container_keeps_the_container_but_not_its_nodes(
         f"    node N{i} {{\n        implementation pkg/exe\n    }}\n" for i in range(50)
     )
     text = f"robot container R {{\n{nodes}}}\n}} stray\n"
-    excerpt = tsm_reader.error_excerpt(text)
+    excerpt = tsm_syntax_excerpt.error_excerpt(text)
     assert excerpt is not None and "robot container R" in excerpt and "N7" not in excerpt
     errors = whole_and_excerpt_errors(text)
     assert errors is not None and errors[0] == errors[1]
