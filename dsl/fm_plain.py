@@ -17,34 +17,9 @@ and ``position`` the character offset the element was read at.
 from __future__ import annotations
 
 import bisect
-import gc
-from collections.abc import Iterator
-from contextlib import contextmanager
 from typing import Any
 
 from spl.diagnostics import Location
-
-
-@contextmanager
-def without_cyclic_gc() -> Iterator[None]:
-    """Cyclic garbage collection paused: reading and encoding a big model allocate
-    hundreds of thousands of acyclic tuples and plain objects, and the collector's passes
-    over them (which can free nothing) cost a fifth of the reading time.
-
-    When collection resumes, what the block allocated is moved to the oldest generation
-    (a freeze and unfreeze: no object is visited): it is the model just read, alive, and
-    the first young collection would otherwise walk all of it (about a second after
-    reading a 10,000-node .tsm). Skipped when something else holds objects frozen."""
-    collecting = gc.isenabled()
-    gc.disable()
-    try:
-        yield
-    finally:
-        if collecting:
-            if gc.get_freeze_count() == 0:
-                gc.freeze()
-                gc.unfreeze()
-            gc.enable()
 
 
 class Source:

@@ -38,7 +38,7 @@ from spl.dsl import (
     tsm_syntax_excerpt,
     tsm_transforms,
 )
-from spl.dsl.fm_plain import without_cyclic_gc
+from spl.dsl.cyclic_gc import without_cyclic_gc
 from spl.dsl.tsm_bridges import (
     bridged_clients,
     endpoint_client_name,

@@ -23,6 +23,7 @@ from typing import NoReturn
 
 from spl.diagnostics import DiagnosticSink, ModelError
 from spl.dsl import literals
+from spl.dsl.cyclic_gc import without_cyclic_gc
 from spl.dsl.fm_formats import CAPABILITY, ORIGINAL_NAME, FeatureNames, model_name
 from spl.dsl.fm_plain import (
     Attribute,
@@ -31,7 +32,6 @@ from spl.dsl.fm_plain import (
     Group,
     Sharing,
     Source,
-    without_cyclic_gc,
 )
 from spl.dsl.fm_vocabulary import SHARING_MODES, canonical_value, too_deep
 from spl.dsl.uvl_formulas import FormulaReader, Syntax

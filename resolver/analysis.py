@@ -26,7 +26,7 @@ from typing import Any
 
 from pysat.solvers import Solver
 
-from spl.dsl.fm_plain import without_cyclic_gc
+from spl.dsl.cyclic_gc import without_cyclic_gc
 from spl.resolver.cnf import FeatureModelCNF, encode
 from spl.resolver.operations.backbone import backbone
 from spl.resolver.operations.false_optional import false_optional

@@ -8,14 +8,13 @@ endpoint rewiring, architecture checks.
 
 from __future__ import annotations
 
-import gc
 import math
-from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import Any
 
 from spl.diagnostics import DiagnosticSink, Location, ModelError, location_of
 from spl.dsl import literals
+from spl.dsl.cyclic_gc import without_cyclic_gc
 from spl.emf import copy_with_map
 from spl.metamodels import tsm
 from spl.resolver import pruning, rewiring
@@ -42,22 +41,10 @@ class Resolution:
 
 
 def resolve(line: ProductLine, selection: ProductSelection) -> Resolution:
-    with _collector_paused():
+    # resolution builds one large graph and keeps it all: the collector rescanning it
+    # while it grows made resolve time superlinear; its cycles are left for later
+    with without_cyclic_gc("left"):
         return _resolve(line, selection)
-
-
-@contextmanager
-def _collector_paused():
-    """Resolution builds one large object graph and keeps all of it: letting the cyclic
-    garbage collector rescan it while it grows made resolve time superlinear in model
-    size. Whatever cycles the resolution leaves are collected once it is done."""
-    was_enabled = gc.isenabled()
-    gc.disable()
-    try:
-        yield
-    finally:
-        if was_enabled:
-            gc.enable()
 
 
 def _resolve(line: ProductLine, selection: ProductSelection) -> Resolution:

@@ -21,15 +21,14 @@ depend on the application layer that implements it.
 
 from __future__ import annotations
 
-import gc
 import time
 from collections.abc import Callable, Iterable, Iterator
-from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Literal
 
 from spl.diagnostics import ModelError
+from spl.dsl.cyclic_gc import without_cyclic_gc
 from spl.lifetime import die_with_parent, raise_if_signalled, unwind_on_signals
 from spl.pipeline import load_line
 from spl.resolver.product_line import ProductLine
@@ -208,26 +207,8 @@ def _run_in_worker(case: ProductCase) -> CaseResult:
     raise_if_signalled()
     loaded = _LINES[case.line]
     assert loaded.line is not None
-    with _collected_once():
+    with without_cyclic_gc("dropped"):  # one product built, used and dropped as a whole
         return run_case(loaded.line, loaded.name, case, _CHECKS)
-
-
-@contextmanager
-def _collected_once() -> Iterator[None]:
-    """One product without the cyclic garbage collector, then one collection of the
-    youngest generation. A product's models, bundle and reports are built, used and
-    dropped as a whole (pyecore's objects refer to each other, so only the collector
-    frees them): collected as they grow, they were scanned two or three times while still
-    in use (half the collections of a run); collected once after the product, each is
-    scanned once, as garbage, and what stays (the result, the caches) moves on."""
-    was_enabled = gc.isenabled()
-    gc.disable()
-    try:
-        yield
-    finally:
-        if was_enabled:
-            gc.collect(0)
-            gc.enable()
 
 
 def _run_chunk_in_worker(cases: list[ProductCase]) -> list[CaseResult]:
