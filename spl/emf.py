@@ -69,8 +69,15 @@ def copy_with_map(root: EObject) -> tuple[EObject, dict[int, EObject]]:
         values, references = _plan(src)
         if references:
             pending.append((src, dst, references))
+        state = src.__dict__
         for name, many, containment, default, attribute in values:
-            value = getattr(src, name)
+            if many:
+                value = getattr(src, name)
+            else:  # read as pyecore's descriptor does, without the descriptor call
+                slot = state.get(name)
+                if slot is None:  # never set nor read: the default, not copied
+                    continue
+                value = slot._value if type(slot) is EValue else getattr(src, name)
             if many:
                 if value:
                     getattr(dst, name).extend(
@@ -112,7 +119,7 @@ def _set_attribute(obj: EObject, attribute: EAttribute, name: str, value: object
     object yet, so pyecore's type check and notification (which walks up to the
     object's resource every time) have nothing to do; they were a third of a copy."""
     slot = _new_slot(EValue)
-    slot.__dict__.update(_ATTRIBUTE_SLOT, owner=obj, feature=attribute, _value=value)
+    slot.__dict__ = {"owner": obj, "feature": attribute, **_ATTRIBUTE_SLOT, "_value": value}
     obj.__dict__[name] = slot
     obj._isset[attribute] = None
 
