@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import hashlib
 import importlib
-import json
 import os
 import shutil
 from dataclasses import dataclass
@@ -23,6 +22,7 @@ from pathlib import Path
 from spl import __version__
 from spl.dsl.tsm_printer import print_model
 from spl.generators.bundle_paths import BundleFiles, BundlePathClash, check_paths
+from spl.generators.json_text import indented
 from spl.generators.resolved_xmi import resolved_xmi
 from spl.generators.zenoh_bridge import transport_reused
 from spl.resolver.product import ResolvedProduct, node_keys
@@ -153,7 +153,7 @@ def manifest(
     }
     if product.left_out:  # only then, so bundles that leave nothing out keep their bytes
         document["left_out"] = dict(product.left_out)
-    return (json.dumps(document, indent=2, sort_keys=True) + "\n").encode("utf-8")
+    return (indented(document, sort_keys=True) + "\n").encode("utf-8")
 
 
 def write_bundle(files: dict[str, bytes], out: Path) -> None:
