@@ -93,6 +93,12 @@ class Digraph(graphviz.Digraph):
     _quote_edge = staticmethod(_quote_edge)
     _a_list = staticmethod(_a_list)
     _attr_list = staticmethod(_attr_list)
+    # graphviz's own statements, without the positional-argument check around each call
+    # (spl passes attributes by keyword only)
+    node = graphviz.Digraph.node.__wrapped__
+    edge = graphviz.Digraph.edge.__wrapped__
+    attr = graphviz.Digraph.attr.__wrapped__
+    subgraph = graphviz.Digraph.subgraph.__wrapped__
 
 
 def html_text(text: Any) -> str:
