@@ -14,20 +14,16 @@ from __future__ import annotations
 
 import hashlib
 import importlib
-import io
-import json
 import os
 import shutil
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
-
-from pyecore.resources import URI
-from pyecore.resources.xmi import XMIResource
 
 from spl import __version__
 from spl.dsl.tsm_printer import print_model
 from spl.generators.bundle_paths import BundleFiles, BundlePathClash, check_paths
+from spl.generators.json_text import indented
+from spl.generators.resolved_xmi import resolved_xmi
 from spl.generators.zenoh_bridge import transport_reused
 from spl.resolver.product import ResolvedProduct, node_keys
 
@@ -76,61 +72,6 @@ class Bundle:
     def skip_warnings(self) -> list[str]:
         """``architecture.svg not written: <reason>``, one line per skipped file."""
         return [f"{path} not written: {reason}" for path, reason in self.skipped.items()]
-
-
-class _InMemoryURI(URI):
-    """Lets pyecore serialise into memory: the bundle is assembled before any write."""
-
-    def __init__(self) -> None:
-        super().__init__("resolved.xmi")
-        self.buffer = io.BytesIO()
-
-    def create_outstream(self) -> io.BytesIO:
-        return self.buffer
-
-
-class _ResolvedXMI(XMIResource):
-    """pyecore's XMI writer, with each class's ID attribute looked up once per process
-    and each referenced element's path once per save: pyecore walks all of a class's
-    attributes and the element's containers up to the root again for every reference it
-    writes (half the time of writing a product's model). Neither the metamodel nor the
-    model changes while the file is written, so neither do the answers."""
-
-    def save(self, output: Any = None, options: Any = None) -> None:
-        self._paths: dict[int, tuple[Any, tuple[str, bool]]] = {}
-        try:
-            super().save(output, options)
-        finally:
-            self._paths = {}
-
-    def _build_path_from(self, obj: Any) -> tuple[str, bool]:
-        """The reference to ``obj`` written in this file, computed once per element and
-        save (pyecore walks up to the root for it at every reference)."""
-        known = self._paths.get(id(obj))
-        if known is None:
-            known = self._paths[id(obj)] = (obj, super()._build_path_from(obj))
-        return known[1]
-
-    @staticmethod
-    def get_id_attribute(eclass: Any) -> Any:
-        known = _ID_ATTRIBUTES.get(id(eclass))
-        if known is None:  # the class is kept with it, so its id is never reused
-            known = _ID_ATTRIBUTES[id(eclass)] = (eclass, XMIResource.get_id_attribute(eclass))
-        return known[1]
-
-
-_ID_ATTRIBUTES: dict[int, tuple[Any, Any]] = {}
-
-
-def resolved_xmi(system: Any) -> bytes:
-    resource = _ResolvedXMI(URI("resolved.xmi"))
-    resource.append(system)
-    output = _InMemoryURI()
-    try:
-        resource.save(output=output)
-    finally:
-        resource.remove(system)
-    return output.buffer.getvalue()
 
 
 # Generators that run an external program to render a picture; ``render_diagrams=False``
@@ -212,7 +153,7 @@ def manifest(
     }
     if product.left_out:  # only then, so bundles that leave nothing out keep their bytes
         document["left_out"] = dict(product.left_out)
-    return (json.dumps(document, indent=2, sort_keys=True) + "\n").encode("utf-8")
+    return (indented(document, sort_keys=True) + "\n").encode("utf-8")
 
 
 def write_bundle(files: dict[str, bytes], out: Path) -> None:

@@ -18,6 +18,7 @@ from spl.generators.bundle import Skipped
 from spl.generators.graphviz_output import (
     DOT_MISSING,
     FONT,
+    Digraph,
     graph_id,
     html_table,
     html_text,
@@ -250,7 +251,7 @@ def _legend(graph: graphviz.Digraph) -> None:
 
 def architecture_graph(system: Any, product: ResolvedProduct | None = None) -> graphviz.Digraph:
     """The resolved (or template) architecture in the notation of seeds/003 Fig. 4."""
-    graph = graphviz.Digraph(name=system.name or "system")
+    graph = Digraph(name=system.name or "system")
     graph.attr(
         rankdir="LR",
         fontname=FONT,

@@ -27,7 +27,6 @@ returned: a file the engine would refuse is never emitted.
 
 from __future__ import annotations
 
-import json
 import math
 import re
 from collections import defaultdict
@@ -37,6 +36,7 @@ from typing import Any
 import yaml
 
 from spl.diagnostics import Diagnostic, ModelError, location_of
+from spl.generators.json_text import indented
 from spl.generators.rapyuta_bridges import Bridges
 from spl.generators.rapyuta_rules import check_all
 from spl.resolver.placement import MODES, Place, Placement, sharing_mode
@@ -221,7 +221,7 @@ def _unique(errors: list[Diagnostic]) -> list[Diagnostic]:
 
 def render(document: dict[str, Any]) -> bytes:
     """Deterministic JSON: sorted keys, indent 2, final newline."""
-    return (json.dumps(document, indent=2, sort_keys=True, allow_nan=False) + "\n").encode()
+    return (indented(document, sort_keys=True, allow_nan=False) + "\n").encode()
 
 
 def generate(product: ResolvedProduct) -> dict[str, bytes]:

@@ -69,8 +69,15 @@ def copy_with_map(root: EObject) -> tuple[EObject, dict[int, EObject]]:
         values, references = _plan(src)
         if references:
             pending.append((src, dst, references))
+        state = src.__dict__
         for name, many, containment, default, attribute in values:
-            value = getattr(src, name)
+            if many:
+                value = getattr(src, name)
+            else:  # read as pyecore's descriptor does, without the descriptor call
+                slot = state.get(name)
+                if slot is None:  # never set nor read: the default, not copied
+                    continue
+                value = slot._value if type(slot) is EValue else getattr(src, name)
             if many:
                 if value:
                     getattr(dst, name).extend(
@@ -96,14 +103,23 @@ def copy_with_map(root: EObject) -> tuple[EObject, dict[int, EObject]]:
     return copy, mapping
 
 
+# The fields EValue(owner, attribute) sets besides owner, feature and _value, which are
+# the same for every attribute (it is no reference, its type found on first check):
+# filled in directly, since its __init__ (with a default value computed only to be
+# replaced) was half of setting an attribute in a copy. tests/test_emf_copy.py checks
+# the slots equal to pyecore's own.
+_ATTRIBUTE_SLOT = {"is_ref": False, "is_cont": False, "generic_type": None}
+_new_slot = object.__new__
+
+
 def _set_attribute(obj: EObject, attribute: EAttribute, name: str, value: object) -> None:
     """``obj.name = value`` for a single-valued attribute of an object just created and
     not yet contained anywhere, as pyecore stores it: the value comes from the same
     attribute of the original (so it has the type), and nobody can listen to the new
     object yet, so pyecore's type check and notification (which walks up to the
     object's resource every time) have nothing to do; they were a third of a copy."""
-    slot = EValue(obj, attribute)
-    slot._value = value
+    slot = _new_slot(EValue)
+    slot.__dict__ = {"owner": obj, "feature": attribute, **_ATTRIBUTE_SLOT, "_value": value}
     obj.__dict__[name] = slot
     obj._isset[attribute] = None
 

@@ -51,3 +51,23 @@ def test_edits_and_listeners_on_a_copy_work_and_leave_the_original_alone():
     assert heard == [("name", "Renamed")]
     assert node.name == "Renamed"
     assert {id(n): n.name for c in original.containers for n in c.nodes} == before
+
+
+@pytest.mark.parametrize("path", MODELS, ids=lambda p: p.stem)
+def test_a_copied_attribute_slot_is_the_one_pyecore_builds(path):
+    from pyecore.valuecontainer import EValue
+
+    original = parse_file(path)
+    _, mapping = copy_with_map(original)
+    compared = 0
+    for element in [original, *original.eAllContents()]:
+        twin = mapping[id(element)]
+        for feature in element.eClass.eAllAttributes():
+            slot = twin.__dict__.get(feature.name)
+            if feature.many or slot is None:
+                continue
+            own = EValue(twin, feature)
+            own._value = getattr(element, feature.name)
+            assert type(slot) is EValue and vars(slot) == vars(own), feature.name
+            compared += 1
+    assert compared > 0

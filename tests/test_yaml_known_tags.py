@@ -87,3 +87,25 @@ def test_loading_and_dumping_match_pyyaml_scalar_by_scalar():
                 for scalar, error in REFUSED.items():
                     with pytest.raises(error):
                         yaml.load(f"- {scalar}", Loader=each)
+
+
+def test_document_nodes_write_what_pyyaml_representer_writes():
+    """kubernetes_objects' own node building against PyYAML's representer, on both
+    emitters, for every kind of value (and one it leaves to the representer)."""
+    from spl.generators.kubernetes_objects import _dumper, _Literal
+
+    shared = {"a": "b"}  # met twice: written twice, never as an anchor
+    document = {
+        "scalars": SCALARS,
+        "kinds": [True, False, None, 0, -7, 7447, 2.5, "", _Literal("line 1\nline 2\n")],
+        "keys": {1: "one", False: "no", None: "none"},
+        "empty": [{}, [], {"x": []}],
+        "shared": [shared, shared],
+        "tuple": (1, "two"),
+    }
+    for base in (yaml.SafeDumper, getattr(yaml, "CSafeDumper", yaml.SafeDumper)):
+        fast, own = _dumper(base), _dumper(base, nodes=False)
+        for _ in range(2):
+            options = {"sort_keys": False, "default_flow_style": False, "width": 2**16}
+            text = yaml.dump_all([document, shared], Dumper=fast, **options)
+            assert text == yaml.dump_all([document, shared], Dumper=own, **options)
