@@ -12,8 +12,10 @@ reason, and the command line warns. Nothing else in the job depends on such a pr
 
 from __future__ import annotations
 
+import errno
 import hashlib
 import importlib
+import json
 import os
 import shutil
 from dataclasses import dataclass
@@ -158,9 +160,14 @@ def manifest(
 
 def write_bundle(files: dict[str, bytes], out: Path) -> None:
     """Write ``files`` as the folder ``out``, all or nothing; paths that would land on
-    one file are refused before anything is written (:func:`check_paths`)."""
+    one file are refused before anything is written (:func:`check_paths`). ``out`` may
+    be new, an empty folder or an earlier bundle (which the new one replaces); anything
+    else there (a file, the product line's own folder, a user's folder) is refused with
+    FileExistsError before anything is written, since replacing it would delete it."""
     check_paths(files)
     out = Path(out)
+    if out.exists() or out.is_symlink():
+        _check_replaceable(out)
     out.parent.mkdir(parents=True, exist_ok=True)
     staging = out.parent / f".{out.name}.tmp-{os.getpid()}"
     retired = out.parent / f".{out.name}.old-{os.getpid()}"
@@ -175,3 +182,30 @@ def write_bundle(files: dict[str, bytes], out: Path) -> None:
     finally:
         shutil.rmtree(staging, ignore_errors=True)
         shutil.rmtree(retired, ignore_errors=True)
+
+
+# The files by which a folder is known as a bundle spl wrote: a product's manifest or a
+# fleet's, each naming spl's toolchain.
+BUNDLE_MANIFESTS = ("manifest.json", "fleet.json")
+
+
+def _check_replaceable(out: Path) -> None:
+    """FileExistsError unless ``out`` is an empty folder or a bundle spl wrote."""
+    if out.is_dir() and not out.is_symlink():
+        if not any(out.iterdir()) or any(_written_by_spl(out / name) for name in BUNDLE_MANIFESTS):
+            return
+        reason = "exists and is not a bundle written by spl (no spl manifest.json in it)"
+    elif out.is_symlink():
+        reason = "is a symbolic link"
+    else:
+        reason = "exists and is not a folder"
+    raise FileExistsError(errno.EEXIST, f"{reason}; give another -o or remove it", str(out))
+
+
+def _written_by_spl(manifest: Path) -> bool:
+    try:
+        document = json.loads(manifest.read_bytes())
+    except (OSError, ValueError):
+        return False
+    toolchain = document.get("toolchain") if isinstance(document, dict) else None
+    return isinstance(toolchain, dict) and toolchain.get("name") == "spl-robotics"

@@ -4,6 +4,8 @@ errors, the SPEC section 4 example, and the command line's determinism and atomi
 from __future__ import annotations
 
 import hashlib
+import json
+import shutil
 from pathlib import Path
 
 import pytest
@@ -149,6 +151,45 @@ def test_failed_resolve_keeps_the_previous_bundle(tmp_path):
     before = digest(out)
     assert run("resolve", str(MAPPING), "--features", "YouBot", "-o", str(out)).exit_code == 1
     assert digest(out) == before and [p.name for p in tmp_path.iterdir()] == ["bundle"]
+
+
+def test_out_never_replaces_what_spl_did_not_write(tmp_path):
+    """`-o` naming the product line's own folder (reported: its models were deleted, exit
+    0), a folder of the user's, a file or a symbolic link is refused, exit 1, nothing
+    touched; an earlier bundle and an empty folder are replaced."""
+    line = tmp_path / "mapping3d"
+    shutil.copytree(MAPPING, line)
+    before = digest(line)
+    features = ["resolve", str(line), "--features", "YouBot,Depth,Room", "-o"]
+    notes = tmp_path / "notes"
+    notes.mkdir()
+    (notes / "todo.txt").write_text("keep me\n")
+    a_file = tmp_path / "file.txt"
+    a_file.write_text("keep me\n")
+    link = tmp_path / "link"
+    link.symlink_to(notes)
+    for out, reason in [
+        (line, "is not a bundle written by spl"),
+        (line / "products", "is not a bundle written by spl"),
+        (notes, "is not a bundle written by spl"),
+        (a_file, "is not a folder"),
+        (link, "is a symbolic link"),
+    ]:
+        result = run(*features, str(out))
+        assert result.exit_code == 1, result.output
+        assert f"{out}: error: " in result.output and reason in result.output
+    assert digest(line) == before
+    assert (notes / "todo.txt").read_text() == "keep me\n" == a_file.read_text()
+    assert link.is_symlink()
+    # what may be replaced: an empty folder, then the bundle spl wrote there
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    assert run(*features, str(empty)).exit_code == 0
+    assert (
+        run("resolve", str(line), "--features", "YouBot,Stereo,Room", "-o", str(empty)).exit_code
+        == 0
+    )
+    assert "Stereo" in json.loads((empty / "manifest.json").read_text())["features"]
 
 
 def test_resolved_tsm_checks_again(tmp_path):
