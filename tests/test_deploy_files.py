@@ -109,3 +109,29 @@ def test_nothing_to_deploy_without_stores() -> None:
         container.stores.clear()
     assert deploy.generate(resolved) == {}
     assert service.generate(resolved) == {}
+
+
+def test_names_yaml_would_read_as_other_values_stay_text() -> None:
+    """A product called ``no`` and a store called ``null`` (both valid identifiers) were
+    written bare: YAML read ``part-of: no`` as false and ``services: {null: ...}`` as a
+    null key, and kubernetes-validate refused the Deployment. Every name reads back as
+    the text it is, and every manifest passes ``kubernetes-validate --strict``."""
+    import kubernetes_validate
+
+    resolved = product(name="no", features=POSTGRES)
+    store = next(s for c in resolved.system.containers for s in c.stores)
+    store.name = "null"
+    files = deploy.generate(resolved)
+    compose = documents(files, "deploy/docker-compose.yml")[0]
+    assert compose["name"] == "no" and "null" in compose["services"]
+    manifests = [p for p in files if p.startswith("deploy/kubernetes/")]
+    assert "deploy/kubernetes/null.yaml" in manifests
+    for path in manifests:
+        for document in documents(files, path):
+            labels = document["metadata"].get("labels", {})
+            assert labels.get("app.kubernetes.io/part-of", "no") == "no"
+            kubernetes_validate.validate(document, "1.33.0", strict=True)
+    deployment = next(
+        d for d in documents(files, "deploy/kubernetes/null.yaml") if d["kind"] == "Deployment"
+    )
+    assert deployment["metadata"]["name"] == "null"
