@@ -13,7 +13,12 @@ from __future__ import annotations
 import re
 
 INT32_MAX = 2**31 - 1  # EInt in the metamodels, Rapyuta's resource fields
-INT64_MAX = 2**63 - 1  # ROS integer parameters
+INT64_MAX = 2**63 - 1  # feature attributes
+# ROS integer parameters: ROS 1's parameter server speaks XML-RPC, whose integers are
+# 32-bit (rospy refuses a larger one when roslaunch sets it: "int exceeds XML-RPC
+# limits"), and every bundle has ROS 1 launch files
+ROS_INT_MAX = INT32_MAX
+ROS_INT_RANGE = f"ROS 1 parameters are 32-bit integers, at most {ROS_INT_MAX} in magnitude"
 
 _DECIMAL = re.compile(r"[-+]?0*(\d+)")
 

@@ -371,8 +371,10 @@ def canonical_parameter_value(value: Any, ptype: str) -> tuple[str | None, str |
     if kind == "BoolValue":
         return (text, None) if ptype == "bool" else (None, f"expected a {ptype} value, got {text}")
     if ptype == "int" and text.lstrip("+-").isdigit():
-        value = literals.int_literal(text)
-        return (str(value), None) if value is not None else (None, f"{text} is out of range")
+        value = literals.int_literal(text, literals.ROS_INT_MAX)
+        if value is None:
+            return None, f"{text} is out of range: {literals.ROS_INT_RANGE}"
+        return str(value), None
     if ptype == "double":
         value = float(text)
         return (repr(value), None) if math.isfinite(value) else (None, f"{text} is out of range")

@@ -123,10 +123,10 @@ def _parameter_value(tree: Any, ptype: str) -> tuple[str | None, str | None]:
         )
     if ptype == "int":
         if re.fullmatch(r"[-+]?\d+", text):
-            value = literals.int_literal(text)
+            value = literals.int_literal(text, literals.ROS_INT_MAX)
             if value is not None:
                 return str(value), None
-            return None, f"{text} is out of range"
+            return None, f"{text} is out of range: {literals.ROS_INT_RANGE}"
         return None, f"expected an int value, got {text}"
     if ptype == "double":
         value = float(text)

@@ -211,7 +211,11 @@ def test_a_file_that_is_not_utf8_is_located(tmp_path, model):
     ("value", "message"),
     [
         ("1e999", "parameter rate is double: 1e999 is out of range"),
-        (DIGITS, f"parameter port is int: {DIGITS} is out of range"),
+        (
+            DIGITS,
+            f"parameter port is int: {DIGITS} is out of range: ROS 1 parameters are 32-bit "
+            "integers, at most 2147483647 in magnitude",
+        ),
     ],
 )
 def test_rm_parameter_values_out_of_range_are_refused(tmp_path, value, message):
@@ -304,3 +308,51 @@ def test_a_uvl_attribute_out_of_range_is_located_not_dropped(tmp_path, value, me
     assert_clean(result, value)
     assert errors(result) == [f"{source}:{message}"]
     assert not target.exists()
+
+
+def test_int_parameters_fit_ros1s_32_bit_parameter_server(tmp_path):
+    """3000000000 passed spl check and spl validate, then roslaunch failed on the robot
+    ("int exceeds XML-RPC limits"). A .tsm or .rm literal beyond 32 bits is refused by
+    spl check, an attribute value beyond them by spl resolve, each at its location; the
+    largest 32-bit value still resolves into both launch files."""
+    line = tmp_path / "line"
+    line.mkdir()
+    (line / "l.fm").write_text(
+        "feature model L\nroot R { optional F { attribute limit : int = 2147483647 } }\n",
+        encoding="utf-8",
+    )
+    tsm = line / "l.tsm"
+    tsm.write_text(
+        "cloud container Bot {\n node N { implementation p/n\n param p : int = 1 } }\n",
+        encoding="utf-8",
+    )
+    rm = line / "l.rm"
+    rm.write_text(
+        'resolution model L\ntsm "l.tsm"\nfm "l.fm"\n'
+        "when F selected { parameter N.p = feature F.limit }\n",
+        encoding="utf-8",
+    )
+    out = tmp_path / "out"
+    assert run("resolve", line, "--features", "R,F", "-o", out).exit_code == 0
+    for launch in ("ros1/Bot.launch", "ros2/Bot.launch.xml"):
+        assert 'value="2147483647"' in (out / launch).read_text()
+    range_text = "ROS 1 parameters are 32-bit integers, at most 2147483647 in magnitude"
+
+    result = run("resolve", line, "--features", "R,F", "--set", "F.limit=-2147483648", "-o", out)
+    assert result.exit_code == 1
+    assert errors(result) == [
+        f"{rm}:4:19: error: parameter N.p cannot be feature attribute F.limit = -2147483648: "
+        + range_text
+    ]
+    assert 'value="2147483647"' in (out / "ros1/Bot.launch").read_text()  # left as it was
+
+    tsm.write_text(tsm.read_text().replace("= 1 }", "= 2147483648 }"), encoding="utf-8")
+    result = run("check", line)
+    assert result.exit_code == 1
+    assert f"{tsm}:3:18: error: parameter p is int: 2147483648 is out of range: " in result.output
+
+    tsm.write_text(tsm.read_text().replace("2147483648", "1"), encoding="utf-8")
+    rm.write_text(rm.read_text().replace("feature F.limit", "-3000000000"), encoding="utf-8")
+    result = run("check", line)
+    assert result.exit_code == 1
+    assert f"{rm}:4:19: error: parameter p is int: -3000000000 is out of range: " in result.output

@@ -5,6 +5,7 @@ from __future__ import annotations
 from typing import Any
 
 from spl.diagnostics import location_of
+from spl.dsl import literals
 from spl.resolver.context import ResolutionContext, qualified
 
 
@@ -27,6 +28,12 @@ def apply(transformation: Any, ctx: ResolutionContext) -> None:
     parameter = ctx.copy_of(transformation.parameter)
     node = parameter.eContainer()
     value, source = _value(transformation, ctx, parameter.type.name)
+    if parameter.type.name == "int" and abs(int(value)) > literals.ROS_INT_MAX:
+        ctx.sink.error(
+            where,
+            f"parameter {node.name}.{parameter.name} cannot be {source}: {literals.ROS_INT_RANGE}",
+        )
+        return
     ctx.keep(node, f"its parameter {parameter.name} is set by {ctx.by()}", where)
     if ctx.decide("value", parameter, value, where):
         parameter.value = value
