@@ -109,7 +109,10 @@ def _int(value):
         if not math.isfinite(value):
             raise ValueError("result is not a finite number")
         value = int(value)
-    return int(value)
+    value = int(value)
+    if not -(2**63) <= value < 2**63:  # the refined column is 64-bit (SQLite, PostgreSQL)
+        raise ValueError("result is outside the 64-bit integer range")
+    return value
 
 
 def _bool(value):
@@ -117,7 +120,10 @@ def _bool(value):
 
 
 def _string(value):
-    return str(value)
+    value = str(value)
+    if "\\x00" in value:  # PostgreSQL text cannot hold it
+        raise ValueError("result contains a NUL character")
+    return value
 '''
 
 CONVERTERS = {"double": "_double", "int": "_int", "bool": "_bool", "string": "_string"}

@@ -22,7 +22,9 @@ from spl.resolver.generated_names import IDENTIFIER, snake_case
 from spl.resolver.product import ResolvedProduct
 from spl.resolver.stores import cloud_stores, store_errors, store_tables, table_indexes
 
-PYTHON_TYPES = {"double": "float", "int": "int", "string": "str", "bool": "bool"}
+# the types of a posted record's fields (model.py.j2 defines Int64 and StoredText: what the
+# columns and PostgreSQL can hold, so a record that could never be stored is a 400)
+PYTHON_TYPES = {"double": "float", "int": "Int64", "string": "StoredText", "bool": "bool"}
 COLUMN_TYPES = {
     "double": "Double()",
     "int": "BigInteger()",

@@ -89,3 +89,64 @@ def test_the_service_does_not_start_without_its_token(directory: Path) -> None:
     assert result.returncode != 0
     assert "set RATIO_STORE_TOKEN to the bearer token writers must present" in result.stderr
     assert not (directory / "never.db").exists()
+
+
+def tally_system():  # type: ignore[no-untyped-def]
+    """Tally {n: int, tag: string} refined by Scale: n * 1000 (which can leave 64 bits)."""
+    system = T.System(name="Tallies")
+    tally, scaled = T.DataType(name="Tally"), T.DataType(name="Scaled")
+    for data_type in (tally, scaled):
+        data_type.fields.append(T.Field(name="n", type=T.FieldType.int))
+        data_type.fields.append(T.Field(name="tag", type=T.FieldType.string))
+    transform = T.Transform(name="Scale", input=tally, output=scaled)
+    transform.assignments.append(T.Assignment(field="n", expression=T.BinaryExpression(
+        operator="*", left=T.FieldReference(field="n"), right=T.NumberLiteral(value="1000"))))
+    transform.assignments.append(T.Assignment(field="tag", expression=T.FieldReference(
+        field="tag")))
+    system.dataTypes.extend([tally, scaled])
+    system.transforms.append(transform)
+    cloud = T.CloudContainer(name="Cloud", endpoint=T.Endpoint())
+    store = T.Store(name="TallyStore", raw=tally)
+    store.refinements.append(T.Refinement(output=scaled, transform=transform, period=1.0))
+    cloud.stores.append(store)
+    system.containers.append(cloud)
+    return system
+
+
+def test_values_the_database_cannot_hold_never_jam_the_service(tmp_path: Path) -> None:
+    """Reported on a line written from scratch: a refined value past 64 bits (n * 1000)
+    made every later step fail ("Python int too large to convert to SQLite INTEGER"),
+    so no record of any robot was refined again; ids and offsets past 64 bits were
+    answered 500. Now such posts are 400, such a result is that record's error and
+    the transformer goes on, and such ids are 404 / 400."""
+    files = service.generate(product(name="tallies", system=tally_system()))
+    directory = write_files(files, tmp_path) / "services" / "TallyStore"
+    env = {"TALLY_STORE_TOKEN": TOKEN, "TALLY_STORE_TRANSFORM_PERIOD": "0.05"}
+    running = RunningService(directory, "tally_store_service", env).start()
+    base = f"{running.url}/TallyStore"
+    try:
+        def post(robot: str, t: float, n: int, tag: str = "x") -> int:
+            record = {"robot": robot, "timestamp": t, "data": {"n": n, "tag": tag}}
+            return request("POST", f"{base}/records", record)[0]
+
+        assert post("bot_1", 0.5, 2**63) == 400  # no column holds it
+        assert post("bot_1", 0.5, 1, tag="a\u0000b") == 400  # PostgreSQL text cannot
+        assert post("bot_1", 1.0, 5) == 201
+        assert post("bot_1", 2.0, 10**16) == 201  # fits; times 1000 it does not
+        assert post("bot_1", 3.0, 7) == 201
+        assert post("bot_2", 4.0, 8) == 201
+        refined = wait_for(lambda: len(request("GET", f"{base}/Scaled")[2]["items"]) == 3
+                           and request("GET", f"{base}/Scaled")[2]["items"])
+        assert sorted((i["robot"], i["n"]) for i in refined) == [
+            ("bot_1", 5000), ("bot_1", 7000), ("bot_2", 8000)]
+        errors = request("GET", f"{base}/errors")[2]["items"]
+        assert [e["message"] for e in errors] == [
+            "Scale: result is outside the 64-bit integer range"]
+
+        huge = "9" * 23
+        assert request("GET", f"{base}/records/{huge}")[0] == 404
+        assert request("GET", f"{base}/Scaled/{huge}")[0] == 404
+        assert request("GET", f"{base}/records?after_id={huge}")[0] == 400
+        assert request("GET", f"{base}/Scaled?offset={huge}")[0] == 400
+    finally:
+        running.stop()
