@@ -24,7 +24,7 @@ from spl.resolver.context import ResolutionContext, describe
 from spl.resolver.data_clients import implement_data_clients
 from spl.resolver.product import ResolvedProduct, node_keys
 from spl.resolver.product_line import ProductLine
-from spl.resolver.product_selection import ProductSelection
+from spl.resolver.product_selection import CommandLineValue, ProductSelection, typed_text
 from spl.resolver.selection import SelectionCheck, check_selection
 from spl.resolver.trace import Trace
 from spl.resolver.transformations import APPLY
@@ -128,8 +128,14 @@ def product_attributes(
             sink.error(where, f"unknown feature attribute {key}")
             continue
         kind = attributes[key][1]
+        if isinstance(value, CommandLineValue):  # --set text, read by the declared type
+            typed = typed_text(value, kind)
+            if typed is None:
+                sink.error(where, f"attribute {key} is {kind}, got {str(value)!r}")
+                continue
+            value = typed
         if not _fits(value, kind):
-            sink.error(where, f"attribute {key} is {kind}, got {value!r}")
+            sink.error(where, f"attribute {key} is {kind}, got {_shown(value)}")
             continue
         if key.split(".")[0] not in selected:
             sink.error(
@@ -138,6 +144,17 @@ def product_attributes(
             continue
         values[key] = float(value) if kind == "double" else value
     return {k: v for k, v in sorted(values.items()) if k.split(".")[0] in selected}
+
+
+def _shown(value: Any) -> str:
+    """A selection file's value as its YAML reads, not as Python writes it."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if value is None:
+        return "nothing (null)"
+    if isinstance(value, int | float | str):
+        return repr(value) if isinstance(value, str) else str(value)
+    return f"a {type(value).__name__} ({value})"
 
 
 def _features(feature: Any):

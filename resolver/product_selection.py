@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING, Any
 import yaml
 
 from spl.diagnostics import DiagnosticSink, Location, ModelError, model_text
+from spl.dsl import literals
 
 if TYPE_CHECKING:
     from spl.resolver.capabilities import RobotCapabilities
@@ -228,6 +229,28 @@ def _kind(node: yaml.Node) -> str:
     return "a list" if isinstance(node, yaml.SequenceNode) else "a mapping"
 
 
+class CommandLineValue(str):
+    """An attribute value as typed after ``--set F.attr=``: text, read by the attribute's
+    type (:func:`typed_text`)."""
+
+
+_NUMBER = re.compile(r"[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?")
+
+
+def typed_text(text: str, kind: str) -> Any:
+    """``text`` read as a value of attribute type ``kind`` (``string`` takes it as it is),
+    or None when it is not one: ``true``/``false``, a decimal int, a decimal number."""
+    if kind == "string":
+        return str(text)
+    if kind == "bool":
+        return {"true": True, "false": False}.get(text)
+    if kind == "int":
+        return literals.int_literal(text, literals.INT64_MAX)
+    if kind == "double" and _NUMBER.fullmatch(text):
+        return float(text)
+    return None
+
+
 def _value(text: str) -> tuple[Any, str | None]:
     """(value, None) for a YAML scalar, or (None, why not): an unknown tag or a tagged
     value that does not convert (``!!float x``) is the user's error, not ours."""
@@ -281,11 +304,9 @@ def apply_overrides(
         if not re.fullmatch(r"[A-Za-z_]\w*\.[A-Za-z_]\w*", key, re.ASCII) or not value:
             sink.error(where, f"{text!r}: expected FEATURE.ATTRIBUTE=VALUE")
             continue
-        parsed, problem = _value(value)
-        if problem:
-            sink.error(where, f"{text!r}: {problem}")
-            continue
-        selection.attributes[key] = parsed
+        # read by the attribute's declared type when the product is resolved, not as YAML
+        # (which would make `off` a bool, `2024-01-01` a date and `#3` nothing)
+        selection.attributes[key] = CommandLineValue(value)
         selection.locations[key] = where
     sink.raise_if_errors()
     return selection

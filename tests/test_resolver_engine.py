@@ -76,6 +76,40 @@ def test_attribute_errors_are_located(conflicts):
     assert "unknown feature attribute Fast.speed" in unknown
 
 
+@pytest.mark.parametrize(
+    ("setting", "value"),
+    [  # each was read as YAML: a bool, an int, a date, nothing; 1e3 a string
+        ("Fast.name=off", "off"),
+        ("Fast.name=123", "123"),
+        ("Fast.name=2024-01-01", "2024-01-01"),
+        ("Fast.name=#3", "#3"),
+        ("Fast.rate=1e3", "1000.0"),
+        ("Fast.rate=75", "75.0"),
+    ],
+)
+def test_set_reads_the_value_by_the_attributes_type(tmp_path, setting, value):
+    """`--set F.attr=TEXT` is read as the attribute's declared type, not as YAML."""
+    line = tmp_path / "line"
+    shutil.copytree(CONFLICTS, line)
+    fm = next(line.glob("*.fm"))
+    fm.write_text(
+        fm.read_text().replace(
+            "attribute rate : double = 50.0",
+            'attribute rate : double = 50.0 attribute name : string = "x"',
+        )
+    )
+    conflicts = load_product_line(line)
+    selection = apply_overrides(selection_from_list("Fast"), [], [setting])
+    attributes = resolve(conflicts, selection).product.attributes
+    assert str(attributes[setting.split("=")[0]]) == value
+
+
+def test_set_refuses_text_that_is_not_of_the_attributes_type(conflicts):
+    for text in ("0x10", "true", "1.5.2", "nan"):
+        (message,) = errors_of(conflicts, "Fast", settings=[f"Fast.rate={text}"])
+        assert message == f"--set:1:1: error: attribute Fast.rate is double, got {text!r}"
+
+
 def test_sharing_default_and_override(conflicts):
     assert nodes(conflicts, "Shared")["Planner"].sharing.name == "protected"
     assert nodes(conflicts, "Shared", sharing=["Shared=public"])["Planner"].sharing.name == "public"

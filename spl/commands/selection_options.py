@@ -21,7 +21,8 @@ def selection_options(function):
         "settings",
         multiple=True,
         metavar="FEATURE.ATTR=VALUE",
-        help="set a feature attribute (overrides the file)",
+        help="set a feature attribute (overrides the file); VALUE is read by the attribute's "
+        "type: a string as typed, an int or double as a decimal number, a bool as true/false",
     )(function)
     function = click.option(
         "--sharing",
