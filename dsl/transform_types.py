@@ -147,7 +147,8 @@ class TransformTyping:
             "abs", "atan2", "if"
         ):
             if len(args) != arity:
-                self.error(expr, f"{name}() takes {arity} arguments, got {len(args)}")
+                noun = "argument" if arity == 1 else "arguments"
+                self.error(expr, f"{name}() takes {arity} {noun}, got {len(args)}")
                 return None
         else:
             self.error(expr, f"unknown function {name!r}")

@@ -213,7 +213,8 @@ def _call(names: Names, tree: Any, record_type: Any) -> Any:
     count = len(tree.arguments)
     if not fewest <= count <= most:
         wanted = str(fewest) if fewest == most else f"{fewest} to {most}"
-        names.error(tree.function, f"function {name} takes {wanted} arguments, got {count}")
+        noun = "argument" if wanted == "1" else "arguments"
+        names.error(tree.function, f"function {name} takes {wanted} {noun}, got {count}")
         return None
     arguments = [_expression(names, a, record_type) for a in tree.arguments]
     if any(a is None for a in arguments):

@@ -184,7 +184,8 @@ class ExpressionCompiler:
         target, low, high = entry
         if not low <= len(arguments) <= high:
             wanted = str(low) if low == high else f"{low} to {high}"
-            return self._error(expr, f"{name}() takes {wanted} arguments, got {len(arguments)}")
+            noun = "argument" if wanted == "1" else "arguments"
+            return self._error(expr, f"{name}() takes {wanted} {noun}, got {len(arguments)}")
         compiled = [self.compile(a) for a in arguments]
         if name == "if":
             condition, then, otherwise = compiled

@@ -114,11 +114,16 @@ class Placement:
     def _robot_id(self, robot: Any) -> str:
         robot_id = robot.endpoint.robotId if robot.endpoint is not None else None
         if not robot_id or not TAG.fullmatch(robot_id):
+            problem = (
+                f"robot_id {robot_id!r} is not a Rapyuta tag (letters, digits, '_' and '-')"
+                if robot_id
+                else "no robot_id: give the robot's endpoint one (endpoint robot_id \"...\") "
+                "or set it in the selection's deployment"
+            )
             self.errors.append(
                 Diagnostic(
                     location_of(robot.endpoint) or location_of(robot),
-                    f"robot container {robot.name}: robot_id {robot_id!r} is not a Rapyuta "
-                    "tag (letters, digits, '_' and '-')",
+                    f"robot container {robot.name}: {problem}",
                 )
             )
             return robot.name

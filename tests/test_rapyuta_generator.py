@@ -411,6 +411,10 @@ def test_a_robot_without_cloud_gets_credentials_only():
             lambda s: setattr(s.containers[1].endpoint, "robotId", 'x", "evil": "1'),
             "is not a Rapyuta tag",
         ),
+        (  # was "robot_id None is not a Rapyuta tag"
+            lambda s: setattr(s.containers[1].endpoint, "robotId", None),
+            "no robot_id: give the robot's endpoint one",
+        ),
         (
             lambda s: setattr(s.containers[1].endpoint, "passwordEnv", "$(reboot)"),
             "is not an environment variable name",

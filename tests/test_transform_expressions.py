@@ -134,7 +134,7 @@ def test_hostile_field_references_are_refused(field: str) -> None:
     (binary("if", num("2"), num("3")), "unknown operator"),
     (call("__import__", num("1")), "unknown function"),
     (call("eval", num("1")), "unknown function"),
-    (call("sqrt", num("1"), num("2")), "takes 1 arguments"),
+    (call("sqrt", num("1"), num("2")), "takes 1 argument"),
     (T.UnaryExpression(operator="~", operand=num("1")), "unknown unary operator"),
     (ref("x", "self"), "unknown record"),
     (ref("nothing"), "no field 'nothing'"),

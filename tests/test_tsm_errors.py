@@ -385,7 +385,7 @@ def test_expressions_refuse_anything_outside_the_language() -> None:
         """,
         "unknown function eval (allowed: abs, acos, asin, atan, atan2, ceil, cos, exp, floor, "
         "if, log, max, min, round, sin, sqrt, tan)",
-        "function sqrt takes 1 arguments, got 2",
+        "function sqrt takes 1 argument, got 2",
         "x.y: attribute chains are not allowed (write FIELD, prev.FIELD or next.FIELD)",
         "prev.x.y: attribute chains are not allowed (write FIELD, prev.FIELD or next.FIELD)",
         "unknown record other (write prev.FIELD or next.FIELD)",
