@@ -10,6 +10,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 from spl.diagnostics import Diagnostic, Location
+from spl.dsl.grammar_comments import is_comment
 
 if TYPE_CHECKING:
     from textx import TextXSyntaxError
@@ -17,7 +18,7 @@ if TYPE_CHECKING:
 
 def syntax_diagnostic(exc: TextXSyntaxError, filename: str) -> Diagnostic:
     """A textX syntax error as one located diagnostic naming what was expected."""
-    expected = sorted({_rule_label(r) for r in (exc.expected_rules or [])})
+    expected = sorted({_rule_label(r) for r in exc.expected_rules or [] if not is_comment(r)})
     if expected:
         listed = (
             ", ".join(expected[:-1]) + " or " + expected[-1] if len(expected) > 1 else expected[0]

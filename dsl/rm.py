@@ -19,6 +19,7 @@ from typing import Any
 from spl.diagnostics import Diagnostic, DiagnosticSink, Location, ModelError, counted, model_text
 from spl.dsl import literals, rm_reader, rosnames
 from spl.dsl.fm import all_features
+from spl.dsl.grammar_comments import is_comment
 from spl.dsl.parse_tree import Positions
 from spl.dsl.rm_models import referenced_models
 from spl.dsl.rm_names import (
@@ -98,7 +99,8 @@ def _textx_tree(text: str, filename: str) -> Any:
     try:
         return _grammar().model_from_str(text, file_name=filename)
     except TextXSyntaxError as exc:
-        expected = ", ".join(sorted({_expected(r) for r in (exc.expected_rules or [])})) or None
+        rules = [r for r in exc.expected_rules or [] if not is_comment(r)]
+        expected = ", ".join(sorted({_expected(r) for r in rules})) or None
         reason = exc.message.split(" at position")[0]
         if expected:
             reason = f"syntax error: expected {expected}"

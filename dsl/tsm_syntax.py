@@ -13,6 +13,7 @@ import re
 from typing import TYPE_CHECKING, Any
 
 from spl.diagnostics import Diagnostic, Location
+from spl.dsl.grammar_comments import is_comment
 
 if TYPE_CHECKING:
     from textx import TextXSyntaxError
@@ -43,6 +44,8 @@ def syntax_diagnostic(exc: TextXSyntaxError, text: str, filename: str) -> Diagno
         )
     words = []
     for rule in exc.expected_rules or []:
+        if is_comment(rule):
+            continue
         name = getattr(rule, "rule_name", "") or ""
         word = _RULE_WORDS.get(name)
         if word is None:

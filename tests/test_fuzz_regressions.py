@@ -356,3 +356,22 @@ def test_int_parameters_fit_ros1s_32_bit_parameter_server(tmp_path):
     result = run("check", line)
     assert result.exit_code == 1
     assert f"{rm}:4:19: error: parameter p is int: -3000000000 is out of range: " in result.output
+
+
+@pytest.mark.parametrize(
+    ("name", "text", "message"),
+    [
+        ("empty.fm", "", "1:1: error: syntax error: expected 'feature'"),
+        ("comment.fm", "// only a comment\n", "2:1: error: syntax error: expected 'feature'"),
+        ("empty.rm", "", "1:1: error: syntax error: expected resolution"),
+        ("node.tsm", "cloud container C { node }\n", "1:26: error: syntax error: expected a name"),
+    ],
+)
+def test_syntax_errors_do_not_list_the_comment_pattern(tmp_path, name, text, message):
+    # was: "expected '\/\/[^\n]*' or 'feature'": the grammars' comment regex shown to users
+    path = tmp_path / name
+    path.write_text(text, encoding="utf-8")
+    result = run("check", path)
+    assert result.exit_code == 1
+    assert errors(result)[0].startswith(f"{path}:{message}")
+    assert "\\/" not in result.output
