@@ -34,14 +34,32 @@ def int_literal(text: str, limit: int = INT64_MAX) -> int | None:
 
 
 def problem_yaml(text: str) -> str | None:
-    """None when ``text`` is a YAML document a ROS node can load; else why not."""
+    """None when ``text`` is a YAML parameter value both ROS generations can load; else
+    why not. ROS 2 turns a mapping into nested parameters and has no null or empty
+    parameter, so neither the value nor any mapping's entry in it may be null or ``{}``."""
     import yaml  # only models with yaml parameters pay for it
 
     try:
-        yaml.safe_load(text)
+        value = yaml.safe_load(text)
     except yaml.MarkedYAMLError as exc:
         return f"invalid YAML: {exc.problem or exc.context}"
     except (yaml.YAMLError, ValueError, TypeError, OverflowError) as exc:
         # a tag whose text does not convert (``!!float x``, ``!!binary ?``)
         return f"invalid YAML: {exc}"
+    empty = _empty_entry(value, ())
+    if empty is not None:
+        where = f" (at {'.'.join(empty)})" if empty else ""
+        return f"ROS 2 parameters cannot be null or empty{where}"
+    return None
+
+
+def _empty_entry(value: object, path: tuple[str, ...]) -> tuple[str, ...] | None:
+    """The key path of the first null or empty mapping among nested mappings, or None."""
+    if value is None or value == {}:
+        return path
+    if isinstance(value, dict):
+        for key, item in value.items():
+            found = _empty_entry(item, (*path, str(key)))
+            if found is not None:
+                return found
     return None

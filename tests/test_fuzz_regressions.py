@@ -375,3 +375,22 @@ def test_syntax_errors_do_not_list_the_comment_pattern(tmp_path, name, text, mes
     assert result.exit_code == 1
     assert errors(result)[0].startswith(f"{path}:{message}")
     assert "\\/" not in result.output
+
+
+@pytest.mark.parametrize(
+    ("value", "where"),
+    [("null", ""), ("{}", ""), ("{b: ~}", " (at b)"), ("{a: {c: {}}}", " (at a.c)")],
+)
+def test_yaml_parameters_ros2_cannot_hold_are_located(tmp_path, value, where):
+    # were: check 0 errors, then resolve "internal error: ValueError: parameter Cam.y:
+    # ROS 2 parameters cannot be null or empty" (exit 3) in every product
+    path = tmp_path / "y.tsm"
+    path.write_text(
+        f'cloud container C {{ node N {{ implementation p/n\n param y : yaml = "{value}" }} }}\n',
+        encoding="utf-8",
+    )
+    result = run("check", path)
+    assert result.exit_code == 1
+    assert errors(result) == [
+        f"{path}:2:19: error: parameter y is yaml: ROS 2 parameters cannot be null or empty{where}"
+    ]
