@@ -210,15 +210,34 @@ def check_transform(transform: Any) -> list[Diagnostic]:
     return typing.diagnostics
 
 
+# A field is a database column: SQLite compares column names without case, PostgreSQL
+# keeps the first 63 bytes of an identifier (names are ASCII).
+POSTGRES_IDENTIFIER = 63
+
+
 def check_data_type(data_type: Any) -> list[Diagnostic]:
     problems = []
+    columns: dict[str, Any] = {}  # a field's column name as the databases compare it
     for field in data_type.fields:
-        if field.name in RESERVED_FIELDS:
+        where = location_of(field) or location_of(data_type)
+        if field.name.lower() in RESERVED_FIELDS:
             problems.append(
                 Diagnostic(
-                    location_of(field) or location_of(data_type),
+                    where,
                     f"data {data_type.name}: field name {field.name!r} is reserved "
-                    f"({', '.join(RESERVED_FIELDS)} are columns of every stored record)",
+                    f"({', '.join(RESERVED_FIELDS)} are columns of every stored record, "
+                    "in any case)",
+                )
+            )
+            continue
+        first = columns.setdefault(field.name.lower()[:POSTGRES_IDENTIFIER], field)
+        if first is not field and first.name != field.name:  # same names: a parse error
+            problems.append(
+                Diagnostic(
+                    where,
+                    f"data {data_type.name}: fields {first.name} and {field.name} would be one "
+                    "database column (SQLite compares column names without case, PostgreSQL "
+                    f"keeps their first {POSTGRES_IDENTIFIER} characters)",
                 )
             )
     return problems

@@ -33,6 +33,21 @@ def container(names: Names, tree: Any) -> Any:
     container = (T.RobotContainer if robot else T.CloudContainer)(name=tree.name.name)
     names.locate(container, tree.name)
     names.declare(names.containers, container, tree.name, "container")
+    twin = next(
+        (
+            c
+            for n, c in names.containers.items()
+            if n != container.name and n.lower() == container.name.lower()
+        ),
+        None,
+    )
+    if twin is not None:  # bundle files are named after containers
+        names.error(
+            tree.name,
+            f"container name {container.name} differs from {twin.name} (line {twin.srcLine}) "
+            "only in case: their bundle files (ros1/<container>.launch, ...) would be one file "
+            "on a case-insensitive file system",
+        )
     container.endpoint = _endpoint(names, tree) if robot else None
     if container.endpoint is None:
         container.endpoint = names.locate(T.Endpoint(), tree.name)

@@ -108,6 +108,7 @@ class Placement:
                 self.neighbours[id(a)].add(id(b))
                 self.neighbours[id(b)].add(id(a))
         self.tags: dict[str, Place] = {}
+        self.folded_tags: dict[str, Place] = {}  # by tag in lower case
         for robot in self.robots:  # robots first: a container tag may not take their ids
             self.place(robot, "private", robot)
 
@@ -171,6 +172,16 @@ class Placement:
         else:
             place = Place(f"{container.name}_public", mode, container.name, "public")
         known = self.tags.setdefault(place.tag, place)
+        twin = self.folded_tags.setdefault(place.tag.lower(), place)
+        if twin.tag != place.tag:  # files are named after tags (zenoh/<robot_id>.json5)
+            self.errors.append(
+                Diagnostic(
+                    location_of(container),
+                    f"Rapyuta tags {twin.tag!r} ({twin.describe()}) and {place.tag!r} "
+                    f"({place.describe()}) differ only in case: their bundle files would be "
+                    "one file on a case-insensitive file system; rename one",
+                )
+            )
         if known != place:
             self.errors.append(
                 Diagnostic(

@@ -394,3 +394,54 @@ def test_yaml_parameters_ros2_cannot_hold_are_located(tmp_path, value, where):
     assert errors(result) == [
         f"{path}:2:19: error: parameter y is yaml: ROS 2 parameters cannot be null or empty{where}"
     ]
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        (  # was: resolve "internal error: BundlePathClash: ros1/cloud.launch and ros1/Cloud.launch"
+            "cloud container cloud { }\ncloud container Cloud { }\n",
+            "2:17: error: container name Cloud differs from cloud (line 1) only in case",
+        ),
+        (  # was: the generated service failed to start, "duplicate column name: Lat"
+            "data In { lat : double\n Lat : int }\n",
+            "2:2: error: data In: fields lat and Lat would be one database column",
+        ),
+        (  # was accepted; "duplicate column name: ID" at service start
+            "data In { ID : int }\n",
+            "1:11: error: data In: field name 'ID' is reserved",
+        ),
+        (  # PostgreSQL keeps 63 characters: "specified more than once"
+            f"data In {{ {'a' * 63}x : int\n {'a' * 63}y : int }}\n",
+            f"2:2: error: data In: fields {'a' * 63}x and {'a' * 63}y would be one database column",
+        ),
+    ],
+)
+def test_names_one_file_or_column_apart_only_in_case_are_located(tmp_path, text, message):
+    path = tmp_path / "m.tsm"
+    path.write_text(text, encoding="utf-8")
+    result = run("check", path)
+    assert result.exit_code == 1
+    assert errors(result)[0].startswith(f"{path}:{message}"), errors(result)
+
+
+def test_robot_ids_apart_only_in_case_are_located(tmp_path):
+    # was: resolve "internal error: BundlePathClash: zenoh/ROBOT_1.json5 and zenoh/robot_1.json5"
+    line = tmp_path / "line"
+    line.mkdir()
+    robots = "".join(
+        f'robot container R{i} {{ endpoint robot_id "{rid}" url "wss://c.example.org:9000/" '
+        f'user "u" password env "P"\n node N{i} {{ implementation p/n }} }}\n'
+        for i, rid in enumerate(("robot_1", "ROBOT_1"))
+    )
+    (line / "l.tsm").write_text(robots, encoding="utf-8")
+    (line / "l.fm").write_text("feature model L\nroot R\n", encoding="utf-8")
+    (line / "l.rm").write_text('resolution model L\ntsm "l.tsm"\nfm "l.fm"\n', encoding="utf-8")
+    out = tmp_path / "out"
+    result = run("resolve", line, "--features", "R", "-o", out)
+    assert result.exit_code == 1 and not out.exists()
+    assert errors(result) == [
+        f"{line / 'l.tsm'}:3:17: error: Rapyuta tags 'robot_1' (robot container R0) and "
+        "'ROBOT_1' (robot container R1) differ only in case: their bundle files would be one "
+        "file on a case-insensitive file system; rename one"
+    ]
