@@ -21,7 +21,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from spl.diagnostics import Diagnostic, Location, ModelError, counted
+from spl.diagnostics import Diagnostic, Location, ModelError, counted, model_text
 
 if TYPE_CHECKING:
     from spl.generators.bundle import Bundle
@@ -100,7 +100,7 @@ def read_bundle(bundle: Path) -> tuple[Any, str]:
     model = bundle / "resolved.tsm"
     if not model.is_file():
         raise ModelError([Diagnostic(None, f"{bundle} is not an spl bundle: no resolved.tsm")])
-    system = parse_text(model.read_text(encoding="utf-8"), str(model))
+    system = parse_text(model_text(model), str(model))  # as spl check reads it
     product = system.name
     manifest = bundle / "manifest.json"
     if manifest.is_file():

@@ -445,3 +445,22 @@ def test_robot_ids_apart_only_in_case_are_located(tmp_path):
         "'ROBOT_1' (robot container R1) differ only in case: their bundle files would be one "
         "file on a case-insensitive file system; rename one"
     ]
+
+
+def test_smoke_reads_a_bundles_resolved_tsm_as_spl_check_does(tmp_path):
+    # were: a Latin-1 byte "internal error: UnicodeDecodeError" (exit 3); a byte order
+    # mark, which spl check drops, a syntax error under spl smoke
+    from spl.pipeline import read_bundle
+
+    bundle = tmp_path / "bundle"
+    assert run("resolve", MAPPING, "--features", "YouBot,Depth,Room", "-o", bundle).exit_code == 0
+    model = bundle / "resolved.tsm"
+    text = model.read_bytes()
+    model.write_bytes(b"\xef\xbb\xbf" + text)
+    assert read_bundle(bundle)[1] == "YouBot_Depth_Room"
+    model.write_bytes(b"system S \xe9\n")
+    result = run("smoke", bundle)
+    assert result.exit_code == 1
+    assert errors(result) == [
+        f"{model}:1:10: error: file is not UTF-8 text (invalid continuation byte)"
+    ]
