@@ -97,6 +97,27 @@ def read_yaml(path: Path, sink: DiagnosticSink) -> tuple[yaml.Node | None, Calla
     return root, at
 
 
+def _refuse_duplicate_keys(
+    pairs: list[tuple[yaml.Node, yaml.Node]], at: Callable, sink: DiagnosticSink
+) -> None:
+    """A key given twice in a selection's mapping or in any mapping inside it is an error:
+    YAML loaders keep the last value (and features read key by key got both lists), so
+    one of the two would be ignored unseen."""
+    pending = [pairs]
+    while pending:
+        first: dict[str, yaml.Node] = {}
+        for key_node, value_node in pending.pop():
+            if isinstance(key_node, yaml.ScalarNode):
+                earlier = first.setdefault(key_node.value, key_node)
+                if earlier is not key_node:
+                    line = earlier.start_mark.line + 1
+                    sink.error(
+                        at(key_node), f"duplicate key {key_node.value!r} (first at line {line})"
+                    )
+            if isinstance(value_node, yaml.MappingNode):
+                pending.append(value_node.value)
+
+
 def load_selection_file(path: str | Path) -> ProductSelection:
     path = Path(path)
     filename = str(path)
@@ -131,6 +152,7 @@ def read_selection(
     Any other key is a located error naming the keys allowed."""
     allowed = tuple(k for k in TOP_LEVEL_KEYS if k != "product" or k in extra_keys)
     allowed += tuple(k for k in extra_keys if k not in TOP_LEVEL_KEYS)
+    _refuse_duplicate_keys(pairs, at, sink)
     extra = []
     for key_node, value_node in pairs:
         key = _scalar(key_node)

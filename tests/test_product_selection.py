@@ -81,3 +81,13 @@ def test_command_line_forms_and_overrides():
     ]
     with pytest.raises(ModelError):
         selection_from_list("YouBot,<script>")
+
+
+def test_a_key_given_twice_is_refused(tmp_path):
+    # was: features of both lines merged, a repeated product or attribute kept the last
+    assert problems(
+        tmp_path, "product: dup\nfeatures: [Log]\nfeatures: [Move]\nattributes: {A.b: 1, A.b: 2}\n"
+    ) == [
+        "p.yaml:3:1: error: duplicate key 'features' (first at line 2)",
+        "p.yaml:4:22: error: duplicate key 'A.b' (first at line 4)",
+    ]
