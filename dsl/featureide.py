@@ -98,6 +98,17 @@ class _Reader:
     def error(self, element: Any, message: str) -> None:
         self.sink.error(self.loc(element), message)
 
+    def flag(self, element: Any, name: str) -> bool:
+        """A boolean attribute (xs:boolean: true, false, 1, 0; absent is false). Anything
+        else is an error: read as false it silently changed the model (``mandatory="yes"``
+        made a mandatory feature optional)."""
+        text = element.get(name)
+        if text is None or text in ("false", "0"):
+            return False
+        if text not in ("true", "1"):
+            self.error(element, f'{name}="{text}": expected true or false')
+        return text in ("true", "1")
+
     def read(self, document: Any, default_name: str) -> Any:
         F = self.F
         if document.tag not in ("featureModel", "extendedFeatureModel"):
@@ -136,7 +147,7 @@ class _Reader:
             return self.locate(F.Feature(name="_"), element)
         identifier = self.names[original]
         feature = self.locate(F.Feature(name=identifier), element)
-        feature.abstract = element.get("abstract") == "true"
+        feature.abstract = self.flag(element, "abstract")
         if original in self.features:
             self.error(element, f"duplicate feature {original}")
         else:
@@ -161,7 +172,7 @@ class _Reader:
             return feature
         group = None
         for child in children:
-            kind = "mandatory" if child.get("mandatory") == "true" else "optional"
+            kind = "mandatory" if self.flag(child, "mandatory") else "optional"
             if group is None or group.kind.name != kind:
                 group = self.locate(F.Group(), child)
                 group.kind = F.GroupKind.getEEnumLiteral(kind)

@@ -230,3 +230,26 @@ def test_external_entities_are_never_loaded() -> None:
     with pytest.raises(ModelError) as info:
         parse_featureide(data, "xxe.xml")
     assert "root:" not in str(info.value)
+
+
+def test_a_boolean_attribute_that_is_not_one_is_refused(tmp_path) -> None:
+    # was read as false: mandatory="yes" made a feature optional (berkeleydb's product
+    # count went from 4,080,389,785 to 10,134,159,385 without a word)
+    path = tmp_path / "m.xml"
+    path.write_text(
+        '<?xml version="1.0"?>\n<featureModel><struct><and name="R" abstract="1">\n'
+        '<feature mandatory="yes" name="A"/>\n<feature mandatory="0" abstract="perhaps" '
+        'name="B"/>\n<feature mandatory="true" name="C"/></and></struct></featureModel>\n',
+        encoding="utf-8",
+    )
+    with pytest.raises(ModelError) as caught:
+        read_featureide(path)
+    assert [str(d) for d in caught.value.diagnostics] == [
+        f'{path}:3:1: error: mandatory="yes": expected true or false',
+        f'{path}:4:1: error: abstract="perhaps": expected true or false',
+    ]
+    path.write_text(path.read_text().replace('"yes"', '"1"').replace('"perhaps"', '"false"'))
+    model = read_featureide(path)
+    assert model.root.abstract
+    kinds = {f.name: g.kind.name for g in model.root.groups for f in g.features}
+    assert kinds == {"A": "mandatory", "B": "optional", "C": "mandatory"}
