@@ -97,6 +97,19 @@ def read_bundle(bundle: Path) -> tuple[Any, str]:
     product name (from the manifest, else the system's). ModelError when it is none."""
     from spl.dsl.tsm import parse_text
 
+    fleet = bundle if (bundle / "fleet.json").is_file() else bundle.parent.parent
+    if (fleet / "fleet.json").is_file():  # its robots' cloud nodes run in shared instances
+        what = "a fleet bundle" if fleet == bundle else "part of a fleet bundle"
+        raise ModelError(
+            [
+                Diagnostic(
+                    None,
+                    f"{bundle} is {what} (spl fleet resolve): spl smoke rehearses one "
+                    "product's bundle as spl resolve writes it; resolve the robot's product "
+                    "with spl resolve to rehearse it",
+                )
+            ]
+        )
     model = bundle / "resolved.tsm"
     if not model.is_file():
         raise ModelError([Diagnostic(None, f"{bundle} is not an spl bundle: no resolved.tsm")])

@@ -464,3 +464,18 @@ def test_smoke_reads_a_bundles_resolved_tsm_as_spl_check_does(tmp_path):
     assert errors(result) == [
         f"{model}:1:10: error: file is not UTF-8 text (invalid continuation byte)"
     ]
+
+
+def test_smoke_refuses_a_fleet_bundle_saying_why(tmp_path):
+    # was: 23 failures, "ros1/MappingCloud.launch is not a launch file name", on the
+    # fleet's robot folders; "no resolved.tsm" on the fleet folder
+    fleet = tmp_path / "lab"
+    assert run("fleet", "resolve", MAPPING / "fleets" / "lab.yaml", "-o", fleet).exit_code == 0
+    for bundle, what in [(fleet, "a fleet bundle"), (fleet / "robots" / "youbot_1", "part of a")]:
+        result = run("smoke", bundle)
+        assert result.exit_code == 1
+        assert result.stderr.splitlines() == [
+            f"error: {bundle} is {what}{'' if what.endswith('bundle') else ' fleet bundle'} "
+            "(spl fleet resolve): spl smoke rehearses one product's bundle as spl resolve "
+            "writes it; resolve the robot's product with spl resolve to rehearse it"
+        ]
