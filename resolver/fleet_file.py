@@ -30,6 +30,7 @@ from spl.resolver.product_selection import ProductSelection, read_selection, rea
 
 FLEET_KEYS = ("fleet", "product_line", "robots")
 NAME = re.compile(r"[A-Za-z][A-Za-z0-9_-]{0,63}")  # a Rapyuta tag and a robotID
+NAME_RULE = "a letter, then up to 63 letters, digits, '_' or '-'"
 DEFAULT_GROUP = "default"
 
 
@@ -79,7 +80,7 @@ def load_fleet(path: str | Path) -> Fleet:
         if isinstance(name, yaml.ScalarNode) and NAME.fullmatch(name.value):
             fleet.name = name.value
         else:
-            sink.error(at(name), "fleet: expected a name (letters, digits, '_' and '-')")
+            sink.error(at(name), f"fleet: expected a name ({NAME_RULE})")
     line = given.get("product_line")
     if line is None:
         sink.error(Location(filename, 1, 1), "no product_line: the folder of the product line")
@@ -110,7 +111,7 @@ def load_fleet(path: str | Path) -> Fleet:
 def _robot(name_node, entry, at, sink: DiagnosticSink, filename: str) -> FleetRobot | None:
     name = name_node.value if isinstance(name_node, yaml.ScalarNode) else None
     if name is None or not NAME.fullmatch(name):
-        sink.error(at(name_node), f"robot name {name!r}: letters, digits, '_' and '-' (a robotID)")
+        sink.error(at(name_node), f"robot name {name!r}: expected {NAME_RULE} (a robotID)")
         return None
     if not isinstance(entry, yaml.MappingNode):
         sink.error(at(entry), f"robot {name}: expected {{group: ..., features: [...]}}")
@@ -121,7 +122,7 @@ def _robot(name_node, entry, at, sink: DiagnosticSink, filename: str) -> FleetRo
         if isinstance(value_node, yaml.ScalarNode) and NAME.fullmatch(value_node.value):
             robot.group = value_node.value
         else:
-            sink.error(at(value_node), f"{key_node.value}: expected a group name")
+            sink.error(at(value_node), f"{key_node.value}: expected a group name ({NAME_RULE})")
     if not selection.features and "capabilities" not in selection.locations:
         sink.error(robot.location, f"robot {name}: no features selected (features or capabilities)")
     return robot

@@ -245,7 +245,7 @@ def test_resolve_of_a_conflicting_fleet_writes_nothing(tmp_path) -> None:
         ),
         (
             f"fleet: lab\nproduct_line: {MAPPING}\nrobots:\n  '$(x)': {{features: [X]}}\n",
-            "4:3: error: robot name '$(x)'",
+            "4:3: error: robot name '$(x)': expected a letter, then up to 63 letters",
         ),
         (
             f"fleet: lab\nproduct_line: {MAPPING}\nrobots:\n  a: {{features: [X]}}\n"
