@@ -107,11 +107,20 @@ def _textx_tree(text: str, filename: str) -> Any:
         raise ModelError([Diagnostic(Location(filename, exc.line, exc.col), reason)]) from None
 
 
+# What a syntax error says the grammar expected, for the rules that are patterns (their
+# regular expressions are no words for a user) and the end of the file (its object's
+# repr, with a memory address, made the message differ from run to run).
+_RULE_WORDS = {
+    "EOF": "end of file",
+    "Ident": "a name (ASCII letters, digits and '_', not starting with a digit)",
+    "Number": "a number",
+    "RosType": "a type package/Type",
+}
+
+
 def _expected(rule: Any) -> str:
-    """How a syntax error names what the grammar expected at the spot: the text to match,
-    or for the end of the file its name (its rule has no text; its object's repr, with a
-    memory address, made the message differ from run to run)."""
-    return "end of file" if getattr(rule, "rule_name", "") == "EOF" else str(rule)
+    """How a syntax error names what the grammar expected at the spot."""
+    return _RULE_WORDS.get(getattr(rule, "rule_name", ""), str(rule))
 
 
 class _Builder:

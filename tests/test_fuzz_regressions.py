@@ -479,3 +479,17 @@ def test_smoke_refuses_a_fleet_bundle_saying_why(tmp_path):
             "(spl fleet resolve): spl smoke rehearses one product's bundle as spl resolve "
             "writes it; resolve the robot's product with spl resolve to rehearse it"
         ]
+
+
+@pytest.mark.parametrize("name", ["Lögger", "1e3"])
+def test_rm_syntax_errors_name_what_a_name_is_not_its_pattern(tmp_path, name):
+    # was: "expected [A-Za-z_][A-Za-z0-9_]*(?![^\x00-\x7f])"
+    line = copy_line(MAPPING, tmp_path)
+    rm = line / "mapping.rm"
+    rm.write_text(rm.read_text() + f"when Stereo selected {{ migrate {name} to Robot }}\n")
+    result = run("check", rm)
+    assert result.exit_code == 1
+    (message,) = errors(result)
+    assert message.endswith(
+        "syntax error: expected a name (ASCII letters, digits and '_', not starting with a digit)"
+    )
