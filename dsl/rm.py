@@ -11,6 +11,7 @@ same tree.
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass
 from functools import cache
 from pathlib import Path
@@ -84,12 +85,27 @@ def parse_text(
     base = base or Path(filename).parent
     positions = Positions(text, filename)
     sink = DiagnosticSink()
-    system, feature_model = referenced_models(tree, positions.of(tree), base, sink)
+    header = _header_lines(text, positions, positions.of(tree))
+    system, feature_model = referenced_models(tree, header, base, sink)
     sink.raise_if_errors()
     model = _Builder(positions, system, feature_model, sink).build(tree)
     sink.raise_if_errors()
     model.tsmPath, model.fmPath = tree.tsm, tree.fm
     return ResolutionModelFiles(model, system, feature_model, Path(filename))
+
+
+_COMMENT = re.compile(r"//[^\n]*|/\*(?:.|\n)*?\*/")
+
+
+def _header_lines(text: str, positions: Positions, start: Location) -> dict[str, Location]:
+    """Where the header's ``tsm "..."`` and ``fm "..."`` are written (comments, which may
+    mention either, blanked first); the model's start where one is not found."""
+    plain = _COMMENT.sub(lambda m: re.sub(r"[^\n]", " ", m.group()), text)
+    found = {}
+    for attr in ("tsm", "fm"):
+        match = re.search(rf'(?<![\w."]){attr}\s*"', plain)
+        found[attr] = positions.at(match.start()) if match else start
+    return found
 
 
 def _textx_tree(text: str, filename: str) -> Any:

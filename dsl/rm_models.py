@@ -2,13 +2,14 @@
 
 A .rm file names them by paths relative to itself (``tsm "mapping.tsm"``,
 ``fm "features.uvl"``). Each is checked for its kind of file and existence, located at
-the resolution model's header, and parsed by its own language; the problems found in
+its own header line, and parsed by its own language; the problems found in
 either are reported together with the .rm file's, so a user sees every one at once.
 """
 
 from __future__ import annotations
 
 import importlib
+from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
@@ -24,11 +25,15 @@ _READERS = {
 
 
 def referenced_models(
-    tree: Any, where: Location, base: Path, sink: DiagnosticSink
+    tree: Any, where: Mapping[str, Location], base: Path, sink: DiagnosticSink
 ) -> tuple[Any, Any]:
-    """(tsm.System, fm.FeatureModel) named by the parsed header ``tree`` (written at
-    ``where``); None for one that could not be read, its problems reported to ``sink``."""
-    return _load("tsm", tree, where, base, sink), _load("fm", tree, where, base, sink)
+    """(tsm.System, fm.FeatureModel) named by the parsed header ``tree`` (its ``tsm`` and
+    ``fm`` lines written at ``where``); None for one that could not be read, its problems
+    reported to ``sink``."""
+    return (
+        _load("tsm", tree, where["tsm"], base, sink),
+        _load("fm", tree, where["fm"], base, sink),
+    )
 
 
 def _load(attr: str, tree: Any, where: Location, base: Path, sink: DiagnosticSink) -> Any:

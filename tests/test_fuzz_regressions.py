@@ -4,6 +4,7 @@ command and checks the exact message the user gets."""
 
 from __future__ import annotations
 
+import re
 import shutil
 import subprocess
 import sys
@@ -493,3 +494,15 @@ def test_rm_syntax_errors_name_what_a_name_is_not_its_pattern(tmp_path, name):
     assert message.endswith(
         "syntax error: expected a name (ASCII letters, digits and '_', not starting with a digit)"
     )
+
+
+def test_a_missing_model_is_located_at_its_header_line(tmp_path):
+    # was: at 1:1 (the `resolution model` line) whichever line named the file
+    line = copy_line(MAPPING, tmp_path)
+    rm = line / "mapping.rm"
+    text = rm.read_text()
+    rm.write_text(re.sub(r'fm\s+"mapping.fm"', '// fm "old.fm"\nfm "nope.uvl"', text))
+    row = rm.read_text().splitlines().index('fm "nope.uvl"') + 1
+    result = run("check", rm)
+    assert result.exit_code == 1
+    assert errors(result) == [f"{rm}:{row}:1: error: fm file '{line / 'nope.uvl'}' not found"]

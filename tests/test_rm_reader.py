@@ -144,5 +144,5 @@ def test_load_gives_the_same_model_and_errors_through_either_parser(
     fast = [outcome(path) for path in paths]
     monkeypatch.setattr(rm_reader, "read", lambda text: None)
     assert [outcome(path) for path in paths] == fast
-    assert "missing.rm:2:1: error: tsm file" in fast[-2]
+    assert "missing.rm:2:20: error: tsm file" in fast[-2]  # at `tsm "no.tsm"`
     assert "unknown.rm:2:1: error: unknown feature Ghost" in fast[-1]
