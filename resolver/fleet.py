@@ -40,7 +40,7 @@ from spl.resolver.effects import (
 )
 from spl.resolver.engine import Resolution, resolve
 from spl.resolver.fleet_file import Fleet, FleetRobot
-from spl.resolver.placement import SHARED_MODES, Placement, sharing_mode
+from spl.resolver.placement import SHARED_MODES, Place, Placement, sharing_mode
 from spl.resolver.product_line import ProductLine, load_product_line
 from spl.resolver.product_selection import ProductSelection
 
@@ -131,6 +131,7 @@ def check_fleet(fleet: Fleet, line: ProductLine | None = None) -> FleetCheck:
     check = FleetCheck(fleet, line, LineEffects(line))
     resolved: dict[Any, Resolution] = {}  # robotIDs aside, equal selections resolve alike
     owners: dict[str, str] = {}
+    places: dict[str, tuple[Place, str]] = {}  # instance tag -> (its place, first robot)
     for robot in fleet.robots:
         selection = robot_selection(robot, line)
         for container, settings in sorted(selection.deployment.items()):
@@ -154,7 +155,9 @@ def check_fleet(fleet: Fleet, line: ProductLine | None = None) -> FleetCheck:
         entry = RobotProduct(robot, resolution)
         check.robots.append(entry)
         errors: list[Diagnostic] = []
-        check.asks.extend(shared_asks(robot, resolution.product, errors))
+        placement = Placement(resolution.product.system, errors, group=robot.group)
+        check.asks.extend(shared_asks(robot, resolution.product, placement))
+        errors += _tags_taken(robot, selection, placement, places)
         check.diagnostics.extend(_about(robot, d) for d in errors)
     check.diagnostics.extend(find_conflicts(check))
     return check
@@ -184,9 +187,43 @@ def _resolution_key(selection: ProductSelection) -> tuple:
     )
 
 
-def shared_asks(robot: FleetRobot, product: Any, errors: list[Diagnostic]) -> list[Ask]:
+def _tags_taken(
+    robot: FleetRobot,
+    selection: ProductSelection,
+    placement: Placement,
+    places: dict[str, tuple[Place, str]],
+) -> list[Diagnostic]:
+    """Instances of ``robot`` whose tag another robot's different instance already has
+    (a robotID or group equal to another group, a robotID, or ``public``): one Rapyuta tag
+    and one Kubernetes name cannot be two instances. ``places`` collects every robot's.
+    The placement may be of another robot's equal selection (robotIDs aside), so robot
+    and private places are named with this robot's robotIDs."""
+    ids = {
+        container.endpoint.robotId: selection.deployment[container.name]["robot_id"]
+        for container in placement.robots
+        if container.endpoint is not None and container.name in selection.deployment
+    }
+    found = []
+    own = [*placement.tags.values(), *(i.place for i in placement.cloud_instances())]
+    for place in dict.fromkeys(own):
+        if place.kind in ("robot", "private") and place.owner in ids:
+            owner_id = ids[place.owner]
+            tag = owner_id if place.kind == "robot" else f"{place.container}_{owner_id}"
+            place = Place(tag, place.kind, place.container, owner_id)
+        first, owner = places.setdefault(place.tag, (place, robot.name))
+        if first != place:
+            found.append(
+                Diagnostic(
+                    robot.location,
+                    f"instance {place.tag} would be both {first.describe()} (robot {owner}) "
+                    f"and {place.describe()}: rename the group or robot_id",
+                )
+            )
+    return found
+
+
+def shared_asks(robot: FleetRobot, product: Any, placement: Placement) -> list[Ask]:
     """What ``robot`` asks of every node it runs as protected or public."""
-    placement = Placement(product.system, errors, group=robot.group)
     asks = []
     for container in product.system.containers:
         for node in container.nodes:

@@ -330,3 +330,36 @@ def test_options_of_a_robot_with_capabilities_follow_its_hardware() -> None:
     }
     assert features["AdditionalPC"]["reasons"][0].startswith("capability onboard_pc: true (")
     assert "selects AdditionalPC: onboard_pc holds" in features["AdditionalPC"]["reasons"][0]
+
+
+@pytest.mark.parametrize(
+    ("robots", "message"),
+    [
+        (  # a group called public: its protected instance took the public one's name
+            "  youbot_1: {group: public, features: [YouBot, Depth, Room]}\n"
+            "  roomba_1: {group: hall, features: [Roomba, Depth, Room], "
+            "sharing: {SharedMap: public}}\n",
+            "5:3: error: robot roomba_1: instance MappingCloud_public would be both the "
+            "protected partition of MappingCloud (robot youbot_1) and the public partition of "
+            "MappingCloud: rename the group or robot_id",
+        ),
+        (  # a robotID equal to another robot's group
+            "  youbot_1: {group: lab, features: [YouBot, Depth, Room]}\n"
+            "  youbot_2: {group: hall, features: [YouBot, Depth, Room], "
+            "deployment: {Robot: {robot_id: lab}}}\n",
+            "5:3: error: robot youbot_2: instance MappingCloud_lab would be both the protected "
+            "partition of MappingCloud (robot youbot_1) and the private partition of "
+            "MappingCloud: rename the group or robot_id",
+        ),
+    ],
+)
+def test_two_instances_of_one_name_are_refused_by_check(tmp_path, robots, message) -> None:
+    # were: "no conflict" from fleet check, then fleet resolve refused with "containers
+    # entry {'cTag': 'MappingCloud_public'} differs from ...", unlocated
+    path = fleet(tmp_path, robots)
+    code, _, stderr = run("fleet", "check", path)
+    assert code == 1
+    assert stderr.splitlines() == [f"{path}:{message}"]
+    code, _, stderr = run("fleet", "resolve", path, "-o", tmp_path / "out")
+    assert code == 1 and f"{path}:{message}" in stderr
+    assert not (tmp_path / "out").exists()
