@@ -57,7 +57,8 @@ class ProductSelection:
 def selection_from_list(text: str, name: str | None = None) -> ProductSelection:
     """``--features YouBot,Stereo`` (commas and/or spaces)."""
     sink = DiagnosticSink()
-    features = [f for f in re.split(r"[,\s]+", text.strip()) if f]
+    # a feature named twice is selected once: the product (and its name) is the same
+    features = list(dict.fromkeys(f for f in re.split(r"[,\s]+", text.strip()) if f))
     where = Location("--features", 1, 1)
     for feature in features:
         if not IDENT.fullmatch(feature):

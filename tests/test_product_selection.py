@@ -69,6 +69,8 @@ def test_invalid_yaml_and_empty_selection(tmp_path):
 def test_command_line_forms_and_overrides():
     selection = selection_from_list("YouBot, Stereo,Room")
     assert selection.features == ["YouBot", "Stereo", "Room"]
+    twice = selection_from_list("YouBot,Stereo,YouBot")  # was named YouBot_Stereo_YouBot
+    assert (twice.name, twice.features) == ("YouBot_Stereo", ["YouBot", "Stereo"])
     apply_overrides(selection, ["SharedMap=public"], ["Logging.rate=2", "Mode.name=fast"])
     assert selection.sharing == {"SharedMap": "public"}
     # text until the product is resolved: the attribute's type says how to read it
