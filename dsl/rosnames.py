@@ -47,7 +47,7 @@ def problem_base_name(name: str, what: str = "name") -> str | None:
         return None
     return (
         f"{what} {_shown(name)} is not a valid ROS base name "
-        "(a letter, then letters, digits or underscores)"
+        f"(a letter, then letters, digits or underscores; at most {_MAX} characters)"
     )
 
 
@@ -56,7 +56,8 @@ def problem_graph_name(name: str, what: str = "ROS name") -> str | None:
         return None
     return (
         f"{what} {_shown(name)} is not a valid ROS graph name "
-        "(names of a letter then letters, digits, underscores, separated by '/')"
+        "(names of a letter then letters, digits, underscores, separated by '/'; at most "
+        f"{_MAX} characters)"
     )
 
 
@@ -65,7 +66,8 @@ def problem_package(name: str) -> str | None:
         return None
     return (
         f"{_shown(name)} is not a valid ROS package name "
-        "(a lower case letter, then lower case letters, digits or underscores)"
+        "(a lower case letter, then lower case letters, digits or underscores; at most "
+        f"{_MAX} characters)"
     )
 
 
@@ -78,7 +80,7 @@ def problem_type(text: str, what: str = "type") -> str | None:
         None
         if len(name) <= _MAX and TYPE_NAME.fullmatch(name)
         else f"{what} name {_shown(name)} is not valid (a letter, then letters, digits, "
-        "underscores)"
+        f"underscores; at most {_MAX} characters)"
     )
 
 
@@ -87,7 +89,8 @@ def problem_executable(name: str) -> str | None:
         return None
     return (
         f"executable {_shown(name)} is not valid "
-        "(letters, digits, '_', '.', '-', not starting with '-' or '.')"
+        "(letters, digits, '_', '.', '-', not starting with '-' or '.'; at most "
+        f"{_MAX} characters)"
     )
 
 

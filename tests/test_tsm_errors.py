@@ -287,23 +287,23 @@ def test_ros_names_and_types_are_checked() -> None:
         }
         """,
         "namespace '/a//b' is not a valid ROS graph name (names of a letter then letters, "
-        "digits, underscores, separated by '/')",
+        "digits, underscores, separated by '/'; at most 255 characters)",
         "'Sensor_msgs' is not a valid ROS package name (a lower case letter, then lower "
-        "case letters, digits or underscores)",
+        "case letters, digits or underscores; at most 255 characters)",
         "topic U name '/ok/9bad' is not a valid ROS graph name (names of a letter then "
-        "letters, digits, underscores, separated by '/')",
+        "letters, digits, underscores, separated by '/'; at most 255 characters)",
         "topic _hidden name '/_hidden' is not a valid ROS graph name (names of a letter then "
-        "letters, digits, underscores, separated by '/')",
+        "letters, digits, underscores, separated by '/'; at most 255 characters)",
         "node name '_n' is not a valid ROS base name (a letter, then letters, digits or "
-        "underscores)",
+        "underscores; at most 255 characters)",
         "'My_pkg' is not a valid ROS package name (a lower case letter, then lower case "
-        "letters, digits or underscores)",
+        "letters, digits or underscores; at most 255 characters)",
         "service name '~private' is not a valid ROS graph name (names of a letter then "
-        "letters, digits, underscores, separated by '/')",
+        "letters, digits, underscores, separated by '/'; at most 255 characters)",
         "interface name '_p' is not a valid ROS base name (a letter, then letters, digits or "
-        "underscores)",
+        "underscores; at most 255 characters)",
         "executable '-rm' is not valid (letters, digits, '_', '.', '-', not starting with "
-        "'-' or '.')",
+        "'-' or '.'; at most 255 characters)",
         "args may only contain letters, digits, spaces and _ . / : = , + @ % - (no quotes, $, "
         "backticks, ; & | < > or line breaks)",
     )
