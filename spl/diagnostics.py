@@ -8,6 +8,7 @@ them together in one :class:`ModelError` instead of stopping at the first.
 from __future__ import annotations
 
 import os
+import re
 from collections.abc import Iterator, Mapping
 from contextlib import contextmanager
 from contextvars import ContextVar
@@ -119,17 +120,27 @@ def model_text(path: str | Path) -> str:
     :func:`unsaved_texts`, an editor's unsaved text of the file."""
     unsaved = _UNSAVED.get()
     if unsaved is not None and (text := unsaved.get(os.path.abspath(path))) is not None:
-        return text.removeprefix("\ufeff")
+        return _line_breaks(text.removeprefix("\ufeff"))
     path = Path(path)
     data = path.read_bytes()
     try:
-        return data.decode("utf-8-sig")
+        return _line_breaks(data.decode("utf-8-sig"))
     except UnicodeDecodeError as exc:
         start = exc.start + (3 if data.startswith(b"\xef\xbb\xbf") else 0)
         line = data.count(b"\n", 0, start) + 1
         col = start - (data.rfind(b"\n", 0, start) + 1) + 1
         where = Location(str(path), line, col)
         raise ModelError([Diagnostic(where, f"file is not UTF-8 text ({exc.reason})")]) from None
+
+
+def _line_breaks(text: str) -> str:
+    """Old Mac line ends (a lone carriage return) as line feeds, one character for one, so
+    every position keeps its offset and is counted on the line an editor shows it on (the
+    parsers count only line feeds: each such file was one line)."""
+    return _LONE_CR.sub("\n", text) if "\r" in text else text
+
+
+_LONE_CR = re.compile(r"\r(?!\n)")
 
 
 def counted(count: int, noun: str) -> str:

@@ -506,3 +506,16 @@ def test_a_missing_model_is_located_at_its_header_line(tmp_path):
     result = run("check", rm)
     assert result.exit_code == 1
     assert errors(result) == [f"{rm}:{row}:1: error: fm file '{line / 'nope.uvl'}' not found"]
+
+
+def test_old_mac_line_ends_count_as_lines(tmp_path):
+    # was: every position on line 1 ("s.tsm:1:466"): the parsers count only line feeds
+    path = tmp_path / "cr.tsm"
+    text = "system S\rcloud container C {\r node N { implementation p/n }\r node N { } }\r"
+    path.write_bytes(text.encode())
+    result = run("check", path)
+    assert errors(result) == [
+        f"{path}:4:7: error: duplicate node name N in container C (first declared at line 3)"
+    ]
+    path.write_bytes(text.replace("\r", "\r\n").encode())  # Windows line ends, as before
+    assert errors(run("check", path)) == errors(result)
