@@ -114,3 +114,16 @@ def test_convert_uses_the_shipped_data_unchanged(tmp_path: Path) -> None:
     shutil.copy(DATA / "berkeleydb.xml", copy)
     code, output = convert(copy, tmp_path / "berkeleydb.fm")
     assert code == 0 and "76 features, 20 constraints" in output
+
+
+def test_out_naming_in_itself_is_refused(tmp_path) -> None:
+    # was: the input replaced by its own conversion, read-only or not
+    source = tmp_path / "axTLS.xml"
+    shutil.copy(REAL_MODELS / "axTLS.xml", source)
+    source.chmod(0o444)
+    before = source.read_bytes()
+    for target in (source, tmp_path / "." / "axTLS.xml"):
+        result = CliRunner().invoke(main, ["convert", str(source), str(target)])
+        assert result.exit_code == 2
+        assert "is IN itself; give another file" in result.output
+    assert source.read_bytes() == before

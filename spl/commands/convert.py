@@ -37,6 +37,8 @@ def command(source: Path, target: Path) -> None:
         raise click.UsageError(f"IN: {source} does not exist")
     if not target.parent.is_dir():
         raise click.UsageError(f"OUT: directory {target.parent} does not exist")
+    if target.exists() and target.samefile(source):  # the rename would replace the input
+        raise click.UsageError(f"OUT: {target} is IN itself; give another file")
     model = load_feature_model(source)
     save_feature_model(model, target)
     click.echo(f"{source} -> {target}: {summary(model)}")
