@@ -27,7 +27,7 @@ from typing import Any
 
 from pysat.solvers import Solver
 
-from spl.diagnostics import Diagnostic, ModelError
+from spl.diagnostics import Diagnostic, Location, ModelError
 from spl.dsl.fm import all_features
 from spl.resolver.capabilities import choose_features
 from spl.resolver.context import describe
@@ -196,6 +196,23 @@ def _server_id(server_node: NodeEffects, server: Any) -> str:
     return f"{server_node.origin}.{server_node.name}.{server.name}"
 
 
+def _sharing_problems(fm: Any, sharing: dict[str, str]) -> list[Diagnostic]:
+    """``--sharing`` overrides of features that have no sharing mode to override (as a
+    resolve refuses them; unchecked, a misspelt feature gave a confident answer)."""
+    modes = {f.name: f.sharing is not None for f in all_features(fm)}
+    where = Location("--sharing", 1, 1)
+    return [
+        Diagnostic(
+            where,
+            f"unknown feature {name}"
+            if name not in modes
+            else f"sharing given for {name}, which has no sharing attribute",
+        )
+        for name in sorted(sharing)
+        if not modes.get(name)
+    ]
+
+
 def fleet_options(
     fleet: Fleet, name: str, group: str | None = None, sharing: dict[str, str] | None = None
 ) -> FleetOptions:
@@ -208,6 +225,7 @@ def fleet_options(
     )
     check = check_fleet(others)
     errors = [d for d in check.diagnostics if d.severity == "error" and d.code != "SPL040"]
+    errors += _sharing_problems(check.line.fm, sharing or {})
     if errors:
         raise ModelError(errors)
     selection = entry.selection if entry is not None else None

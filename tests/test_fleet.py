@@ -363,3 +363,18 @@ def test_two_instances_of_one_name_are_refused_by_check(tmp_path, robots, messag
     code, _, stderr = run("fleet", "resolve", path, "-o", tmp_path / "out")
     assert code == 1 and f"{path}:{message}" in stderr
     assert not (tmp_path / "out").exists()
+
+
+def test_options_refuse_a_sharing_override_with_nothing_to_override(tmp_path) -> None:
+    # was: "can join" with a confident forced/free list for a misspelt feature
+    path = MAPPING / "fleets" / "lab.yaml"
+    code, _, stderr = run(
+        "fleet", "options", path, "--robot", "x", "--sharing", "SharedMaps=public",
+        "--sharing", "Stereo=public",
+    )
+    assert code == 1
+    assert stderr.splitlines() == [
+        "--sharing:1:1: error: unknown feature SharedMaps",
+        "--sharing:1:1: error: sharing given for Stereo, which has no sharing attribute",
+    ]
+    assert run("fleet", "options", path, "--robot", "x", "--sharing", "SharedMap=public")[0] == 0
