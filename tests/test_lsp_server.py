@@ -425,3 +425,17 @@ async def test_shutdown_and_exit_end_the_server_cleanly(tmp_path: Path):
     await asyncio.wait_for(client.stop(), 60)
     assert client.returncode == 0
     assert b"Traceback" not in client.stderr and b"ERROR" not in client.stderr
+
+
+async def test_exit_without_shutdown_ends_with_status_1(tmp_path: Path):
+    """The protocol's rule (pygls's own status was lost in an asyncio callback: 0)."""
+    client = _Watched("test", "1")
+    await client.start_io(sys.executable, "-m", "spl", "lsp")
+    await client.initialize_async(
+        types.InitializeParams(capabilities=types.ClientCapabilities(), root_uri=tmp_path.as_uri())
+    )
+    client.initialized(types.InitializedParams())
+    client.exit(None)
+    await asyncio.wait_for(client.stop(), 60)
+    assert client.returncode == 1
+    assert b"Traceback" not in client.stderr

@@ -24,6 +24,10 @@ def build_server() -> SplLanguageServer:
     """The server with every feature registered."""
     server = SplLanguageServer()
 
+    @server.feature(types.EXIT)
+    def exit_requested(ls: SplLanguageServer, *_: object) -> None:
+        ls.exit_code = 0 if ls.stopping else 1  # the protocol's: exit without shutdown is 1
+
     @server.feature(types.INITIALIZED)
     def initialized(ls: SplLanguageServer, params: types.InitializedParams) -> None:
         ls.project.encoding = str(ls.workspace.position_encoding or "utf-16")

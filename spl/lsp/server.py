@@ -15,6 +15,7 @@ import asyncio
 import contextlib
 import logging
 import os
+import sys
 import threading
 import traceback
 from collections.abc import Iterable
@@ -68,7 +69,8 @@ class SplLanguageServer(LanguageServer):
         self.wake: asyncio.Event | None = None
         self.check_task: asyncio.Task | None = None
         self.settled: asyncio.Event | None = None  # set when no check is due or running
-        self.stopping = False
+        self.stopping = False  # a shutdown request came
+        self.exit_code = 0
         self.findings: dict[Unit, dict[str, tuple[Diagnostic, ...]]] = {}
         self.published: dict[str, tuple[Diagnostic, ...]] = {}
 
@@ -279,4 +281,7 @@ def serve() -> None:
     from spl.lsp.requests import build_server
 
     logging.basicConfig(level=logging.WARNING, format="spl lsp: %(levelname)s: %(message)s")
-    build_server().start_io()
+    server = build_server()
+    server.start_io()
+    if server.exit_code:  # pygls's own exit status is lost in an asyncio callback
+        sys.exit(server.exit_code)
