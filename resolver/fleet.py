@@ -132,9 +132,12 @@ def check_fleet(fleet: Fleet, line: ProductLine | None = None) -> FleetCheck:
     resolved: dict[Any, Resolution] = {}  # robotIDs aside, equal selections resolve alike
     owners: dict[str, str] = {}
     places: dict[str, tuple[Place, str]] = {}  # instance tag -> (its place, first robot)
+    robot_containers = {c.name for c in line.tsm.containers if c.eClass.name == "RobotContainer"}
     for robot in fleet.robots:
         selection = robot_selection(robot, line)
         for container, settings in sorted(selection.deployment.items()):
+            if container not in robot_containers:  # resolve reports it: no such container
+                continue
             taken = owners.setdefault(settings.get("robot_id", ""), robot.name)
             if taken != robot.name:
                 check.diagnostics.append(
@@ -164,12 +167,15 @@ def check_fleet(fleet: Fleet, line: ProductLine | None = None) -> FleetCheck:
 
 
 def _about(robot: FleetRobot, diagnostic: Diagnostic) -> Diagnostic:
-    return Diagnostic(
-        diagnostic.location or robot.location,
-        f"robot {robot.name}: {diagnostic.message}",
-        diagnostic.severity,
-        diagnostic.code,
-    )
+    """A robot's problem, at the robot's entry unless it is located in the fleet file
+    itself (a rule of the line it breaks is named in the message)."""
+    where, message = diagnostic.location, diagnostic.message
+    entry = robot.location
+    if entry is not None and (where is None or where.file != entry.file):
+        if where is not None:
+            message = f"{message} ({where})"
+        where = entry
+    return Diagnostic(where, f"robot {robot.name}: {message}", diagnostic.severity, diagnostic.code)
 
 
 def _resolution_key(selection: ProductSelection) -> tuple:

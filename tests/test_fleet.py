@@ -378,3 +378,21 @@ def test_options_refuse_a_sharing_override_with_nothing_to_override(tmp_path) ->
         "--sharing:1:1: error: sharing given for Stereo, which has no sharing attribute",
     ]
     assert run("fleet", "options", path, "--robot", "x", "--sharing", "SharedMap=public")[0] == 0
+
+
+def test_robot_problems_are_at_the_robots_entry_and_only_real_ones(tmp_path) -> None:
+    # were: an open choice located in the .fm (the rule's place) rather than at the robot;
+    # a robot_id "taken" in a container the line does not have, beside "no robot container"
+    path = fleet(
+        tmp_path,
+        "  a: {features: [YouBot, Depth, Room]}\n"
+        "  b: {features: [YouBot, Room]}\n"
+        "  c: {features: [YouBot, Depth, Room], deployment: {Kitchen: {robot_id: a}}}\n",
+    )
+    code, _, stderr = run("fleet", "check", path)
+    assert code == 1
+    lines = stderr.splitlines()
+    assert len(lines) == 2, lines
+    assert lines[0].startswith(f"{path}:5:3: error: robot b: open choice: ")
+    assert f"({MAPPING / 'mapping.fm'}:" in lines[0]  # the rule's place, in the message
+    assert lines[1].startswith(f"{path}:6:") and "no robot container Kitchen" in lines[1]
