@@ -358,8 +358,11 @@ class _Builder:
         if target is None:
             return None
         if node.eContainer() is target:
-            self.error(
-                stmt, f"node {node.name} is already in container {target.name}", MIGRATION_TARGET
+            self.error(  # not "already in": an earlier migration may have moved it
+                stmt,
+                f"node {node.name} is declared in container {target.name}: a migration moves "
+                "a node to another container",
+                MIGRATION_TARGET,
             )
             return None
         resident = next((n for n in target.nodes if n.name == node.name), None)

@@ -126,7 +126,8 @@ def test_migration_targets_missing_or_already_there_are_reported():
     rm = MODELS / "bad_migration" / "bad.rm"
     assert result.stderr.splitlines() == [
         f"{rm}:6:5: error: unknown container Fog [SPL013]",
-        f"{rm}:9:5: error: node Planner is already in container Cloud [SPL013]",
+        f"{rm}:9:5: error: node Planner is declared in container Cloud: a migration moves a "
+        "node to another container [SPL013]",
     ]
     assert result.stdout.splitlines()[-1] == (
         "bad_migration: 2 errors, 0 warnings (not checked as a product line: its models do "
@@ -152,7 +153,11 @@ def test_single_file_json(tmp_path):
     assert report["line"] is None and report["summary"] is None
     assert [(d["line"], d["message"]) for d in report["diagnostics"]] == [
         (6, "unknown container Fog"),
-        (9, "node Planner is already in container Cloud"),
+        (
+            9,
+            "node Planner is declared in container Cloud: a migration moves a node to another "
+            "container",
+        ),
     ]
 
 
