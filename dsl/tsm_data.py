@@ -66,9 +66,17 @@ def _resolve_store(names: Names, store: Any, tree: Any) -> None:
         store.refinements.append(refinement)
 
 
+MAX_PERIOD = 86400 * 366  # seconds: a transformer runs at least once a year
+
+
+def period_fits(value: float) -> bool:
+    """Whether a transformer period (s) is one: positive, finite, at most a year."""
+    return math.isfinite(value) and 0 < value <= MAX_PERIOD
+
+
 def _period(names: Names, tree: Any) -> float | None:
     value = float(tree.value)
-    if not math.isfinite(value) or value <= 0 or value > 86400 * 366:
+    if not period_fits(value):
         names.error(tree, f"period {tree.value} s must be positive and at most a year")
         return None
     return value

@@ -519,3 +519,19 @@ def test_old_mac_line_ends_count_as_lines(tmp_path):
     ]
     path.write_bytes(text.replace("\r", "\r\n").encode())  # Windows line ends, as before
     assert errors(run("check", path)) == errors(result)
+
+
+@pytest.mark.parametrize("value", ["0", "-5", "1e9"])
+def test_a_period_attribute_out_of_range_is_located_where_it_is_used(tmp_path, value):
+    # was: "data.tsm:40:17: error: store PositionStore: the period of PositionInDEG must
+    # be positive", at the store, far from the value that made it so
+    product = DATA / "products" / "both_fast_refresh.yaml"
+    result = run("resolve", DATA, "--features", product, "--set", f"FastRefresh.period={value}",
+                 "-o", tmp_path / "b")
+    assert result.exit_code == 1 and not (tmp_path / "b").exists()
+    shown = repr(float(value))
+    assert errors(result)[0] == (
+        f"{DATA / 'data.rm'}:21:5: error: the transformer period of PositionStore.PositionInDEG "
+        f"cannot be feature attribute FastRefresh.period = {shown} s: it must be positive and "
+        "at most a year"
+    )

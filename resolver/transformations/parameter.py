@@ -6,6 +6,7 @@ from typing import Any
 
 from spl.diagnostics import location_of
 from spl.dsl import literals
+from spl.dsl.tsm_data import period_fits
 from spl.resolver.context import ResolutionContext, qualified
 
 
@@ -54,6 +55,13 @@ def _set_period(transformation: Any, ctx: ResolutionContext, where) -> None:
     refinement = ctx.copy_of(transformation.refinement)
     store = refinement.eContainer()
     value, source = _value(transformation, ctx, "double")
+    if not period_fits(float(value)):  # an attribute's value; a literal was checked by the .rm
+        ctx.sink.error(
+            where,
+            f"the transformer period of {store.name}.{refinement.output.name} cannot be "
+            f"{source} s: it must be positive and at most a year",
+        )
+        return
     ctx.keep(store, f"its transformer period is set by {ctx.by()}", where)
     if ctx.decide("period", refinement, value, where):
         refinement.period = float(value)
