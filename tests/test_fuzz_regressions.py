@@ -535,3 +535,25 @@ def test_a_period_attribute_out_of_range_is_located_where_it_is_used(tmp_path, v
         f"cannot be feature attribute FastRefresh.period = {shown} s: it must be positive and "
         "at most a year"
     )
+
+
+@pytest.mark.parametrize("second", ["robot_1", "ROBOT_1"])
+def test_check_warns_of_robot_ids_every_product_keeping_both_fails_on(tmp_path, second):
+    # was: spl check 0 errors, 0 warnings; then every resolve refused
+    line = tmp_path / "line"
+    line.mkdir()
+    robots = "".join(
+        f'robot container R{i} {{ endpoint robot_id "{rid}" url "wss://c.example.org:9000/" '
+        f'user "u" password env "P"\n node N{i} {{ implementation p/n }} }}\n'
+        for i, rid in enumerate(("robot_1", second))
+    )
+    (line / "l.tsm").write_text(robots, encoding="utf-8")
+    (line / "l.fm").write_text("feature model L\nroot R\n", encoding="utf-8")
+    (line / "l.rm").write_text('resolution model L\ntsm "l.tsm"\nfm "l.fm"\n', encoding="utf-8")
+    result = run("check", line)
+    assert result.exit_code == 0
+    assert [e for e in result.stderr.splitlines() if "SPL017" in e] == [
+        f"{line / 'l.tsm'}:3:22: warning: robot container R1 has robot_id {second!r}, as robot "
+        "container R0 has 'robot_1': a product keeping both fails to resolve unless its "
+        "deployment sets another for one [SPL017]"
+    ]

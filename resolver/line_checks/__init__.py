@@ -29,6 +29,8 @@ SPL016    error     a statement that fails in some product activating its elemen
                     topic missing where the node is at that point, a client and server
                     apart, ... (:mod:`.lookups`, docs/semantics.md C3);
                     the message names a witness product
+SPL017    warning   two robot containers with one robot_id (or ids differing only in
+                    case): products keeping both fail unless their deployment sets one
 ========  ========  ==================================================================
 
 One module a check family; this package runs them all. :class:`ActivationSolver`
@@ -44,6 +46,7 @@ from spl.resolver.line_checks.dead_elements import never_active_elements
 from spl.resolver.line_checks.listed_products import unresolvable_products
 from spl.resolver.line_checks.lookups import product_dependent_statements
 from spl.resolver.line_checks.no_effect import features_without_effect
+from spl.resolver.line_checks.robot_ids import shared_robot_ids
 from spl.resolver.line_checks.unreachable_optionals import unreachable_optional_elements
 from spl.resolver.product_line import ProductLine
 
@@ -56,6 +59,7 @@ def check_product_line(line: ProductLine, products: bool = True) -> list[Diagnos
         found += reachable_conflicts(line, solver)
         found += product_dependent_statements(line, solver)
     found += features_without_effect(line)
+    found += shared_robot_ids(line)
     if products:
         found += unresolvable_products(line)
     return sorted(found, key=diagnostic_order)
