@@ -111,7 +111,7 @@ def test_broken_lines_fail_with_located_messages(broken) -> None:
     misspelt = failure_text(found[("conflicting", "misspelt")])
     assert misspelt.startswith(f"{products / 'misspelt.yaml'}:3:1: error: unknown key 'sharng'")
     unloadable = failure_text(found[("unloadable", "(product line)")])
-    assert f"{MODELS / 'unloadable' / 'unloadable.rm'}:1:1: error:" in unloadable
+    assert f"{MODELS / 'unloadable' / 'unloadable.rm'}:2:1: error: tsm file" in unloadable
     passed = {name for (line, name), c in found.items() if not c.findall("failure")}
     assert passed == {"fast_extra", "Robot", "Fast", "Slow", "Extra", "Fast,Extra"}
     assert f"FAIL conflicting :: Fast,Slow\n    {rm}:9:5: error: conflict:" in result.stdout
