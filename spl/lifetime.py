@@ -23,6 +23,7 @@ _PR_SET_PDEATHSIG = 1
 _signalled: int | None = None
 _owner: int | None = None  # the process that installed the handlers
 _keyboard = False
+_end_when_swallowed = False  # a pool worker: nothing of its own reaches a checkpoint
 
 
 def die_with_parent() -> None:
@@ -59,17 +60,25 @@ def _leave(signum: int, _frame: object) -> None:
 
 def _quiet_unraisable(unraisable: sys.UnraisableHookArgs) -> None:
     if _signalled is not None and isinstance(unraisable.exc_value, SystemExit | KeyboardInterrupt):
+        if _end_when_swallowed:
+            # a pool worker waits for work in multiprocessing's own loop, which has no
+            # checkpoint: it would wait for ever, and its pool for it (a hang seen in the
+            # suite: the pool's SIGTERM landed in a weakref callback after a product). The
+            # signal's default action ends it; its children have die_with_parent.
+            signal.signal(_signalled, signal.SIG_DFL)
+            os.kill(os.getpid(), _signalled)
         return  # a signal's unwinding Python could not deliver there: the next checkpoint does
     sys.__unraisablehook__(unraisable)
 
 
-def unwind_on_signals(keyboard_interrupt: bool = False) -> None:
+def unwind_on_signals(keyboard_interrupt: bool = False, pool_worker: bool = False) -> None:
     """SIGINT and SIGTERM end this process by unwinding quietly (SystemExit 128+signal,
     or KeyboardInterrupt for SIGINT when ``keyboard_interrupt``), so ``with`` blocks stop
     what they started and no traceback is printed; a second signal does not interrupt
-    that cleanup."""
-    global _signalled, _owner, _keyboard
+    that cleanup. A ``pool_worker`` whose unwinding Python swallows ends by the signal."""
+    global _signalled, _owner, _keyboard, _end_when_swallowed
     _signalled, _owner, _keyboard = None, os.getpid(), keyboard_interrupt
+    _end_when_swallowed = pool_worker
     signal.signal(signal.SIGINT, _leave)
     signal.signal(signal.SIGTERM, _leave)
     sys.unraisablehook = _quiet_unraisable

@@ -250,7 +250,7 @@ def _start_worker() -> None:
     """Workers end on Ctrl-C (SIGINT from the terminal) and on SIGTERM (the pool's
     terminate) by unwinding quietly, so the task's own cleanup runs (a smoke rehearsal
     stops the processes it started), and end with a killed spl (a CI timeout)."""
-    unwind_on_signals()
+    unwind_on_signals(pool_worker=True)
     die_with_parent()
 
 

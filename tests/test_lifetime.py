@@ -80,3 +80,33 @@ def test_a_forked_child_without_handlers_of_its_own_ends_by_the_signal_quietly(s
     """)
     expected = f"{-getattr(signal, signum)}\n"
     assert (result.returncode, result.stdout, result.stderr) == (0, expected, "")
+
+
+@pytest.mark.parametrize("pool_worker", [True, False])
+def test_a_pool_worker_whose_unwinding_is_swallowed_ends_by_the_signal(pool_worker):
+    """The pool's SIGTERM landing in a weakref callback after a product: the worker's
+    SystemExit was swallowed, it went back to wait for work on a lock its pool held, and
+    the pool waited for it for ever (a hang seen in the suite). Any other process carries
+    on to its next checkpoint, as before."""
+    result = run(f"""
+        import threading, weakref
+        unwind_on_signals(pool_worker={pool_worker})
+        class Model:
+            pass
+        def callback(_):
+            os.kill(os.getpid(), signal.SIGTERM)
+            sum(range(1000))  # the handler runs here, where Python cannot raise
+        model = Model()
+        watch = weakref.ref(model, callback)
+        del model
+        print("waiting for work", flush=True)
+        held = threading.Lock()
+        held.acquire()
+        held.acquire(timeout=1)  # as the worker waits for the pool's queue lock
+        raise_if_signalled()
+    """)
+    if pool_worker:
+        assert (result.returncode, result.stdout) == (-signal.SIGTERM, "")
+    else:
+        assert (result.returncode, result.stdout) == (143, "waiting for work\n")
+    assert result.stderr == ""
