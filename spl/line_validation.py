@@ -276,7 +276,12 @@ def _results(cases: list[ProductCase], jobs: int) -> Iterator[CaseResult]:
             except multiprocessing.TimeoutError:
                 raise_if_signalled()
             except StopIteration:
-                return
+                break
+        # every task done: the workers end on the pool's sentinels, with no signal to
+        # race (leaving it to the with-block's terminate SIGTERMs workers idle on the
+        # queue; the suite hung once joining one that never ended)
+        pool.close()
+        pool.join()
 
 
 def summary(results: list[CaseResult]) -> str:
