@@ -127,9 +127,31 @@ def _parse(
         sink.diagnostics.extend(transform_types.check_system(system))
     except RecursionError:  # only transform expressions nest; a hostile file nests deep
         message = "a transform expression is nested too deeply or too long"
-        raise ModelError([Diagnostic(Location(filename, 1, 1), message)]) from None
+        where = _deepest(text, filename)
+        raise ModelError([Diagnostic(where, message)]) from None
     sink.raise_if_errors()
     return system
+
+
+def _deepest(text: str, filename: str) -> Location:
+    """Where an expression too deep or too long for the parsers is: the outermost
+    parenthesis of the most deeply nested ones, or else the start of the longest line."""
+    depth = deepest = 0
+    at = outermost = -1
+    for offset, char in enumerate(text):
+        if char == "(":
+            outermost = offset if depth == 0 else outermost
+            depth += 1
+            if depth > deepest:
+                deepest, at = depth, outermost
+        elif char == ")":
+            depth = max(depth - 1, 0)
+    lines = text.split("\n")
+    if deepest < 32:  # a long chain (a + a + ...) rather than nesting
+        row = max(range(len(lines)), key=lambda i: len(lines[i]))
+        return Location(filename, row + 1, 1)
+    row = text.count("\n", 0, at)
+    return Location(filename, row + 1, at - (text.rfind("\n", 0, at) + 1) + 1)
 
 
 def _textx_tree(text: str, filename: str) -> Any:
