@@ -95,3 +95,12 @@ def test_skipped_count_is_said_plainly() -> None:
         "  products:       unknown (count skipped after 0 s; --count counts without a time bound)"
         in result.output.splitlines()
     )
+
+
+def test_a_model_that_is_no_feature_model_is_a_usage_error() -> None:
+    # was: exit 1 with "mapping.tsm:1:1: error: ... unsupported feature-model format",
+    # where spl products says the same as a usage error, exit 2
+    tsm = Path(__file__).resolve().parents[1] / "product_lines" / "mapping3d" / "mapping.tsm"
+    result = run(tsm)
+    assert result.exit_code == 2
+    assert "expected a .fm, .uvl or .xml feature model" in result.output

@@ -104,10 +104,14 @@ def command(
 ) -> None:
     """Analyse a feature model (.fm, .uvl, FeatureIDE .xml): satisfiable, number of
     products, core, dead and false-optional features."""
-    from spl.dsl.fm_formats import load_analysable_model
+    from spl.dsl.fm_formats import FORMATS, load_analysable_model
 
     if count_unbounded and count_seconds is not None:
         raise click.UsageError("give either --count or --count-seconds")
+    if model_file.suffix.lower() not in FORMATS:  # a usage error, as spl products says
+        raise click.BadParameter(
+            f"{model_file}: expected a .fm, .uvl or .xml feature model", param_hint="MODEL_FILE"
+        )
     started = time.perf_counter()
     model = load_analysable_model(model_file)
     default = count_seconds is None and not count_unbounded
