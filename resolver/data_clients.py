@@ -11,6 +11,7 @@ lands in one ``clients/`` folder (and one ROS workspace): two robot containers' 
 
 from __future__ import annotations
 
+import keyword
 from typing import Any
 
 from spl.metamodels import tsm
@@ -18,8 +19,11 @@ from spl.resolver.generated_names import lower_identifier, unique_names
 
 
 def client_package_name(node_name: str) -> str:
-    """ROS package and executable of a writer/reader: ``PositionWriter`` -> ``position_writer``."""
-    return lower_identifier(node_name, "client")
+    """ROS package and executable of a writer/reader: ``PositionWriter`` -> ``position_writer``;
+    a Python keyword gets ``_client`` (``Import`` -> ``import_client``): the package is a
+    Python package, and ``from import.reader_node import main`` does not parse."""
+    package = lower_identifier(node_name, "client")
+    return f"{package}_client" if keyword.iskeyword(package) else package
 
 
 def _package_form(node: Any, name: str) -> set[str]:

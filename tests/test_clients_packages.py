@@ -33,6 +33,23 @@ def test_client_package_names() -> None:
     assert client_package_name("PositionWriter") == "position_writer"
     assert client_package_name("EV3Reader") == "ev3_reader"
     assert client_package_name("commandReader2") == "command_reader2"
+    # were "import" and "global": `from import.reader_node import main` does not parse
+    assert client_package_name("Import") == "import_client"
+    assert client_package_name("Global") == "global_client"
+    assert client_package_name("Match") == "match"  # a soft keyword is a fine package
+
+
+def test_a_keyword_named_client_is_a_package_python_imports(tmp_path: Path) -> None:
+    resolved = product()
+    nodes = (n for c in resolved.system.containers for n in c.nodes)
+    reader = next(n for n in nodes if n.eClass.name == "Reader")
+    reader.name = "Import"
+    root = write_files(clients.generate(resolved), tmp_path) / "clients" / "import_client"
+    setup = (root / "setup.py").read_text()
+    assert "import_client.reader_node:main" in setup
+    ast.parse("from import_client.reader_node import main")
+    for module in (root / "import_client").glob("*.py"):
+        py_compile.compile(str(module), doraise=True)
 
 
 def test_one_ament_python_package_per_writer_and_reader(files, tmp_path: Path) -> None:
