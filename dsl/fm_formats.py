@@ -13,13 +13,12 @@ name back, so a community model survives import and export unchanged.
 
 from __future__ import annotations
 
-import os
 import re
-import tempfile
 from collections.abc import Iterable
 from pathlib import Path
 from typing import Any
 
+from spl.atomic_write import write_atomically
 from spl.diagnostics import Diagnostic, Location, ModelError
 from spl.dsl.fm_vocabulary import RESERVED_WORDS, is_feature_name
 
@@ -89,17 +88,7 @@ def save_feature_model(model: Any, path: str | Path) -> None:
     path = Path(path)
     if path.suffix.lower() not in FORMATS:
         raise ValueError(unsupported_format_message(path))
-    data = render_feature_model(model, path.suffix)
-    directory = path.parent if str(path.parent) else Path(".")
-    handle, temporary = tempfile.mkstemp(prefix=f".{path.name}.", dir=directory)
-    try:
-        with os.fdopen(handle, "wb") as stream:
-            stream.write(data)
-        os.chmod(temporary, 0o644)
-        os.replace(temporary, path)
-    except BaseException:
-        Path(temporary).unlink(missing_ok=True)
-        raise
+    write_atomically(path, render_feature_model(model, path.suffix))
 
 
 def unsupported_format_message(path: Path) -> str:

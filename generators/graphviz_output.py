@@ -13,12 +13,13 @@ import functools
 import html
 import os
 import re
-import tempfile
 from pathlib import Path
 from typing import Any
 
 import graphviz
 from graphviz import _tools, quoting
+
+from spl.atomic_write import write_atomically
 
 FONT = "Helvetica"
 DOT_MISSING = "Graphviz 'dot' not found; install graphviz to get diagrams"
@@ -138,12 +139,5 @@ def render(graph: graphviz.Digraph, path: str | os.PathLike[str]) -> Path:
         raise ValueError(f"{target}: can only render .svg, .png or .dot, not {target.suffix!r}")
     data = graph.source.encode("utf-8") if fmt == "dot" else render_bytes(graph, fmt)
     target.parent.mkdir(parents=True, exist_ok=True)
-    handle, temporary = tempfile.mkstemp(prefix=f".{target.name}.", dir=target.parent)
-    try:
-        with os.fdopen(handle, "wb") as stream:
-            stream.write(data)
-        os.replace(temporary, target)
-    except BaseException:
-        Path(temporary).unlink(missing_ok=True)
-        raise
+    write_atomically(target, data)
     return target

@@ -10,6 +10,7 @@ from lxml import etree
 from spl.cli import main
 
 FLEET = Path(__file__).parent / "models" / "launch"
+MAPPING = Path(__file__).resolve().parents[1] / "product_lines" / "mapping3d"
 
 
 def run(*args: str):
@@ -50,3 +51,21 @@ def test_model_errors_are_located(tmp_path):
     assert result.exit_code == 1
     assert "NoSuchFeature" in result.output
     assert not (tmp_path / "x.svg").exists()
+
+
+def test_rendered_and_converted_files_get_the_umasks_mode(tmp_path) -> None:
+    # were 0600 (mkstemp's) for spl render, and a fixed 0644 for spl convert
+    import os
+    import stat
+
+    previous = os.umask(0o027)
+    try:
+        out = tmp_path / "t.dot"
+        result = run(str(MAPPING), "--what", "tsm", "-o", str(out))
+        assert result.exit_code == 0, result.output
+        converted = tmp_path / "m.uvl"
+        result = CliRunner().invoke(main, ["convert", str(MAPPING / "mapping.fm"), str(converted)])
+        assert result.exit_code == 0, result.output
+    finally:
+        os.umask(previous)
+    assert stat.S_IMODE(out.stat().st_mode) == stat.S_IMODE(converted.stat().st_mode) == 0o640
