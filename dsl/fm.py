@@ -239,6 +239,12 @@ class _Builder:
                 problem = ": the upper bound must be at least 1"
             elif upper != -1 and lower > upper:
                 problem = f" [{lower}..{upper}]: the lower bound exceeds the upper bound"
+            elif lower > len(node.members):  # no product could choose that many
+                count = len(node.members)
+                problem = (
+                    f" [{lower}..]: the group has {count} feature{'s' * (count != 1)}, fewer "
+                    "than its lower bound (no product could choose that many)"
+                )
             else:
                 problem = None
                 group.lower, group.upper = lower, upper
@@ -270,7 +276,9 @@ class _Builder:
             value = canonical_value(item.type, text)
             if value is None:
                 self.sink.error(
-                    self.loc(literal), f"attribute {item.name}: {literal.text} is not a {item.type}"
+                    self.loc(literal),
+                    f"attribute {item.name}: {literal.text} is not "
+                    f"{'an' if str(item.type)[:1] in 'aeiou' else 'a'} {item.type}",
                 )
             attribute.value = value
         return attribute

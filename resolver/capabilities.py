@@ -82,8 +82,11 @@ def load_capabilities(path: str | Path) -> RobotCapabilities:
 
     def read(node: yaml.MappingNode, prefix: str) -> None:
         for key_node, value_node in node.value:
+            if not isinstance(key_node, yaml.ScalarNode):  # `? [a, b]`: no node text in messages
+                sink.error(at(key_node), f"capability name: a {key_node.id} is not an identifier")
+                continue
             key = key_node.value
-            if not isinstance(key_node, yaml.ScalarNode) or not KEY.fullmatch(key):
+            if not KEY.fullmatch(key):
                 sink.error(at(key_node), f"capability name {key!r} is not an identifier")
                 continue
             name = f"{prefix}{key}"

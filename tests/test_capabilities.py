@@ -133,6 +133,8 @@ def test_a_capability_of_the_wrong_kind_is_located_in_the_robot_file(tmp_path) -
         ("base: null\n", "1:7: error: capability base: expected a string"),
         ("2nd: true\n", "1:1: error: capability name '2nd' is not an identifier"),
         ("base: youbot\nbase: roomba\n", "2:1: error: capability base given twice"),
+        # was: "capability name [ScalarNode(tag='tag:yaml.org,2002:str', ...)]"
+        ("? [a, b]\n: c\n", "1:3: error: capability name: a sequence is not an identifier"),
         ("base: [youbot\n", "error: invalid YAML"),
     ],
 )

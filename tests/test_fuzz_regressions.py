@@ -133,7 +133,7 @@ DIGITS = "9" * 5000  # past Python's 4300-digit limit for int(str)
         (
             "a.fm",
             f"feature model X\nroot R {{ attribute a : int = {DIGITS} }}\n",
-            f"2:30: error: attribute a: {DIGITS} is not a int",
+            f"2:30: error: attribute a: {DIGITS} is not an int",
         ),
         (
             "b.fm",
@@ -558,4 +558,16 @@ def test_check_warns_of_robot_ids_every_product_keeping_both_fails_on(tmp_path, 
         f"{line / 'l.tsm'}:3:22: warning: robot container R1 has robot_id {second!r}, as robot "
         "container R0 has 'robot_1': a product keeping both fails to resolve unless its "
         "deployment sets another for one [SPL017]"
+    ]
+
+
+def test_a_group_asking_for_more_features_than_it_has_is_refused(tmp_path):
+    # was: spl check "ok" for a void model (root R group [5..5] { A B })
+    path = tmp_path / "void.fm"
+    path.write_text("feature model V\nroot R group [5..5] { A B }\n", encoding="utf-8")
+    result = run("check", path)
+    assert result.exit_code == 1
+    assert errors(result) == [
+        f"{path}:2:8: error: bad cardinality [5..]: the group has 2 features, fewer than its "
+        "lower bound (no product could choose that many)"
     ]

@@ -108,6 +108,8 @@ def command(
 
     if count_unbounded and count_seconds is not None:
         raise click.UsageError("give either --count or --count-seconds")
+    if count_seconds is not None and count_seconds != count_seconds:  # NaN passes FloatRange
+        raise click.BadParameter("nan is not a number of seconds", param_hint="--count-seconds")
     if model_file.suffix.lower() not in FORMATS:  # a usage error, as spl products says
         raise click.BadParameter(
             f"{model_file}: expected a .fm, .uvl or .xml feature model", param_hint="MODEL_FILE"
