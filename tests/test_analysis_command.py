@@ -104,3 +104,10 @@ def test_a_model_that_is_no_feature_model_is_a_usage_error() -> None:
     result = run(tsm)
     assert result.exit_code == 2
     assert "expected a .fm, .uvl or .xml feature model" in result.output
+
+
+def test_nan_seconds_are_refused() -> None:
+    # was accepted, and the count ran without any bound
+    result = run(BERKELEY, "--count-seconds", "nan")
+    assert result.exit_code == 2
+    assert "nan is not a number of seconds" in result.output
