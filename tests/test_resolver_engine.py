@@ -245,3 +245,18 @@ def test_explain_says_why(tmp_path):
     )
     assert "removed: optional node that no active resolution element requires" in absent.output
     assert "mapping.tsm:" in absent.output
+
+
+def test_explain_answers_for_a_feature_left_out_and_says_which_capability_did(tmp_path):
+    # was: "no element named 'Roomba'" (exit 2) for any feature the product does not select
+    args = ["explain", str(MAPPING), "--features", "YouBot,Stereo,AdditionalPC,Room", "Roomba"]
+    result = run(*args)
+    assert result.exit_code == 0
+    assert result.output.splitlines()[0] == "Roomba: feature not selected"
+    robot = MAPPING / "fleets" / "robots" / "youbot_1.yaml"
+    chosen = run("explain", str(MAPPING), "--capabilities", str(robot), "--features", "Room",
+                 "Roomba")  # fmt: skip
+    lines = chosen.output.splitlines()
+    assert lines[0] == "Roomba: feature not selected"
+    assert lines[1].startswith(f"  capability base: youbot ({robot}:3:1) deselects Roomba: ")
+    assert run(*args[:-1], "Nope").exit_code == 2
