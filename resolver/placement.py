@@ -118,7 +118,7 @@ class Placement:
             problem = (
                 f"robot_id {robot_id!r} is not a Rapyuta tag (letters, digits, '_' and '-')"
                 if robot_id
-                else "no robot_id: give the robot's endpoint one (endpoint robot_id \"...\") "
+                else 'no robot_id: give the robot\'s endpoint one (endpoint robot_id "...") '
                 "or set it in the selection's deployment"
             )
             self.errors.append(

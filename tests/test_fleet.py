@@ -369,8 +369,15 @@ def test_options_refuse_a_sharing_override_with_nothing_to_override(tmp_path) ->
     # was: "can join" with a confident forced/free list for a misspelt feature
     path = MAPPING / "fleets" / "lab.yaml"
     code, _, stderr = run(
-        "fleet", "options", path, "--robot", "x", "--sharing", "SharedMaps=public",
-        "--sharing", "Stereo=public",
+        "fleet",
+        "options",
+        path,
+        "--robot",
+        "x",
+        "--sharing",
+        "SharedMaps=public",
+        "--sharing",
+        "Stereo=public",
     )
     assert code == 1
     assert stderr.splitlines() == [

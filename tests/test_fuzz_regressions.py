@@ -528,8 +528,16 @@ def test_a_period_attribute_out_of_range_is_located_where_it_is_used(tmp_path, v
     # was: "data.tsm:40:17: error: store PositionStore: the period of PositionInDEG must
     # be positive", at the store, far from the value that made it so
     product = DATA / "products" / "both_fast_refresh.yaml"
-    result = run("resolve", DATA, "--features", product, "--set", f"FastRefresh.period={value}",
-                 "-o", tmp_path / "b")
+    result = run(
+        "resolve",
+        DATA,
+        "--features",
+        product,
+        "--set",
+        f"FastRefresh.period={value}",
+        "-o",
+        tmp_path / "b",
+    )
     assert result.exit_code == 1 and not (tmp_path / "b").exists()
     shown = repr(float(value))
     assert errors(result)[0] == (
