@@ -18,12 +18,13 @@ import contextlib
 import os
 import signal
 import sys
+from collections.abc import Iterator
 
 _PR_SET_PDEATHSIG = 1
 _signalled: int | None = None
 _owner: int | None = None  # the process that installed the handlers
 _keyboard = False
-_end_when_swallowed = False  # a pool worker: nothing of its own reaches a checkpoint
+_end_when_swallowed = False  # a pool worker between tasks: nothing reaches a checkpoint
 
 
 def die_with_parent() -> None:
@@ -82,6 +83,20 @@ def unwind_on_signals(keyboard_interrupt: bool = False, pool_worker: bool = Fals
     signal.signal(signal.SIGINT, _leave)
     signal.signal(signal.SIGTERM, _leave)
     sys.unraisablehook = _quiet_unraisable
+
+
+@contextlib.contextmanager
+def checkpointed() -> Iterator[None]:
+    """A pool worker's task: its own checkpoints (a rehearsal's poll, each case's start)
+    unwind a swallowed signal through its cleanup, so it is not ended abruptly inside;
+    the task's end is one more checkpoint, before the worker waits for work again."""
+    global _end_when_swallowed
+    ending, _end_when_swallowed = _end_when_swallowed, False
+    try:
+        yield
+    finally:
+        _end_when_swallowed = ending
+    raise_if_signalled()
 
 
 def raise_if_signalled() -> None:

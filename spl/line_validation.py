@@ -29,7 +29,7 @@ from typing import Literal
 
 from spl.diagnostics import ModelError
 from spl.dsl.cyclic_gc import without_cyclic_gc
-from spl.lifetime import die_with_parent, raise_if_signalled, unwind_on_signals
+from spl.lifetime import checkpointed, die_with_parent, raise_if_signalled, unwind_on_signals
 from spl.pipeline import load_line
 from spl.resolver.product_line import ProductLine
 
@@ -214,7 +214,8 @@ def _run_in_worker(case: ProductCase) -> CaseResult:
 def _run_chunk_in_worker(cases: list[ProductCase]) -> list[CaseResult]:
     """Several products per task: fewer round trips through the pool's pipes. (Pool's
     own ``chunksize`` would hand back a generator without ``next(timeout)``.)"""
-    return [_run_in_worker(case) for case in cases]
+    with checkpointed():  # a signal swallowed during the task unwinds at its end
+        return [_run_in_worker(case) for case in cases]
 
 
 def run_cases(

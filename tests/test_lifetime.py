@@ -110,3 +110,28 @@ def test_a_pool_worker_whose_unwinding_is_swallowed_ends_by_the_signal(pool_work
     else:
         assert (result.returncode, result.stdout) == (143, "waiting for work\n")
     assert result.stderr == ""
+
+
+def test_a_pool_workers_task_unwinds_a_swallowed_signal_through_its_cleanup():
+    """Inside a task the worker is not ended abruptly (a rehearsal would leave its
+    processes and temporary folder): the task's end is a checkpoint that unwinds."""
+    result = run("""
+        import weakref
+        from spl.lifetime import checkpointed
+        unwind_on_signals(pool_worker=True)
+        class Model:
+            pass
+        def callback(_):
+            os.kill(os.getpid(), signal.SIGTERM)
+            sum(range(1000))  # the handler runs here, where Python cannot raise
+        try:
+            with checkpointed():
+                model = Model()
+                watch = weakref.ref(model, callback)
+                del model
+                print("task goes on", flush=True)
+        finally:
+            print("cleaned up", flush=True)
+    """)
+    assert (result.returncode, result.stdout) == (143, "task goes on\ncleaned up\n")
+    assert result.stderr == ""
