@@ -8,9 +8,12 @@ start, which is everywhere; shown to a user they are noise (``expected '\\/\\/[^
 
 from __future__ import annotations
 
+import re
 from typing import Any
 
 COMMENT_PATTERNS = frozenset({r"\/\/[^\n]*", r"\/\*(.|\n)*?\*\/"})
+# the same patterns for Python's re (which reads ``\/`` as ``/``), to find comments in a text
+COMMENT = re.compile("|".join(sorted(COMMENT_PATTERNS)))
 
 
 def is_comment(rule: Any) -> bool:

@@ -20,7 +20,7 @@ from typing import Any
 from spl.diagnostics import Diagnostic, DiagnosticSink, Location, ModelError, counted, model_text
 from spl.dsl import literals, rm_reader, rosnames
 from spl.dsl.fm import all_features
-from spl.dsl.grammar_comments import is_comment
+from spl.dsl.grammar_comments import COMMENT, is_comment
 from spl.dsl.parse_tree import Positions
 from spl.dsl.rm_models import referenced_models
 from spl.dsl.rm_names import (
@@ -94,13 +94,10 @@ def parse_text(
     return ResolutionModelFiles(model, system, feature_model, Path(filename))
 
 
-_COMMENT = re.compile(r"//[^\n]*|/\*(?:.|\n)*?\*/")
-
-
 def _header_lines(text: str, positions: Positions, start: Location) -> dict[str, Location]:
     """Where the header's ``tsm "..."`` and ``fm "..."`` are written (comments, which may
     mention either, blanked first); the model's start where one is not found."""
-    plain = _COMMENT.sub(lambda m: re.sub(r"[^\n]", " ", m.group()), text)
+    plain = COMMENT.sub(lambda m: re.sub(r"[^\n]", " ", m.group()), text)
     found = {}
     for attr in ("tsm", "fm"):
         match = re.search(rf'(?<![\w."]){attr}\s*"', plain)

@@ -428,18 +428,24 @@ def test_names_one_file_or_column_apart_only_in_case_are_located(tmp_path, text,
     assert errors(result)[0].startswith(f"{path}:{message}"), errors(result)
 
 
-def test_robot_ids_apart_only_in_case_are_located(tmp_path):
-    # was: resolve "internal error: BundlePathClash: zenoh/ROBOT_1.json5 and zenoh/robot_1.json5"
+def two_robot_line(tmp_path, *robot_ids: str):
+    """A line of robot containers R0, R1, ... with these robot_ids and one feature R."""
     line = tmp_path / "line"
     line.mkdir()
     robots = "".join(
         f'robot container R{i} {{ endpoint robot_id "{rid}" url "wss://c.example.org:9000/" '
         f'user "u" password env "P"\n node N{i} {{ implementation p/n }} }}\n'
-        for i, rid in enumerate(("robot_1", "ROBOT_1"))
+        for i, rid in enumerate(robot_ids)
     )
     (line / "l.tsm").write_text(robots, encoding="utf-8")
     (line / "l.fm").write_text("feature model L\nroot R\n", encoding="utf-8")
     (line / "l.rm").write_text('resolution model L\ntsm "l.tsm"\nfm "l.fm"\n', encoding="utf-8")
+    return line
+
+
+def test_robot_ids_apart_only_in_case_are_located(tmp_path):
+    # was: resolve "internal error: BundlePathClash: zenoh/ROBOT_1.json5 and zenoh/robot_1.json5"
+    line = two_robot_line(tmp_path, "robot_1", "ROBOT_1")
     out = tmp_path / "out"
     result = run("resolve", line, "--features", "R", "-o", out)
     assert result.exit_code == 1 and not out.exists()
@@ -550,16 +556,7 @@ def test_a_period_attribute_out_of_range_is_located_where_it_is_used(tmp_path, v
 @pytest.mark.parametrize("second", ["robot_1", "ROBOT_1"])
 def test_check_warns_of_robot_ids_every_product_keeping_both_fails_on(tmp_path, second):
     # was: spl check 0 errors, 0 warnings; then every resolve refused
-    line = tmp_path / "line"
-    line.mkdir()
-    robots = "".join(
-        f'robot container R{i} {{ endpoint robot_id "{rid}" url "wss://c.example.org:9000/" '
-        f'user "u" password env "P"\n node N{i} {{ implementation p/n }} }}\n'
-        for i, rid in enumerate(("robot_1", second))
-    )
-    (line / "l.tsm").write_text(robots, encoding="utf-8")
-    (line / "l.fm").write_text("feature model L\nroot R\n", encoding="utf-8")
-    (line / "l.rm").write_text('resolution model L\ntsm "l.tsm"\nfm "l.fm"\n', encoding="utf-8")
+    line = two_robot_line(tmp_path, "robot_1", second)
     result = run("check", line)
     assert result.exit_code == 0
     assert [e for e in result.stderr.splitlines() if "SPL017" in e] == [

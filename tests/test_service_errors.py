@@ -18,6 +18,21 @@ from spl.metamodels import tsm
 T = tsm()
 
 
+def one_store_system(system, store_name: str, transform):  # type: ignore[no-untyped-def]
+    """``system`` with ``transform``'s two data types and a cloud holding one store of its
+    input, refined by it every second."""
+    system.dataTypes.extend([transform.input, transform.output])
+    system.transforms.append(transform)
+    cloud = T.CloudContainer(name="Cloud", endpoint=T.Endpoint())
+    store = T.Store(name=store_name, raw=transform.input)
+    store.refinements.append(
+        T.Refinement(output=transform.output, transform=transform, period=1.0)
+    )
+    cloud.stores.append(store)
+    system.containers.append(cloud)
+    return system
+
+
 def ratio_system():  # type: ignore[no-untyped-def]
     system = T.System(name="Ratios")
     sample = T.DataType(name="Sample")
@@ -32,14 +47,7 @@ def ratio_system():  # type: ignore[no-untyped-def]
     transform.assignments.append(T.Assignment(field="growth", expression=T.BinaryExpression(
         operator="-", left=T.FieldReference(field="a"),
         right=T.FieldReference(record="prev", field="a"))))
-    system.dataTypes.extend([sample, ratio])
-    system.transforms.append(transform)
-    cloud = T.CloudContainer(name="Cloud", endpoint=T.Endpoint())
-    store = T.Store(name="RatioStore", raw=sample)
-    store.refinements.append(T.Refinement(output=ratio, transform=transform, period=1.0))
-    cloud.stores.append(store)
-    system.containers.append(cloud)
-    return system
+    return one_store_system(system, "RatioStore", transform)
 
 
 @pytest.fixture(scope="module")
@@ -103,14 +111,7 @@ def tally_system():  # type: ignore[no-untyped-def]
         operator="*", left=T.FieldReference(field="n"), right=T.NumberLiteral(value="1000"))))
     transform.assignments.append(T.Assignment(field="tag", expression=T.FieldReference(
         field="tag")))
-    system.dataTypes.extend([tally, scaled])
-    system.transforms.append(transform)
-    cloud = T.CloudContainer(name="Cloud", endpoint=T.Endpoint())
-    store = T.Store(name="TallyStore", raw=tally)
-    store.refinements.append(T.Refinement(output=scaled, transform=transform, period=1.0))
-    cloud.stores.append(store)
-    system.containers.append(cloud)
-    return system
+    return one_store_system(system, "TallyStore", transform)
 
 
 def test_values_the_database_cannot_hold_never_jam_the_service(tmp_path: Path) -> None:
