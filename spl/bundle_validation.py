@@ -25,10 +25,13 @@ from spl.generators.kubernetes_objects import with_known_tags
 from spl.generators.launch_schema import validate_ros1_launch, validate_ros2_launch
 from spl.generators.rapyuta_rules import check_all
 
+_STR = "tag:yaml.org,2002:str"
+
 # libyaml's parser when PyYAML has it (Debian's and PyPI's wheels do): the same documents,
 # ten times faster than the pure-Python one on the Kubernetes manifests of every product;
 # each scalar's implicit tag looked up once per process
 YAML_LOADER = with_known_tags(getattr(yaml, "CSafeLoader", yaml.SafeLoader))
+_YAML_PARSER = getattr(getattr(yaml, "_yaml", None), "CParser", None)
 
 
 def validate_bundle(files: dict[str, bytes]) -> list[str]:
@@ -81,10 +84,59 @@ def _python(path: str, data: bytes) -> list[str]:
 
 def _yaml(path: str, data: bytes) -> list[str]:
     try:
-        list(yaml.load_all(data, Loader=YAML_LOADER))
-    except yaml.YAMLError as exc:
+        if not _loads_plainly(data):
+            list(yaml.load_all(data, Loader=YAML_LOADER))
+    except (yaml.YAMLError, ValueError) as exc:  # ValueError: a scalar that does not construct
         return [f"{path}: not YAML: {exc}"]
     return []
+
+
+def _loads_plainly(data: bytes) -> bool:
+    """True when PyYAML's safe loader reads the stream ``data`` without error, decided
+    from libyaml's events without building the documents (a third of the load's cost on
+    a product's manifests); False when that is not decided here, and the stream is
+    loaded. Decided here: streams of mappings with scalar keys, sequences and scalars,
+    without tags, anchors or aliases, whose plain scalars construct (each implicit tag's
+    constructor is run on it: ``0b_`` is an int that does not), which is all a generator
+    writes. Mapping keys that are collections (unhashable), tags, aliases (perhaps
+    undefined) and syntax errors are left to the loader, so the verdict and its message
+    are the loader's own (tests/test_yaml_check.py compares them)."""
+    if _YAML_PARSER is None:
+        return False
+    loader = YAML_LOADER(b"")  # its resolver and constructor, on no stream
+    resolve, constructors = loader.resolve, loader.yaml_constructors
+    expecting_key: list[bool | None] = []  # per open collection; None: a sequence
+    parser = _YAML_PARSER(data)
+    try:
+        while (event := parser.get_event()) is not None:
+            kind = type(event)
+            if kind is yaml.ScalarEvent:
+                if event.anchor is not None or event.tag is not None:
+                    return False
+                if event.implicit[0]:  # plain: its tag is resolved from its text
+                    tag = resolve(yaml.ScalarNode, event.value, (True, False))
+                    if tag != _STR:
+                        node = yaml.ScalarNode(tag, event.value)
+                        constructors[tag](loader, node)
+                if expecting_key and expecting_key[-1] is not None:
+                    expecting_key[-1] = not expecting_key[-1]
+            elif kind is yaml.MappingStartEvent or kind is yaml.SequenceStartEvent:
+                if event.anchor is not None or event.tag is not None:
+                    return False
+                if expecting_key and expecting_key[-1] is not None:
+                    if expecting_key[-1]:
+                        return False  # a collection as a key
+                    expecting_key[-1] = True
+                expecting_key.append(True if kind is yaml.MappingStartEvent else None)
+            elif kind is yaml.MappingEndEvent or kind is yaml.SequenceEndEvent:
+                expecting_key.pop()
+            elif kind is yaml.AliasEvent:
+                return False
+    except Exception:  # a syntax error, a scalar that does not construct: the loader's say
+        return False
+    finally:
+        loader.dispose()
+    return True
 
 
 def _xml(path: str, data: bytes) -> list[str]:

@@ -7,8 +7,6 @@ from __future__ import annotations
 import hashlib
 import json
 
-import yaml
-
 from spl import bundle_validation
 from spl.bundle_validation import validate_bundle
 
@@ -21,13 +19,13 @@ def bundle(files: dict[str, bytes]) -> dict[str, bytes]:
 
 def counting_loads(monkeypatch) -> list[bytes]:
     parsed: list[bytes] = []
-    real = yaml.load_all
+    real = bundle_validation._yaml
 
-    def load_all(data, Loader):
+    def check(path, data):
         parsed.append(data)
-        return real(data, Loader=Loader)
+        return real(path, data)
 
-    monkeypatch.setattr(bundle_validation.yaml, "load_all", load_all)
+    monkeypatch.setattr(bundle_validation, "_yaml", check)
     return parsed
 
 
