@@ -25,6 +25,7 @@ Keys are written in the order built and YAML without anchors: same product, same
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Any
 
 import yaml
@@ -35,6 +36,7 @@ from spl.generators.kubernetes_names import (
     ROUTER,
     label_value,
 )
+from spl.generators.kubernetes_yaml import block_yaml
 from spl.generators.zenoh_bridge import ZENOH_PORT, CloudBridge, Transport
 from spl.resolver.placement import Instance
 
@@ -137,13 +139,18 @@ def _dumper(base: type, nodes: bool = True) -> type:
 # same bytes for every shipped product, so a bundle does not depend on the machine.
 PYTHON_DUMPER = _dumper(yaml.SafeDumper)
 DUMPER = _dumper(getattr(yaml, "CSafeDumper", yaml.SafeDumper))
+# Documents of the shapes kubernetes_yaml writes are written by it (the emitters' bytes,
+# tests/test_kubernetes_yaml.py), others by DUMPER; None: every document by DUMPER.
+WRITER: Callable[[list[dict[str, Any]], type], str | None] | None = block_yaml
 
 
 def render(documents: list[dict[str, Any]], header: str) -> bytes:
     """Documents as one YAML stream, keys in the order built, a comment header."""
-    body = yaml.dump_all(
-        documents, Dumper=DUMPER, sort_keys=False, default_flow_style=False, width=2**16
-    )
+    body = WRITER(documents, _Literal) if WRITER is not None else None
+    if body is None:
+        body = yaml.dump_all(
+            documents, Dumper=DUMPER, sort_keys=False, default_flow_style=False, width=2**16
+        )
     return f"# {header}\n{body}".encode()
 
 

@@ -79,9 +79,11 @@ def test_every_product_validates_and_holds_no_credential(directory, monkeypatch)
         files = build_bundle(product).files
         objects += check_manifests(files)
         manifests = {p: d for p, d in files.items() if p.startswith("kubernetes/")}
-        # without libyaml, and with PyYAML's own representer: the very same bytes
-        for dumper in (kubernetes_objects.PYTHON_DUMPER, PYYAML_NODES):
+        # written by PyYAML (libyaml's emitter, the pure-Python one, and PyYAML's own
+        # representer) instead of kubernetes_yaml: the very same bytes
+        for dumper in (kubernetes_objects.DUMPER, kubernetes_objects.PYTHON_DUMPER, PYYAML_NODES):
             with monkeypatch.context() as patch:
+                patch.setattr(kubernetes_objects, "WRITER", None)
                 patch.setattr(kubernetes_objects, "DUMPER", dumper)
                 other = build_bundle(product, ("kubernetes",)).files
             assert manifests == {p: d for p, d in other.items() if p.startswith("kubernetes/")}
