@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from pyecore.ecore import EAttribute, EObject
+from pyecore.ecore import EAttribute, EObject, EReference
 from pyecore.valuecontainer import EValue
 
 _FEATURES: dict[int, tuple] = {}
@@ -29,8 +29,9 @@ def _features(obj: EObject) -> tuple:
 
 
 def _plan(obj: EObject) -> tuple[tuple, tuple]:
-    """Per class: (name, many, containment, default, single attribute) of values to copy,
-    then (name, many) of references."""
+    """Per class: (name, many, containment, default, feature) of values to copy, then
+    (name, many, feature) of references; the feature only where it is set directly (a
+    single-valued attribute, or reference without an opposite)."""
     eclass = obj.eClass
     plan = _PLANS.get(id(eclass))
     if plan is None:
@@ -41,9 +42,9 @@ def _plan(obj: EObject) -> tuple[tuple, tuple]:
                 single = None if feature.many else feature
                 values.append((feature.name, feature.many, False, default, single))
             elif feature.containment:
-                values.append((feature.name, feature.many, True, None, None))
+                values.append((feature.name, feature.many, True, None, _plain(feature)))
             else:
-                references.append((feature.name, feature.many))
+                references.append((feature.name, feature.many, _plain(feature)))
         plan = _PLANS[id(eclass)] = (eclass, tuple(values), tuple(references))
     return plan[1], plan[2]
 
@@ -85,20 +86,29 @@ def copy_with_map(root: EObject) -> tuple[EObject, dict[int, EObject]]:
                     )
             elif value is None or value == default:
                 continue
+            elif containment:
+                if attribute is not None:
+                    _set_reference(dst, attribute, name, clone(value), True)
+                else:
+                    setattr(dst, name, clone(value))
             elif attribute is not None:
                 _set_attribute(dst, attribute, name, value)
             else:
-                setattr(dst, name, clone(value) if containment else value)
+                setattr(dst, name, value)
         return dst
 
     copy = clone(root)
     for src, dst, references in pending:
-        for name, many in references:
+        for name, many, reference in references:
             value = getattr(src, name)
             if many:
                 if value:
                     getattr(dst, name).extend([mapping.get(id(v), v) for v in value])
-            elif value is not None:
+            elif value is None:
+                continue
+            elif reference is not None:
+                _set_reference(dst, reference, name, mapping.get(id(value), value), False)
+            else:
                 setattr(dst, name, mapping.get(id(value), value))
     return copy, mapping
 
@@ -122,6 +132,40 @@ def _set_attribute(obj: EObject, attribute: EAttribute, name: str, value: object
     slot.__dict__ = {"owner": obj, "feature": attribute, **_ATTRIBUTE_SLOT, "_value": value}
     obj.__dict__[name] = slot
     obj._isset[attribute] = None
+
+
+def _plain(reference: EReference) -> EReference | None:
+    """The single-valued reference without an opposite, which :func:`_set_reference`
+    sets; None for any other."""
+    return None if reference.many or reference.eOpposite or reference.derived else reference
+
+
+def _set_reference(
+    obj: EObject, reference: EReference, name: str, value: EObject, containment: bool
+) -> None:
+    """``obj.name = value`` for a single-valued reference without an opposite, on an
+    object of a copy being built, as pyecore's ``EValue._set`` leaves it (the slot, the
+    feature marked set, the value's container for a containment, the value's inverse
+    relation), without its type check and notification: the value is the copy of, or
+    the same as, the original's value of the same feature, and the new object has no
+    listener and no resource yet (as in :func:`_set_attribute`)."""
+    slot = _new_slot(EValue)
+    slot.__dict__ = {
+        "owner": obj,
+        "feature": reference,
+        "is_ref": True,
+        "is_cont": containment,
+        "generic_type": None,
+        "_value": value,
+    }
+    obj.__dict__[name] = slot
+    obj._isset[reference] = None
+    if containment:
+        value._container = obj
+        value._containment_feature = reference
+    inverse = getattr(value, "_inverse_rels", None)
+    if inverse is not None:
+        inverse.add((obj, reference))
 
 
 def _path(obj: EObject | None) -> str:

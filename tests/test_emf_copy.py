@@ -71,3 +71,45 @@ def test_a_copied_attribute_slot_is_the_one_pyecore_builds(path):
             assert type(slot) is EValue and vars(slot) == vars(own), feature.name
             compared += 1
     assert compared > 0
+
+
+@pytest.mark.parametrize("path", MODELS, ids=lambda p: p.stem)
+def test_a_copy_is_the_one_pyecore_builds_by_setting_each_feature(path, monkeypatch):
+    """Slots, set features, containers and inverse relations of every copied element
+    equal those of a copy whose features are all set through pyecore's descriptors."""
+    from spl import emf
+
+    original = parse_file(path)
+    _, fast_map = copy_with_map(original)
+    monkeypatch.setattr(
+        emf, "_set_attribute", lambda obj, _, name, value: setattr(obj, name, value)
+    )
+    monkeypatch.setattr(
+        emf, "_set_reference", lambda obj, _, name, value, __: setattr(obj, name, value)
+    )
+    _, slow_map = copy_with_map(original)
+    to_slow = {id(fast_map[key]): slow_map[key] for key in fast_map}
+
+    def same(value):
+        return to_slow.get(id(value), value)
+
+    compared = 0
+    for element in [original, *original.eAllContents()]:
+        a, b = fast_map[id(element)], slow_map[id(element)]
+        assert set(a._isset) == set(b._isset)
+        assert same(a.eContainer()) is b.eContainer()
+        assert a._containment_feature is b._containment_feature
+        assert {(same(owner), f) for owner, f in a._inverse_rels} == {
+            (owner, f) for owner, f in b._inverse_rels
+        }
+        for feature in element.eClass.eAllStructuralFeatures():
+            slot, own = a.__dict__.get(feature.name), b.__dict__.get(feature.name)
+            if feature.many:
+                assert (slot is None) == (own is None) or not getattr(element, feature.name)
+                continue
+            assert (slot is None) == (own is None), feature.name
+            if slot is not None:
+                fields = {k: same(v) for k, v in vars(slot).items()}
+                assert type(slot) is type(own) and fields == vars(own), feature.name
+                compared += 1
+    assert compared > 0
