@@ -32,6 +32,7 @@ _STR = "tag:yaml.org,2002:str"
 # each scalar's implicit tag looked up once per process
 YAML_LOADER = with_known_tags(getattr(yaml, "CSafeLoader", yaml.SafeLoader))
 _YAML_PARSER = getattr(getattr(yaml, "_yaml", None), "CParser", None)
+_PLAIN_STRINGS: set[str] = set()  # plain scalars whose implicit tag is str, seen so far
 
 
 def validate_bundle(files: dict[str, bytes]) -> list[str]:
@@ -105,32 +106,37 @@ def _loads_plainly(data: bytes) -> bool:
         return False
     loader = YAML_LOADER(b"")  # its resolver and constructor, on no stream
     resolve, constructors = loader.resolve, loader.yaml_constructors
-    expecting_key: list[bool | None] = []  # per open collection; None: a sequence
-    parser = _YAML_PARSER(data)
+    scalar, alias = yaml.ScalarEvent, yaml.AliasEvent
+    mapping, sequence = yaml.MappingStartEvent, yaml.SequenceStartEvent
+    ends = (yaml.MappingEndEvent, yaml.SequenceEndEvent)
+    # the open collection's state: True a mapping expecting a key, False a mapping
+    # expecting a value, None a sequence (or none open); the enclosing ones' on a stack
+    state: bool | None = None
+    enclosing: list[bool | None] = []
+    get_event = _YAML_PARSER(data).get_event
     try:
-        while (event := parser.get_event()) is not None:
+        while (event := get_event()) is not None:
             kind = type(event)
-            if kind is yaml.ScalarEvent:
+            if kind is scalar:
                 if event.anchor is not None or event.tag is not None:
                     return False
-                if event.implicit[0]:  # plain: its tag is resolved from its text
-                    tag = resolve(yaml.ScalarNode, event.value, (True, False))
+                value = event.value
+                if event.implicit[0] and value not in _PLAIN_STRINGS:  # plain, by its text
+                    tag = resolve(yaml.ScalarNode, value, (True, False))
                     if tag != _STR:
-                        node = yaml.ScalarNode(tag, event.value)
-                        constructors[tag](loader, node)
-                if expecting_key and expecting_key[-1] is not None:
-                    expecting_key[-1] = not expecting_key[-1]
-            elif kind is yaml.MappingStartEvent or kind is yaml.SequenceStartEvent:
-                if event.anchor is not None or event.tag is not None:
-                    return False
-                if expecting_key and expecting_key[-1] is not None:
-                    if expecting_key[-1]:
-                        return False  # a collection as a key
-                    expecting_key[-1] = True
-                expecting_key.append(True if kind is yaml.MappingStartEvent else None)
-            elif kind is yaml.MappingEndEvent or kind is yaml.SequenceEndEvent:
-                expecting_key.pop()
-            elif kind is yaml.AliasEvent:
+                        constructors[tag](loader, yaml.ScalarNode(tag, value))
+                    elif len(_PLAIN_STRINGS) < 50_000:
+                        _PLAIN_STRINGS.add(value)
+                if state is not None:
+                    state = not state
+            elif kind is mapping or kind is sequence:
+                if event.anchor is not None or event.tag is not None or state:
+                    return False  # state: a collection as a key
+                enclosing.append(state if state is None else True)
+                state = True if kind is mapping else None
+            elif kind in ends:
+                state = enclosing.pop()
+            elif kind is alias:
                 return False
     except Exception:  # a syntax error, a scalar that does not construct: the loader's say
         return False
