@@ -11,8 +11,9 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from pyecore.ecore import EAttribute, EObject, EReference
-from pyecore.valuecontainer import EValue
+from ordered_set import OrderedSet
+from pyecore.ecore import EAttribute, EObject, EReference, EStructuralFeature
+from pyecore.valuecontainer import EBag, EList, EOrderedSet, ESet, EValue
 
 _FEATURES: dict[int, tuple] = {}
 _PLANS: dict[int, tuple] = {}
@@ -30,8 +31,8 @@ def _features(obj: EObject) -> tuple:
 
 def _plan(obj: EObject) -> tuple[tuple, tuple]:
     """Per class: (name, many, containment, default, feature) of values to copy, then
-    (name, many, feature) of references; the feature only where it is set directly (a
-    single-valued attribute, or reference without an opposite)."""
+    (name, many, feature) of references; the feature only where the copy sets it
+    directly (:func:`_direct`), else None."""
     eclass = obj.eClass
     plan = _PLANS.get(id(eclass))
     if plan is None:
@@ -39,12 +40,11 @@ def _plan(obj: EObject) -> tuple[tuple, tuple]:
         for feature in _features(obj):
             if isinstance(feature, EAttribute):
                 default = None if feature.many else feature.get_default_value()
-                single = None if feature.many else feature
-                values.append((feature.name, feature.many, False, default, single))
+                values.append((feature.name, feature.many, False, default, _direct(feature)))
             elif feature.containment:
-                values.append((feature.name, feature.many, True, None, _plain(feature)))
+                values.append((feature.name, feature.many, True, None, _direct(feature)))
             else:
-                references.append((feature.name, feature.many, _plain(feature)))
+                references.append((feature.name, feature.many, _direct(feature)))
         plan = _PLANS[id(eclass)] = (eclass, tuple(values), tuple(references))
     return plan[1], plan[2]
 
@@ -71,7 +71,7 @@ def copy_with_map(root: EObject) -> tuple[EObject, dict[int, EObject]]:
         if references:
             pending.append((src, dst, references))
         state = src.__dict__
-        for name, many, containment, default, attribute in values:
+        for name, many, containment, default, feature in values:
             if many:
                 value = getattr(src, name)
             else:  # read as pyecore's descriptor does, without the descriptor call
@@ -81,18 +81,20 @@ def copy_with_map(root: EObject) -> tuple[EObject, dict[int, EObject]]:
                 value = slot._value if type(slot) is EValue else getattr(src, name)
             if many:
                 if value:
-                    getattr(dst, name).extend(
-                        [clone(child) for child in value] if containment else value
-                    )
+                    items = [clone(child) for child in value] if containment else list(value)
+                    if feature is not None:
+                        _extend(dst, feature, name, items, containment)
+                    else:
+                        getattr(dst, name).extend(items)
             elif value is None or value == default:
                 continue
             elif containment:
-                if attribute is not None:
-                    _set_reference(dst, attribute, name, clone(value), True)
+                if feature is not None:
+                    _set_reference(dst, feature, name, clone(value), True)
                 else:
                     setattr(dst, name, clone(value))
-            elif attribute is not None:
-                _set_attribute(dst, attribute, name, value)
+            elif feature is not None:
+                _set_attribute(dst, feature, name, value)
             else:
                 setattr(dst, name, value)
         return dst
@@ -103,7 +105,11 @@ def copy_with_map(root: EObject) -> tuple[EObject, dict[int, EObject]]:
             value = getattr(src, name)
             if many:
                 if value:
-                    getattr(dst, name).extend([mapping.get(id(v), v) for v in value])
+                    items = [mapping.get(id(v), v) for v in value]
+                    if reference is not None:
+                        _extend(dst, reference, name, items, False)
+                    else:
+                        getattr(dst, name).extend(items)
             elif value is None:
                 continue
             elif reference is not None:
@@ -134,10 +140,42 @@ def _set_attribute(obj: EObject, attribute: EAttribute, name: str, value: object
     obj._isset[attribute] = None
 
 
-def _plain(reference: EReference) -> EReference | None:
-    """The single-valued reference without an opposite, which :func:`_set_reference`
-    sets; None for any other."""
-    return None if reference.many or reference.eOpposite or reference.derived else reference
+def _direct(feature: EStructuralFeature) -> EStructuralFeature | None:
+    """The feature when a copy sets it directly (:func:`_set_attribute`,
+    :func:`_set_reference`, :func:`_extend`): an attribute or a reference without an
+    opposite, not derived; None when pyecore's descriptor sets it."""
+    if feature.derived or (not isinstance(feature, EAttribute) and feature.eOpposite):
+        return None
+    return feature
+
+
+def _extend(
+    obj: EObject, feature: EStructuralFeature, name: str, values: list, containment: bool
+) -> None:
+    """``getattr(obj, name).extend(values)`` for a many-valued feature of an object of a
+    copy being built, as pyecore's ``extend`` leaves it (the values in the collection,
+    the feature marked set, each value's container for a containment and inverse
+    relation for a reference), without its type check per value and notification (the
+    values are those, or the copies of those, of the original's same feature)."""
+    collection = getattr(obj, name)  # created empty by pyecore, of the feature's kind
+    kind = type(collection)
+    if kind is EOrderedSet or kind is ESet:
+        add = OrderedSet.add
+        for value in values:
+            add(collection, value)
+    elif kind is EList or kind is EBag:
+        list.extend(collection, values)
+    else:
+        collection.extend(values)
+        return
+    if feature.is_reference:
+        couple = (obj, feature)
+        for value in values:
+            if containment:
+                value._container = obj
+                value._containment_feature = feature
+            value._inverse_rels.add(couple)
+    obj._isset[feature] = None
 
 
 def _set_reference(
