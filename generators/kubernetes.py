@@ -57,7 +57,7 @@ def instance_file(
 
 def transport_note(wiring: Transport) -> str:
     """What the README says of robot/cloud transport."""
-    if wiring.carried and not wiring.cloud_bridges:
+    if wiring.carried and not wiring.crosses:
         return "No data crosses between robots and these instances: no Zenoh router.\n"
     if not wiring.carried:
         return (
@@ -149,7 +149,7 @@ def generate(product: ResolvedProduct) -> dict[str, bytes]:
         files[f"kubernetes/{name}.yaml"] = instance_file(
             product.name, instance, name, launch, tuple(bridges)
         )
-    if wiring.carried and wiring.cloud_bridges:
+    if wiring.routed:
         files[f"kubernetes/{ROUTER}.yaml"] = render(
             router_documents(product.name, wiring), title(product.name, "Zenoh router")
         )

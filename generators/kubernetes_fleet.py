@@ -91,7 +91,7 @@ def fleet_files(
             per_instance.setdefault(instance.place.tag, []).append(path)
         else:
             per_robot[robot].append(path)
-    if wiring.carried and wiring.cloud_bridges:
+    if wiring.routed:
         documents = router_documents(fleet, wiring)
         files[f"kubernetes/{ROUTER}.yaml"] = render(
             documents, title(fleet, "Zenoh router", "fleet")

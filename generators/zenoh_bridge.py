@@ -71,6 +71,12 @@ class Transport:
     credentials: list[tuple[str, str]] = field(default_factory=list)  # (user, VAR)
     robot_files: dict[str, str] = field(default_factory=dict)  # robotID -> container
     reason: str | None = None
+    crosses: bool = False  # some topic or service crosses between places
+
+    @property
+    def routed(self) -> bool:
+        """Whether Zenoh carries anything: a router and bridges are deployed only then."""
+        return self.carried and self.crosses
 
     @property
     def carried(self) -> bool:
@@ -197,7 +203,7 @@ def _transport(systems: tuple[Any, ...]) -> Transport:
         raise ModelError(list(dict.fromkeys(errors)))
     if found.problems:
         return Transport(reason="; ".join(found.problems))
-    result = Transport()
+    result = Transport(crosses=bool(found.flows))
     endpoints = []
     for bridge in sorted(found.lists):
         if bridge.place not in instances:

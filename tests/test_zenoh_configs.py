@@ -190,6 +190,9 @@ def test_every_product_configuration_reads_back_with_documented_keys(directory):
             assert "Zenoh cannot carry this product" in files["zenoh/"].reason
             continue
         carried += 1
+        if list(files) == ["zenoh/README.md"]:  # nothing crosses: nothing to configure
+            assert "Zenoh has\nnothing to carry" in files["zenoh/README.md"].decode()
+            continue
         found = configs(files)
         for name, document in found.items():
             assert leaf_keys(document) <= DOCUMENTED, name
@@ -378,3 +381,23 @@ def test_a_small_product_carried_with_its_users():
     files = kubernetes.generate(ResolvedProduct("small", system, ()))
     readme = files["kubernetes/README.md"].decode()
     assert '--from-literal=rover-password="$ROVER_PASSWORD"' in readme
+
+
+@pytest.mark.parametrize("directory", LINES, ids=lambda p: p.name)
+def test_zenoh_and_kubernetes_agree_on_the_router(directory):
+    """A bundle runs a Zenoh router exactly when some data crosses between places: then
+    both folders have it and the robots' bridges connect to it; otherwise neither has
+    it, zenoh/ holds no bridge pointing at it, and both READMEs say so."""
+    line = load_product_line(directory)
+    quiet = 0
+    for features in enumerate_products(line.fm):
+        product = resolve(line, ProductSelection("p", sorted(features))).product
+        files = {**zenoh.generate(product), **kubernetes.generate(product)}
+        routed = "kubernetes/zenoh-router.yaml" in files
+        assert routed == ("zenoh/zenoh-router.json5" in files), sorted(features)
+        if not routed:
+            quiet += 1
+            assert [p for p in files if p.startswith("zenoh/")] == ["zenoh/README.md"]
+            assert "no Zenoh router" in files["kubernetes/README.md"].decode()
+    # data acquisition carries its data over HTTP to the stores: nothing crosses in ROS
+    assert quiet > 0 or directory.name != "data_acquisition"
