@@ -31,8 +31,11 @@ def bundle(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 
 def _start(bundle: Path, store: str, slug: str) -> RunningService:
-    env = {f"{slug.upper()}_TOKEN": TOKEN, f"{slug.upper()}_TRANSFORM_PERIOD": "0.1",
-           "MAX_BATCH": "50"}
+    env = {
+        f"{slug.upper()}_TOKEN": TOKEN,
+        f"{slug.upper()}_TRANSFORM_PERIOD": "0.1",
+        "MAX_BATCH": "50",
+    }
     return RunningService(bundle / "services" / store, f"{slug}_service", env).start()
 
 
@@ -58,7 +61,8 @@ def client_module(bundle: Path, package: str):  # type: ignore[no-untyped-def]
 def test_positions_in_arc_seconds_come_back_in_degrees(bundle: Path, positions) -> None:
     writer_http = client_module(bundle, "position_writer")
     writer = writer_http.BatchingWriter(
-        writer_http.StoreClient(positions.url, token=TOKEN), robot="rover_1", batch_size=2)
+        writer_http.StoreClient(positions.url, token=TOKEN), robot="rover_1", batch_size=2
+    )
     for index, (lat, lon) in enumerate(ARC_SECONDS):
         assert writer.submit(1000.0 + index, {"lat": lat, "lon": lon})
     assert writer.flush(10)
@@ -74,6 +78,10 @@ def test_positions_in_arc_seconds_come_back_in_degrees(bundle: Path, positions) 
         assert math.isclose(record["lat"], lat / 3600.0)
         assert math.isclose(record["lon"], lon / 3600.0)
     assert reader.poll() == []  # each record is delivered once
+    # the reader node's start_time: records stamped before it are skipped
+    later = reader_http.StoreClient(positions.url)
+    later_reader = reader_http.PollingReader(later, robot="rover_1", start=1001.0)
+    assert [r["timestamp"] for r in later_reader.poll()] == [1001.0, 1002.0]
 
 
 def test_follow_commands_last_until_the_next_velocity_change(bundle: Path, follow) -> None:
@@ -81,8 +89,10 @@ def test_follow_commands_last_until_the_next_velocity_change(bundle: Path, follo
     client = http.StoreClient(follow.url, token=TOKEN)
     stamps = [50.0, 51.5, 52.0, 54.25]
     velocities = [(0.1, 0.0, 0.0), (0.2, 0.0, 0.5), (0.0, 0.0, -0.5), (0.3, 0.1, 0.0)]
-    records = [http.to_record("ev3_a", t, dict(zip(("vx", "vy", "va"), v, strict=True)))
-               for t, v in zip(stamps, velocities, strict=True)]
+    records = [
+        http.to_record("ev3_a", t, dict(zip(("vx", "vy", "va"), v, strict=True)))
+        for t, v in zip(stamps, velocities, strict=True)
+    ]
     client.post(records[2:] + records[:2])  # arrival order differs from source order
 
     reader_http = client_module(bundle, "command_reader")
@@ -100,12 +110,14 @@ def test_follow_commands_last_until_the_next_velocity_change(bundle: Path, follo
 
 def test_commands_of_two_robots_do_not_mix(follow) -> None:
     base = f"{follow.url}/FollowStore"
-    body = {"records": [
-        {"robot": "r_x", "timestamp": 10.0, "data": {"vx": 1.0, "vy": 0.0, "va": 0.0}},
-        {"robot": "r_y", "timestamp": 10.5, "data": {"vx": 2.0, "vy": 0.0, "va": 0.0}},
-        {"robot": "r_x", "timestamp": 13.0, "data": {"vx": 3.0, "vy": 0.0, "va": 0.0}},
-        {"robot": "r_y", "timestamp": 11.0, "data": {"vx": 4.0, "vy": 0.0, "va": 0.0}},
-    ]}
+    body = {
+        "records": [
+            {"robot": "r_x", "timestamp": 10.0, "data": {"vx": 1.0, "vy": 0.0, "va": 0.0}},
+            {"robot": "r_y", "timestamp": 10.5, "data": {"vx": 2.0, "vy": 0.0, "va": 0.0}},
+            {"robot": "r_x", "timestamp": 13.0, "data": {"vx": 3.0, "vy": 0.0, "va": 0.0}},
+            {"robot": "r_y", "timestamp": 11.0, "data": {"vx": 4.0, "vy": 0.0, "va": 0.0}},
+        ]
+    }
     assert request("POST", f"{base}/records/batch", body)[0] == 201
 
     def page():  # type: ignore[no-untyped-def]
@@ -133,20 +145,27 @@ def test_rest_contract(positions) -> None:
 
     status, headers, store = request("GET", base)
     assert status == 200 and store["raw"]["type"] == "PositionInSecond"
-    assert headers["link"] == ('</PositionStore/records>; rel="related", '
-                               '</PositionStore/PositionInDEG>; rel="related", '
-                               '</PositionStore/errors>; rel="related"')
+    assert headers["link"] == (
+        '</PositionStore/records>; rel="related", '
+        '</PositionStore/PositionInDEG>; rel="related", '
+        '</PositionStore/errors>; rel="related"'
+    )
     assert 'rel="related"' in request("GET", positions.url + "/")[1]["link"]
-    for path, allow in [("", "GET, HEAD, OPTIONS"), ("/records", "GET, HEAD, POST, OPTIONS"),
-                        ("/PositionInDEG", "GET, HEAD, OPTIONS"),
-                        ("/PositionInDEG/1", "GET, HEAD, OPTIONS")]:
+    for path, allow in [
+        ("", "GET, HEAD, OPTIONS"),
+        ("/records", "GET, HEAD, POST, OPTIONS"),
+        ("/PositionInDEG", "GET, HEAD, OPTIONS"),
+        ("/PositionInDEG/1", "GET, HEAD, OPTIONS"),
+    ]:
         status, headers, _ = request("OPTIONS", base + path)
         assert (status, headers["allow"]) == (204, allow)
 
-    for method, path, allow in [("DELETE", "/records/1", "GET, HEAD, OPTIONS"),
-                                ("PUT", "", "GET, HEAD, OPTIONS"),
-                                ("DELETE", "/records", "GET, HEAD, POST, OPTIONS"),
-                                ("POST", "/PositionInDEG", "GET, HEAD, OPTIONS")]:
+    for method, path, allow in [
+        ("DELETE", "/records/1", "GET, HEAD, OPTIONS"),
+        ("PUT", "", "GET, HEAD, OPTIONS"),
+        ("DELETE", "/records", "GET, HEAD, POST, OPTIONS"),
+        ("POST", "/PositionInDEG", "GET, HEAD, OPTIONS"),
+    ]:
         status, headers, body = request(method, base + path)
         assert (status, headers["allow"], body["detail"]) == (405, allow, "Method Not Allowed")
 
@@ -164,8 +183,10 @@ def test_rest_contract(positions) -> None:
 
 def test_pagination_follows_next_links(positions) -> None:
     base = f"{positions.url}/PositionStore"
-    records = [{"robot": "pager", "timestamp": 7000.0 + i, "data": {"lat": 0.0, "lon": 0.0}}
-               for i in range(7)]
+    records = [
+        {"robot": "pager", "timestamp": 7000.0 + i, "data": {"lat": 0.0, "lon": 0.0}}
+        for i in range(7)
+    ]
     assert request("POST", f"{base}/records/batch", {"records": records})[0] == 201
     url = f"{base}/records?robot=pager&limit=3&from=7000&to=7006"
     seen = []
@@ -216,8 +237,7 @@ def test_writes_need_the_token(positions) -> None:
     status, headers, body = request("POST", f"{base}/records", record, token=None)
     assert status == 401 and headers["www-authenticate"] == "Bearer"
     assert body["detail"] == "missing bearer token"
-    status, _, body = request("POST", f"{base}/records/batch", {"records": [record]},
-                              token="wrong")
+    status, _, body = request("POST", f"{base}/records/batch", {"records": [record]}, token="wrong")
     assert status == 401 and body["detail"] == "invalid bearer token"
     assert request("GET", f"{base}/records?robot=intruder")[2]["items"] == []
 
