@@ -15,10 +15,12 @@
                                         one once; the Zenoh router; kustomization, README
     zenoh/                              the robots' and instances' Zenoh bridges
 
-Every robot's Rapyuta file declares each shared container it uses identically: the
-container, and the union over the fleet of the nodes, parameters and interfaces of that
-container, so applying the files of a whole fleet creates each shared instance once.
-The files are checked together against the engine's rules before anything is written.
+Each shared container is declared by one robot's Rapyuta file, the first by name of the
+robots using it: the container, and the union over the fleet of its nodes, parameters
+and interfaces; the other robots' files connect to it
+(:func:`spl.generators.rapyuta.declare_once`), since the engine refuses a container tag
+its user already has. The files are checked together against the engine's rules before
+anything is written.
 
 Shared instances' launch files are produced by :data:`SHARED_INSTANCE_GENERATORS`, one
 function per target taking the deployment and one instance. A robot's bundle has no
@@ -40,7 +42,7 @@ from spl.diagnostics import Diagnostic, ModelError
 from spl.generators import kubernetes_fleet, ros1, ros2_launch
 from spl.generators.bundle import TARGETS, build_bundle, manifest
 from spl.generators.launch_xml import serialize
-from spl.generators.rapyuta import configurations, render
+from spl.generators.rapyuta import configurations, declare_once, render
 from spl.generators.rapyuta_rules import check_all
 from spl.resolver.fleet_deployment import FleetDeployment, SharedInstance
 from spl.resolver.placement import Placement, sharing_mode
@@ -49,13 +51,6 @@ from spl.resolver.placement import Placement, sharing_mode
 ROBOT_TARGETS = tuple(t for t in TARGETS if t not in ("kubernetes", "zenoh"))
 
 # list name -> fields keying an entry, and the field naming its container
-_LISTS = {
-    "containers": (("cTag",), "cTag"),
-    "nodes": (("cTag", "nTag"), "cTag"),
-    "parameters": (("cTag", "name"), "cTag"),
-    "interfaces": (("eTag", "iTag"), "eTag"),
-    "connections": (("tagA", "tagB"), None),
-}
 
 
 def _header(deployment: FleetDeployment, what: str) -> str:
@@ -120,33 +115,6 @@ def _robot_files(deployment: FleetDeployment, entry: Any) -> dict[str, bytes]:
     return files
 
 
-def _consistent(documents: dict[str, dict[str, Any]], shared: set[str]) -> None:
-    """Declare each shared container alike in every file: the union over the fleet."""
-    union: dict[str, dict[tuple, dict]] = {name: {} for name in _LISTS}
-    problems = []
-    for path, document in documents.items():
-        for name, (fields, owner) in _LISTS.items():
-            for entry in document.get(name, ()):
-                if owner is None or entry[owner] not in shared:
-                    continue
-                known = union[name].setdefault(tuple(entry[f] for f in fields), entry)
-                if known != entry:
-                    problems.append(
-                        Diagnostic(None, f"{path}: {name} entry {entry} differs from {known}")
-                    )
-    if problems:
-        raise ModelError(problems)
-    for document in documents.values():
-        declared = {c["cTag"] for c in document.get("containers", ())} & shared
-        for name, (fields, owner) in _LISTS.items():
-            if owner is None:
-                continue
-            own = [e for e in document.get(name, ()) if e[owner] not in declared]
-            common = [e for e in union[name].values() if e[owner] in declared]
-            if own or common:
-                document[name] = sorted(own + common, key=lambda e: tuple(e[f] for f in fields))
-
-
 def fleet_files(deployment: FleetDeployment) -> dict[str, bytes]:
     """Every file of the fleet bundle (bundle path -> bytes), checked, nothing written."""
     files: dict[str, bytes] = {}
@@ -158,7 +126,7 @@ def fleet_files(deployment: FleetDeployment) -> dict[str, bytes]:
         for name, document in configurations(entry.product.system).items():
             documents[f"{prefix}rapyuta/{name}.json"] = document
         files.update({prefix + path: data for path, data in own.items()})
-    _consistent(documents, {instance.tag for instance in deployment.shared})
+    declare_once(documents)  # each shared instance by the first robot's file using it
     problems = check_all(list(documents.values()), list(documents))
     if problems:
         raise ModelError([Diagnostic(None, f"fleet Rapyuta files refused: {p}") for p in problems])

@@ -7,10 +7,11 @@ nodes (one per robot), ``<C>_<group>`` for protected nodes (one per group; carri
 
 A robot *uses* ``C`` when endpoint connections link the two, directly or through other
 cloud containers (robots never relay for each other). Each robot's file declares its
-private containers and every shared container it uses; a shared container is declared
-with the same nodes, parameters and interfaces in every file that names it (its
-interfaces are the union over all robots), so applying the files of a group creates it
-once. Instead of copying the TSM's endpoint interfaces, the files carry the flows that
+private containers; a shared container, with its nodes, parameters and interfaces (the
+union over all robots), is declared by one file only, the first by name of the robots
+using it, since the engine refuses a tag its user already has (:func:`declare_once`);
+the other robots' files connect to its interfaces, so that file is applied first.
+Instead of copying the TSM's endpoint interfaces, the files carry the flows that
 cross from one Rapyuta endpoint to another (:mod:`spl.resolver.wiring`), each as one
 bridge (:mod:`spl.generators.rapyuta_bridges`).
 
@@ -212,7 +213,69 @@ def configurations(system: Any) -> dict[str, dict[str, Any]]:
         documents[robot.name] = document
     if errors:
         raise ModelError(_unique(errors))
+    declare_once(documents)
     return documents
+
+
+# Per list: the fields identifying an entry, and the field naming the container it
+# belongs to (None: a connection, which belongs to no container).
+LISTS = {
+    "containers": (("cTag",), "cTag"),
+    "nodes": (("cTag", "nTag"), "cTag"),
+    "parameters": (("cTag", "name"), "cTag"),
+    "interfaces": (("eTag", "iTag"), "eTag"),
+    "connections": (("tagA", "tagB"), None),
+}
+
+
+def declare_once(documents: dict[str, dict[str, Any]]) -> None:
+    """Declare what several robots' files share in one file only, in place.
+
+    The engine creates a container when the first file naming it is applied and refuses
+    the tag from any later file of the same user; a connection made twice is refused
+    too. So a container several files declare (a shared partition several robots use)
+    stays in the first of them (by file name: the model's order does not matter) with
+    its nodes and parameters and the union over all files of its interfaces, and each
+    connection in the first file that has it; the later files connect to those
+    interfaces, as the engine's ``lo_client.cfg`` connects to what ``lo_server.cfg``
+    declares. An entry that differs from the first file's is left where it is, for the
+    rules to refuse."""
+    order = sorted(documents)
+    owners: dict[str, str] = {}
+    for name in order:
+        for entry in documents[name].get("containers", ()):
+            owners.setdefault(entry["cTag"], name)
+    first: dict[tuple, tuple[str, dict[str, Any]]] = {}  # identity -> (file, entry)
+    moved: dict[tuple[str, str], list[dict[str, Any]]] = defaultdict(list)
+    for name in order:
+        document = documents[name]
+        for key, (fields, owner_field) in LISTS.items():
+            entries = document.get(key)
+            if not entries:
+                continue
+            stay = []
+            for entry in entries:
+                identity = (key, *(entry[f] for f in fields))
+                earlier = first.setdefault(identity, (name, entry))
+                if earlier[0] != name:
+                    if earlier[1] != entry:
+                        stay.append(entry)  # declared differently: the rules say so
+                    continue  # an earlier file declares it
+                owner = owners.get(entry[owner_field]) if owner_field else None
+                if earlier[1] is entry and owner is not None and owner != name:
+                    moved[(owner, key)].append(entry)
+                else:
+                    stay.append(entry)
+            document[key] = stay
+    for (owner, key), entries in moved.items():
+        documents[owner].setdefault(key, []).extend(entries)
+    for document in documents.values():
+        for key, (fields, _) in LISTS.items():
+            if key in document:
+                if document[key]:
+                    document[key].sort(key=lambda e: tuple(e[f] for f in fields))
+                else:
+                    del document[key]
 
 
 def _unique(errors: list[Diagnostic]) -> list[Diagnostic]:

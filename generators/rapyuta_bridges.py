@@ -14,8 +14,8 @@ the server's or topic's container); robots take ``...Converter`` types, containe
 (``tagA``) to the side that delivers it (``tagB``).
 
 A bridge is declared in the file of the robot it belongs to (its robot or private
-partition is one side), and a bridge between two shared partitions in every file
-declaring both.
+partition is one side); a bridge between two shared partitions is made once, by the
+file that declares them (:func:`spl.generators.rapyuta.declare_once`).
 """
 
 from __future__ import annotations

@@ -7,10 +7,11 @@ span files, because a connection may name an interface that another robot of the
 user declares in its own file (the engine's ``lo_client.cfg`` connects to
 ``lo_server.cfg``'s interfaces); so a product's files are checked together.
 
-Applying a product's files together is a union: a container, node, parameter,
-interface or connection declared *identically* in several files (the shared container
-of a group, declared by every robot of the group) is created once. Declaring one tag
-twice inside one file, or differently in two files, is what the engine would refuse.
+Each container, node, parameter, interface and connection may be declared once in the
+whole set: the engine creates it when the first file naming it is applied and refuses a
+tag its user already has (rce-core's ``view_createContainer``) or a pair already
+connected. So a shared container of a group is declared by one robot's file, and the
+other robots' files connect to its interfaces.
 
 Every problem names the file and the JSON path of the offending entry, e.g.
 ``Robot.json: connections[2]: ...``.
@@ -183,7 +184,7 @@ def _role_and_suffix(i_type: Any) -> tuple[str, str] | None:
 
 
 class _Declarations:
-    """Declarations keyed by identity across the file set, merged when identical."""
+    """Declarations keyed by identity across the file set: each may be made once."""
 
     def __init__(self, kind: str, report: Any) -> None:
         self.kind = kind
@@ -210,6 +211,15 @@ class _Declarations:
                 f"{label} is declared differently in {known_file} ({known_path}): applying "
                 "both files would give it two definitions",
                 f"conflicting-{self.kind}",
+            )
+        else:
+            self.report(
+                file,
+                path,
+                f"{label} is declared again, as in {known_file} ({known_path}): the engine "
+                "refuses from the later file what its user already has; declare it in one "
+                "file and connect to it from the others",
+                f"redeclared-{self.kind}",
             )
 
     def __contains__(self, key: Any) -> bool:
@@ -323,8 +333,8 @@ def check_configurations(
                 )
             interfaces.declare((e_tag, i_tag), name, path, entry, label)
 
+    seen: dict[frozenset[str], str] = {}  # connected pairs, across the files
     for name, config in files_:
-        seen: dict[frozenset[str], str] = {}
         for index, entry in _entries(config, "connections"):
             path = f"connections[{index}]"
             tags = [entry.get("tagA"), entry.get("tagB")]
@@ -362,7 +372,7 @@ def check_configurations(
                         "duplicate-connection",
                     )
                 else:
-                    seen[pair] = path
+                    seen[pair] = path if len(files_) == 1 else f"{name}: {path}"
             if len(declared) != 2:
                 continue
             a, b = declared

@@ -169,11 +169,19 @@ def test_duplicate_container_node_and_parameter_in_one_file(real):
     ]
 
 
-def test_identical_declarations_in_two_files_merge_but_different_ones_clash(real):
+def test_a_container_declared_in_two_files_is_refused_alike_or_not(real):
+    # rce-core's view_createContainer refuses a tag the user already has: applying the
+    # second file fails even when it declares the container exactly as the first
     shared = {"cTag": "shared", "group": "g"}
     real[1]["containers"] = [dict(shared)]
     real[2]["containers"] = [dict(shared)]
-    assert check_configurations(real, NAMES) == []
+    (problem,) = check_configurations(real, NAMES)
+    assert (problem.file, problem.path, problem.rule) == (
+        "lo_server.cfg",
+        "containers[0]",
+        "redeclared-container",
+    )
+    assert "lo_client.cfg (containers[0])" in problem.message
     real[2]["containers"] = [dict(shared, group="h")]
     (problem,) = check_configurations(real, NAMES)
     assert (problem.file, problem.path, problem.rule) == (
@@ -237,3 +245,12 @@ def test_interface_declared_differently_by_two_files(real):
     assert ("lo_server.cfg", "interfaces[0]", "conflicting-interface") in [
         (p.file, p.path, p.rule) for p in problems
     ]
+
+
+def test_a_connection_made_in_two_files_is_refused(real):
+    # the engine refuses a pair already connected, whichever robot's file made it first
+    (made,) = [c for c in real[1].get("connections", [])][:1] or [None]
+    assert made is not None
+    real[2].setdefault("connections", []).append(dict(made))
+    rules = [(p.file, p.rule) for p in check_configurations(real, NAMES)]
+    assert rules == [("lo_server.cfg", "duplicate-connection")]
