@@ -239,8 +239,18 @@ def declare_once(documents: dict[str, dict[str, Any]]) -> None:
     connection in the first file that has it; the later files connect to those
     interfaces, as the engine's ``lo_client.cfg`` connects to what ``lo_server.cfg``
     declares. An entry that differs from the first file's is left where it is, for the
-    rules to refuse."""
-    order = sorted(documents)
+    rules to refuse. Each user has containers of its own in the engine, so this holds
+    among the files of one user (``userID``): robots of two users sharing a partition
+    each get their user's instance of it."""
+    users: dict[Any, list[str]] = defaultdict(list)
+    for name in sorted(documents):
+        users[documents[name].get("userID")].append(name)
+    for names in users.values():
+        _declare_once(documents, names)
+
+
+def _declare_once(documents: dict[str, dict[str, Any]], order: list[str]) -> None:
+    """:func:`declare_once` over the files ``order`` of one user."""
     owners: dict[str, str] = {}
     for name in order:
         for entry in documents[name].get("containers", ()):
@@ -269,7 +279,8 @@ def declare_once(documents: dict[str, dict[str, Any]]) -> None:
             document[key] = stay
     for (owner, key), entries in moved.items():
         documents[owner].setdefault(key, []).extend(entries)
-    for document in documents.values():
+    for name in order:
+        document = documents[name]
         for key, (fields, _) in LISTS.items():
             if key in document:
                 if document[key]:

@@ -7,11 +7,12 @@ span files, because a connection may name an interface that another robot of the
 user declares in its own file (the engine's ``lo_client.cfg`` connects to
 ``lo_server.cfg``'s interfaces); so a product's files are checked together.
 
-Each container, node, parameter, interface and connection may be declared once in the
-whole set: the engine creates it when the first file naming it is applied and refuses a
-tag its user already has (rce-core's ``view_createContainer``) or a pair already
-connected. So a shared container of a group is declared by one robot's file, and the
-other robots' files connect to its interfaces.
+Each container, node, parameter, interface and connection may be declared once per user
+in the whole set: the engine creates it when the first file naming it is applied and
+refuses a tag its user already has (rce-core's ``view_createContainer``) or a pair
+already connected. So a shared container of a group is declared by one robot's file, and
+the other robots' files of that user connect to its interfaces; a file connects only to
+interfaces of its own user (``userID``).
 
 Every problem names the file and the JSON path of the offending entry, e.g.
 ``Robot.json: connections[2]: ...``.
@@ -259,6 +260,10 @@ def check_configurations(
         else:
             robots[robot] = name
 
+    # the engine keeps each user's containers, interfaces and connections apart
+    user = {
+        name: config.get("userID") if isinstance(config, dict) else None for name, config in files_
+    }
     containers = _Declarations("container", report)
     for name, config in files_:
         for index, entry in _entries(config, "containers"):
@@ -271,14 +276,14 @@ def check_configurations(
                     f"container tag {c_tag!r} is already a robot's tag",
                     "endpoint-tag-clash",
                 )
-            containers.declare(c_tag, name, path, entry, f"container {c_tag!r}")
+            containers.declare((user[name], c_tag), name, path, entry, f"container {c_tag!r}")
 
     def check_container_ref(file: str, path: str, c_tag: Any, what: str) -> None:
-        if c_tag not in containers:
+        if (user[file], c_tag) not in containers:
             report(
                 file,
                 path,
-                f"{what} names container {c_tag!r}, which no file declares",
+                f"{what} names container {c_tag!r}, which no file of its user declares",
                 "unknown-container",
             )
 
@@ -288,14 +293,24 @@ def check_configurations(
         for index, entry in _entries(config, "nodes"):
             path = f"nodes[{index}]"
             check_container_ref(name, path, entry.get("cTag"), f"node {entry.get('nTag')!r}")
-            key = (entry.get("cTag"), entry.get("nTag"))
-            nodes.declare(key, name, path, entry, f"node {key[1]!r} in container {key[0]!r}")
+            c_tag, n_tag = entry.get("cTag"), entry.get("nTag")
+            nodes.declare(
+                (user[name], c_tag, n_tag),
+                name,
+                path,
+                entry,
+                f"node {n_tag!r} in container {c_tag!r}",
+            )
         for index, entry in _entries(config, "parameters"):
             path = f"parameters[{index}]"
             check_container_ref(name, path, entry.get("cTag"), f"parameter {entry.get('name')!r}")
-            key = (entry.get("cTag"), entry.get("name"))
+            c_tag, p_name = entry.get("cTag"), entry.get("name")
             parameters.declare(
-                key, name, path, entry, f"parameter {key[1]!r} in container {key[0]!r}"
+                (user[name], c_tag, p_name),
+                name,
+                path,
+                entry,
+                f"parameter {p_name!r} in container {c_tag!r}",
             )
 
     interfaces = _Declarations("interface", report)
@@ -314,7 +329,7 @@ def check_configurations(
                         f"{kind[0]}Converter or {kind[0]}Forwarder, not {i_type}",
                         "interface-type-on-robot",
                     )
-            elif e_tag in containers:
+            elif (user[name], e_tag) in containers:
                 if kind is not None and kind[1] not in CONTAINER_SUFFIXES:
                     report(
                         name,
@@ -331,9 +346,9 @@ def check_configurations(
                     "robot of this set",
                     "unknown-endpoint",
                 )
-            interfaces.declare((e_tag, i_tag), name, path, entry, label)
+            interfaces.declare((user[name], e_tag, i_tag), name, path, entry, label)
 
-    seen: dict[frozenset[str], str] = {}  # connected pairs, across the files
+    seen: dict[tuple[Any, frozenset[str]], str] = {}  # connected pairs, across the files
     for name, config in files_:
         for index, entry in _entries(config, "connections"):
             path = f"connections[{index}]"
@@ -349,20 +364,21 @@ def check_configurations(
                         "malformed-tag",
                     )
                     continue
-                interface = interfaces.get(tuple(parts))
+                interface = interfaces.get((user[name], *parts))
                 if interface is None:
                     report(
                         name,
                         f"{path}.{side}",
-                        f"{tag} names no declared interface (no file declares interface "
-                        f"{parts[1]!r} on endpoint {parts[0]!r})",
+                        f"{tag} names no declared interface (no file of user "
+                        f"{user[name]!r} declares interface {parts[1]!r} on endpoint "
+                        f"{parts[0]!r})",
                         "unresolved-tag",
                     )
                 else:
                     declared.append(interface)
             if all(isinstance(tag, str) for tag in tags):
-                pair = frozenset(tags)
-                if len(pair) == 1:
+                pair = (user[name], frozenset(tags))
+                if len(pair[1]) == 1:
                     report(name, path, f"connects {tags[0]} to itself", "self-connection")
                 elif pair in seen:
                     report(

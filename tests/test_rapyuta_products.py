@@ -149,3 +149,17 @@ def test_two_robots_of_a_group_parsed_from_tsm():
     assert between in connections(alpha)
     own = [c.replace("alpha", "beta") for c in connections(alpha) if c != between]
     assert own == connections(beta)
+
+
+def test_robots_of_two_users_each_declare_their_users_instance():
+    # orchard's Harvester (user harvester) and Scout (user scout) share the public yield
+    # map: the engine keeps each user's containers apart, so each file declares its own
+    # user's instance and connects only to it
+    line = load_product_line(ROOT / "product_lines" / "orchard")
+    selection = load_selection_file(ROOT / "product_lines/orchard/products/scout_yield_public.yaml")
+    files = generate(resolve(line, selection).product)
+    assert accepted(files) == []
+    for path in files:
+        document = json.loads(files[path])
+        assert "OrchardCloud_public" in [c["cTag"] for c in document["containers"]], path
+        assert accepted(files, path) == []  # needs nothing from another user's file

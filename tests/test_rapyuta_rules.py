@@ -254,3 +254,24 @@ def test_a_connection_made_in_two_files_is_refused(real):
     real[2].setdefault("connections", []).append(dict(made))
     rules = [(p.file, p.rule) for p in check_configurations(real, NAMES)]
     assert rules == [("lo_server.cfg", "duplicate-connection")]
+
+
+def test_a_file_connects_only_to_interfaces_of_its_own_user(real):
+    # lo_client.cfg connects to what lo_server.cfg declares: under another user, the
+    # engine resolves none of those tags
+    real[2]["userID"] = "otherUser"
+    problems = check_configurations(real, NAMES)
+    assert problems and {(p.file, p.rule) for p in problems} == {
+        ("lo_client.cfg", "unresolved-tag")
+    }
+    assert "no file of user 'testUser' declares" in problems[0].message
+
+
+def test_each_user_may_declare_a_container_of_its_own(real):
+    shared = {"cTag": "shared", "group": "g"}
+    real[1]["containers"] = [dict(shared)]
+    real[2]["containers"] = [dict(shared)]
+    real[2]["userID"] = "otherUser"
+    real[2].pop("connections", None)  # its connections would name the other user's tags
+    real[1].pop("connections", None)
+    assert check_configurations(real, NAMES) == []
