@@ -290,28 +290,14 @@ def check_configurations(
     nodes = _Declarations("node", report)
     parameters = _Declarations("parameter", report)
     for name, config in files_:
-        for index, entry in _entries(config, "nodes"):
-            path = f"nodes[{index}]"
-            check_container_ref(name, path, entry.get("cTag"), f"node {entry.get('nTag')!r}")
-            c_tag, n_tag = entry.get("cTag"), entry.get("nTag")
-            nodes.declare(
-                (user[name], c_tag, n_tag),
-                name,
-                path,
-                entry,
-                f"node {n_tag!r} in container {c_tag!r}",
-            )
-        for index, entry in _entries(config, "parameters"):
-            path = f"parameters[{index}]"
-            check_container_ref(name, path, entry.get("cTag"), f"parameter {entry.get('name')!r}")
-            c_tag, p_name = entry.get("cTag"), entry.get("name")
-            parameters.declare(
-                (user[name], c_tag, p_name),
-                name,
-                path,
-                entry,
-                f"parameter {p_name!r} in container {c_tag!r}",
-            )
+        for key, field, declared in (("nodes", "nTag", nodes), ("parameters", "name", parameters)):
+            what = declared.kind
+            for index, entry in _entries(config, key):
+                path = f"{key}[{index}]"
+                c_tag, tag = entry.get("cTag"), entry.get(field)
+                check_container_ref(name, path, c_tag, f"{what} {tag!r}")
+                label = f"{what} {tag!r} in container {c_tag!r}"
+                declared.declare((user[name], c_tag, tag), name, path, entry, label)
 
     interfaces = _Declarations("interface", report)
     for name, config in files_:
