@@ -326,15 +326,27 @@ def _decomposition(feature: Any, problems: list[Diagnostic]) -> tuple[str, list[
     if len(groups) == 1 and kinds[0] in ("alternative", "or"):
         tag = "alt" if kinds[0] == "alternative" else "or"
         return tag, [(child, False) for child in groups[0].features]
-    shape = ", ".join(
-        f"[{g.lower}..{'*' if g.upper == -1 else g.upper}]" if k == "cardinality" else k
+    shapes = [  # as the .fm language writes them
+        f"[{g.lower}..{'*' if g.upper == -1 else g.upper}]"
+        if k == "cardinality"
+        else {"alternative": "xor"}.get(k, k)
         for g, k in zip(groups, kinds, strict=True)
-    )
+    ]
+    cardinalities = [s for s, k in zip(shapes, kinds, strict=True) if k == "cardinality"]
+    if cardinalities:  # no place in the tree helps: FeatureIDE has no such group
+        hint = (
+            f"FeatureIDE has no group cardinality {cardinalities[0]} of "
+            f"{len(groups[kinds.index('cardinality')].features)} features (only alt [1..1] "
+            "and or [1..n]); make it an or group with a constraint bounding how many are "
+            "selected, or keep the model in .fm or UVL"
+        )
+    else:  # one alt/or group per feature: each of the others under a feature of its own
+        hint = "move each xor/or group under an abstract feature of its own"
     problems.append(
         Diagnostic(
             _where(feature),
-            f"feature {feature.name}: FeatureIDE XML cannot express its groups ({shape}); "
-            "move each xor/or/cardinality group under an abstract feature of its own",
+            f"feature {feature.name}: FeatureIDE XML cannot express its groups "
+            f"({', '.join(shapes)}); {hint}",
         )
     )
     return "and", []

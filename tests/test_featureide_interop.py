@@ -153,7 +153,20 @@ def test_shapes_featureide_cannot_express_are_reported() -> None:
         write_featureide(model)
     (diagnostic,) = info.value.diagnostics
     assert (diagnostic.location.file, diagnostic.location.line) == ("m.fm", 2)
-    assert "FeatureIDE XML cannot express" in diagnostic.message
+    assert "FeatureIDE XML cannot express its groups (mandatory, [2..3])" in diagnostic.message
+    # moving the group under a feature of its own would not help: say what would
+    assert "no group cardinality [2..3] of 4 features" in diagnostic.message
+    assert "or group with a constraint" in diagnostic.message
+
+
+def test_two_groups_of_one_feature_are_reported_with_the_move_that_helps() -> None:
+    model = fm.parse_text("feature model M\nroot R {\n  xor { B C }\n  or { D E }\n}\n", "m.fm")
+    with pytest.raises(ModelError) as info:
+        write_featureide(model)
+    (diagnostic,) = info.value.diagnostics
+    assert diagnostic.message.endswith(
+        "(xor, or); move each xor/or group under an abstract feature of its own"
+    )
 
 
 def test_odd_names_are_sanitised_and_written_back() -> None:
