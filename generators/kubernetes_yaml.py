@@ -34,7 +34,6 @@ _SIMPLE_KEY = 128  # PyYAML writes a longer key as a complex key ("? ...")
 # a space or a line break (which would need an indentation indicator).
 _LITERAL = re.compile(r"[\x21-\x7e][\x20-\x7e\n]*(?<![ \n])\n")
 
-_STR = "tag:yaml.org,2002:str"
 _RESOLVER = yaml.resolver.Resolver()
 _PLAIN: dict[str, bool] = {}
 
@@ -126,5 +125,5 @@ def _scalar(text: str) -> str:
         if len(_PLAIN) >= 50_000:
             _PLAIN.clear()
         tag = _RESOLVER.resolve(yaml.ScalarNode, text, (True, False))
-        plain = _PLAIN[text] = tag == _STR
+        plain = _PLAIN[text] = tag == _RESOLVER.DEFAULT_SCALAR_TAG
     return text if plain else f"'{text}'"

@@ -25,14 +25,11 @@ from spl.generators.kubernetes_objects import with_known_tags
 from spl.generators.launch_schema import validate_ros1_launch, validate_ros2_launch
 from spl.generators.rapyuta_rules import check_all
 
-_STR = "tag:yaml.org,2002:str"
-
 # libyaml's parser when PyYAML has it (Debian's and PyPI's wheels do): the same documents,
 # ten times faster than the pure-Python one on the Kubernetes manifests of every product;
 # each scalar's implicit tag looked up once per process
 YAML_LOADER = with_known_tags(getattr(yaml, "CSafeLoader", yaml.SafeLoader))
 _YAML_PARSER = getattr(getattr(yaml, "_yaml", None), "CParser", None)
-_PLAIN_STRINGS: set[str] = set()  # plain scalars whose implicit tag is str, seen so far
 
 
 def validate_bundle(files: dict[str, bytes]) -> list[str]:
@@ -105,6 +102,7 @@ def _loads_plainly(data: bytes) -> bool:
     if _YAML_PARSER is None:
         return False
     loader = YAML_LOADER(b"")  # its resolver and constructor, on no stream
+    text_tag = loader.DEFAULT_SCALAR_TAG
     resolve, constructors = loader.resolve, loader.yaml_constructors
     scalar, alias = yaml.ScalarEvent, yaml.AliasEvent
     mapping, sequence = yaml.MappingStartEvent, yaml.SequenceStartEvent
@@ -120,13 +118,10 @@ def _loads_plainly(data: bytes) -> bool:
             if kind is scalar:
                 if event.anchor is not None or event.tag is not None:
                     return False
-                value = event.value
-                if event.implicit[0] and value not in _PLAIN_STRINGS:  # plain, by its text
-                    tag = resolve(yaml.ScalarNode, value, (True, False))
-                    if tag != _STR:
-                        constructors[tag](loader, yaml.ScalarNode(tag, value))
-                    elif len(_PLAIN_STRINGS) < 50_000:
-                        _PLAIN_STRINGS.add(value)
+                if event.implicit[0]:  # plain: its tag is resolved from its text
+                    tag = resolve(yaml.ScalarNode, event.value, (True, False))
+                    if tag != text_tag:
+                        constructors[tag](loader, yaml.ScalarNode(tag, event.value))
                 if state is not None:
                     state = not state
             elif kind is mapping or kind is sequence:

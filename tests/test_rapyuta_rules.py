@@ -249,8 +249,7 @@ def test_interface_declared_differently_by_two_files(real):
 
 def test_a_connection_made_in_two_files_is_refused(real):
     # the engine refuses a pair already connected, whichever robot's file made it first
-    (made,) = [c for c in real[1].get("connections", [])][:1] or [None]
-    assert made is not None
+    made = real[1]["connections"][0]
     real[2].setdefault("connections", []).append(dict(made))
     rules = [(p.file, p.rule) for p in check_configurations(real, NAMES)]
     assert rules == [("lo_server.cfg", "duplicate-connection")]

@@ -4,22 +4,16 @@ shipped products is decided from the events (the check's fast path is the one ta
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import pytest
 import yaml
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from hypothesis_budget import examples
+from shipped_products import shipped_products
 
 from spl import bundle_validation
 from spl.bundle_validation import YAML_LOADER, _loads_plainly, _yaml
 from spl.generators.bundle import bundle_files
-from spl.resolver.engine import resolve
-from spl.resolver.product_line import load_product_line
-from spl.resolver.product_selection import load_selection_file
-
-LINES = Path(__file__).resolve().parents[1] / "product_lines"
 
 pytestmark = pytest.mark.skipif(
     bundle_validation._YAML_PARSER is None, reason="PyYAML without libyaml"
@@ -98,12 +92,9 @@ def test_verdict_on_written_and_damaged_streams(document, data):
 
 
 def test_shipped_products_yaml_is_decided_from_events():
-    checked, lines = 0, {}
-    for product in sorted(LINES.glob("*/products/*.yaml")):
-        folder = product.parent.parent
-        line = lines.get(folder) or lines.setdefault(folder, load_product_line(folder))
-        files = bundle_files(resolve(line, load_selection_file(product)).product)
-        for path, data in files.items():
+    checked = 0
+    for _, product in shipped_products():
+        for path, data in bundle_files(product).items():
             if path.endswith((".yaml", ".yml")):
                 assert _loads_plainly(data), path
                 checked += 1
