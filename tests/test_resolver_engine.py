@@ -247,6 +247,49 @@ def test_explain_says_why(tmp_path):
     assert "mapping.tsm:" in absent.output
 
 
+def explain(element: str) -> list[str]:
+    result = run("explain", str(MAPPING), "--features", "YouBot,Stereo,AdditionalPC,Room", element)
+    assert result.exit_code == 0, result.output
+    return result.output.splitlines()
+
+
+def test_explain_a_topic_explains_it_in_every_container_that_has_it():
+    # was: only Robot.RGBImg's trace entry; MappingCloud.RGBImg was refused by its name
+    lines = explain("RGBImg")
+    assert lines[0] == "Robot.RGBImg: topic present, /camera/rgb/image (sensor_msgs/Image)"
+    assert lines[1].startswith("  Robot.RGBImg: kept: rgb of StereoVision is connected to it")
+    assert lines[2] == "MappingCloud.RGBImg: topic present, /camera/rgb/image (sensor_msgs/Image)"
+    assert lines[3].startswith("  nothing in this product decided about it")
+    assert lines[3].endswith("mapping.tsm:60:11)")
+    assert explain("MappingCloud.RGBImg") == lines[2:]
+
+
+def test_explain_an_interface_says_what_it_is_bound_to_and_why_it_moved():
+    # was: "no element named 'MapOptimizer.keyframes'" (exit 2)
+    lines = explain("MapOptimizer.keyframes")
+    assert lines[0] == "MapOptimizer.keyframes: subscribes to topic Robot.Keyframes"
+    assert lines[1].startswith("  MapOptimizer: migrated: from MappingCloud to Robot by")
+    assert len(lines) == 2  # the node's other decisions are not about its interfaces
+    assert explain("Robot.MapOptimizer.keyframes") == lines
+    assert explain("MapOptimizer.add_keyframe")[:2] == [
+        "MapOptimizer.add_keyframe: calls Robot.endpoint.srv_Database_add_keyframe",
+        "  MapOptimizer.add_keyframe: bridged: to Database.add_keyframe through an endpoint "
+        "stand-in in Robot",
+    ]
+    assert explain("DepthCamera.rgb") == [
+        "DepthCamera.rgb: not in this product",
+        "  DepthCamera: removed: optional node that no active resolution element requires or "
+        f"transforms ({MAPPING / 'mapping.tsm'}:17:19)",
+    ]
+
+
+def test_explain_refuses_a_bare_interface_name_and_names_the_ones_meant():
+    args = ["explain", str(MAPPING), "--features", "YouBot,Stereo,AdditionalPC,Room"]
+    result = run(*args, "keyframes")
+    assert result.exit_code == 2
+    assert "did you mean MapOptimizer.keyframes, VisualOdometry.keyframes?" in result.output
+
+
 def test_explain_answers_for_a_feature_left_out_and_says_which_capability_did(tmp_path):
     # was: "no element named 'Roomba'" (exit 2) for any feature the product does not select
     args = ["explain", str(MAPPING), "--features", "YouBot,Stereo,AdditionalPC,Room", "Roomba"]

@@ -14,40 +14,29 @@ from spl.commands.selection_options import selection_from_options, selection_opt
 @selection_options
 @click.argument("element")
 def command(directory: Path, features, sharing, settings, capabilities, element: str) -> None:
-    """Say why ELEMENT (a node, topic, interface, container or feature) is present,
-    absent, migrated or configured as it is in the selected product, naming the
-    resolution elements and features responsible with their file locations."""
+    """Say why ELEMENT is present, absent, migrated or configured as it is in the
+    selected product, naming the resolution elements and features responsible with their
+    file locations. ELEMENT is a feature, a container, a node, a topic or store (bare,
+    or as Container.Topic), a parameter or interface (Node.name) or an endpoint
+    interface (Container.endpoint.name)."""
     from spl import pipeline
     from spl.dsl.fm import all_features
+    from spl.resolver.explanation import explanation, qualified_candidates
 
     line = pipeline.load_line(directory)
     selection = selection_from_options(features, sharing, settings, capabilities)
     resolution = pipeline.resolve_product(line, selection)
-    system = resolution.product.system
-    placed = {n.name: c.name for c in system.containers for n in c.nodes}
-    features = {f.name for f in all_features(line.fm)}
-    chosen = [c for c in resolution.capability_choices if c.feature == element]
-    if element in placed:
-        click.echo(f"{element}: present in container {placed[element]}")
-    elif element in resolution.product.features:
-        click.echo(f"{element}: selected feature")
-    elif element in features:  # the selection, its completion or a capability left it out
-        click.echo(f"{element}: feature not selected")
-    for choice in chosen:  # the robot's capability that decided it
-        click.echo(f"  {choice}")
-    entries = resolution.trace.about(element)
-    if not entries and not chosen and element not in placed:
-        if element not in _template_names(line.tsm) | features:
-            raise click.BadParameter(f"no element named {element!r} in {directory}")
-        click.echo(f"{element}: nothing in this product decided about it")
-        return
-    for entry in entries:
-        click.echo(f"  {entry}")
-
-
-def _template_names(system) -> set[str]:
-    names = {c.name for c in system.containers}
-    for container in system.containers:
-        names |= {n.name for n in container.nodes} | {t.name for t in container.topics}
-        names |= {s.name for s in container.stores}
-    return names
+    lines: list[str] = []
+    if element in {f.name for f in all_features(line.fm)}:
+        selected = element in resolution.product.features
+        lines.append(f"{element}: {'selected feature' if selected else 'feature not selected'}")
+        # the robot's capability that decided it, then the decisions about the feature
+        lines += [f"  {c}" for c in resolution.capability_choices if c.feature == element]
+        lines += [f"  {e}" for e in resolution.trace.entries if e.subject == element]
+    about = explanation(line.tsm, resolution.product.system, resolution.trace, element)
+    if about is None and not lines:
+        candidates = qualified_candidates(line.tsm, resolution.product.system, element)
+        hint = f"; did you mean {', '.join(candidates)}?" if candidates else ""
+        raise click.BadParameter(f"no element named {element!r} in {directory}{hint}")
+    for text in lines + (about or []):
+        click.echo(text)

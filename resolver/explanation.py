@@ -1,0 +1,143 @@
+"""What ``spl explain`` says about one name in one product: the elements it names, in the
+template and in the product, how each stands in the product and the trace entries about it.
+
+A name is what the trace and the .rm use (``qualified``): a container or a node by its
+name, a topic or a store as ``Container.Topic``, a parameter or an interface as
+``Node.name``, an endpoint interface as ``Container.endpoint.name``. A user also writes
+a topic or a store by its bare name (every container's one of that name is meant) and a
+node, its parameters and interfaces prefixed with the container (``Robot.Planner.plan``):
+both are accepted. A bare interface or parameter name is not (it is ambiguous across
+nodes); the refusal lists the qualified names it could mean.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from dataclasses import dataclass
+from typing import Any
+
+from spl.diagnostics import location_of
+from spl.metamodels import tsm
+from spl.resolver.context import qualified
+from spl.resolver.product import topic_ros_name
+from spl.resolver.trace import Trace
+
+
+@dataclass(frozen=True)
+class NamedElement:
+    """One element of a system with the names a user may ask about it by."""
+
+    name: str  # qualified, as in the trace
+    element: Any
+    aliases: tuple[str, ...]  # bare topic/store name, Container.-prefixed node names
+
+
+def named_elements(system: Any) -> Iterator[NamedElement]:
+    """Every container, topic, store, node, parameter and interface of ``system``."""
+    for container in system.containers:
+        prefix = f"{container.name}."
+        yield NamedElement(container.name, container, ())
+        for element in [*container.topics, *container.stores]:
+            yield NamedElement(qualified(element), element, (element.name,))
+        for node in container.nodes:
+            yield NamedElement(node.name, node, (prefix + node.name,))
+            for element in [*node.parameters, *node.interfaces]:
+                name = qualified(element)
+                yield NamedElement(name, element, (prefix + name,))
+        for interface in container.endpoint.interfaces:
+            yield NamedElement(qualified(interface), interface, ())
+
+
+# Decisions about a node or container that say where its parts are, or that they are gone.
+MOVED_OR_GONE = frozenset({"migrated", "removed"})
+
+
+def explanation(template: Any, product: Any, trace: Trace, name: str) -> list[str] | None:
+    """The lines explaining the elements ``name`` means, product's first, then those only
+    the template has; None when neither model has an element of that name. Each element
+    gets how it stands in the product, the trace entries about it (and its parts), then
+    those about the node or container holding it (a node's migration moved its
+    interfaces too; a container's removal removed its topics)."""
+    in_product = [e for e in named_elements(product) if _means(name, e)]
+    in_template = [e for e in named_elements(template) if _means(name, e)]
+    if not in_product and not in_template:
+        return None
+    lines: list[str] = []
+    for element_name in dict.fromkeys(e.name for e in [*in_product, *in_template]):
+        present = [e.element for e in in_product if e.name == element_name]
+        written = next((e.element for e in in_template if e.name == element_name), None)
+        owners = {qualified(o) for o in _holders(present[0] if present else written)}
+        own = [e for e in trace.entries if _is_about(e.subject, element_name)]
+        held = [e for e in trace.entries if e.subject in owners and e.decision in MOVED_OR_GONE]
+        lines += [f"{element_name}: {_standing(element)}" for element in present]
+        if not present and not any(entry.subject == element_name for entry in own):
+            lines.append(f"{element_name}: not in this product")
+        lines += [f"  {entry}" for entry in own + held]
+        if present and not own + held and written is not None:
+            where = location_of(written)
+            lines.append(
+                "  nothing in this product decided about it: as the template writes it"
+                + (f" ({where})" if where else "")
+            )
+    return lines
+
+
+def qualified_candidates(template: Any, product: Any, name: str) -> list[str]:
+    """The qualified names of the interfaces and parameters whose own name is ``name``."""
+    T = tsm()
+    return sorted(
+        {
+            e.name
+            for system in (template, product)
+            for e in named_elements(system)
+            if isinstance(e.element, (T.Interface, T.Parameter)) and e.element.name == name
+        }
+    )
+
+
+def _means(name: str, element: NamedElement) -> bool:
+    return name == element.name or name in element.aliases
+
+
+def _is_about(subject: str, name: str) -> bool:
+    return subject == name or subject.startswith(f"{name}.")
+
+
+def _holders(element: Any) -> list[Any]:
+    """The node and container holding ``element`` (an endpoint's, its container)."""
+    holders = []
+    owner = element.eContainer()
+    while owner is not None and not isinstance(owner, tsm().System):
+        if not isinstance(owner, tsm().Endpoint):
+            holders.append(owner)
+        owner = owner.eContainer()
+    return holders
+
+
+def _standing(element: Any) -> str:
+    """How an element present in the product stands there, in one phrase."""
+    T = tsm()
+    owner = element.eContainer()
+    if isinstance(element, T.Container):
+        return f"{'robot' if isinstance(element, T.RobotContainer) else 'cloud'} container present"
+    if isinstance(element, T.Node):
+        return f"present in container {owner.name}"
+    if isinstance(element, T.Topic):
+        return f"topic present, {topic_ros_name(element)} ({element.type})"
+    if isinstance(element, T.Store):
+        return f"store present in container {owner.name}"
+    if isinstance(element, T.Parameter):
+        return f"parameter = {element.value}" if element.value is not None else "parameter unset"
+    if isinstance(element, T.Publisher):
+        return _bound("publishes to topic", element.topic)
+    if isinstance(element, T.Subscriber):
+        return _bound("subscribes to topic", element.topic)
+    if isinstance(element, T.ServiceServer):
+        return f"serves {element.rosName or '/' + element.name} ({element.type})"
+    return _bound("calls", element.server)
+
+
+def _bound(verb: str, target: Any) -> str:
+    if target is None:
+        return f"{verb.split()[0]} nothing: not connected in this product"
+    return f"{verb} {qualified(target)}"
