@@ -40,7 +40,13 @@ from spl.resolver.effects import (
 )
 from spl.resolver.engine import Resolution, resolve
 from spl.resolver.fleet_file import Fleet, FleetRobot
-from spl.resolver.placement import SHARED_MODES, Place, Placement, sharing_mode
+from spl.resolver.placement import (
+    SHARED_ACROSS_USERS,
+    SHARED_MODES,
+    Place,
+    Placement,
+    sharing_mode,
+)
 from spl.resolver.product_line import ProductLine, load_product_line
 from spl.resolver.product_selection import ProductSelection
 
@@ -157,13 +163,54 @@ def check_fleet(fleet: Fleet, line: ProductLine | None = None) -> FleetCheck:
         resolved[key] = resolution
         entry = RobotProduct(robot, resolution)
         check.robots.append(entry)
+        check.diagnostics.extend(_about(robot, w) for w in resolution.product.warnings)
         errors: list[Diagnostic] = []
         placement = Placement(resolution.product.system, errors, group=robot.group)
         check.asks.extend(shared_asks(robot, resolution.product, placement))
         errors += _tags_taken(robot, selection, placement, places)
         check.diagnostics.extend(_about(robot, d) for d in errors)
     check.diagnostics.extend(find_conflicts(check))
+    check.diagnostics.extend(users_apart(check))
     return check
+
+
+def users_apart(check: FleetCheck) -> list[Diagnostic]:
+    """A warning (SPL047) for each shared instance used by robots that log in as
+    different Rapyuta users: the engine gives each user an instance of its own, so they
+    share nothing on Rapyuta, while Kubernetes and Zenoh deploy one. At the first robot
+    whose users differ from the first robot's. (Two users within one robot's product are
+    that product's own warning.)"""
+    users = {
+        entry.robot.name: tuple(
+            sorted({c.endpoint.user for c in entry.product.system.containers if _user_of(c)})
+        )
+        for entry in check.robots
+    }
+    robots = {entry.robot.name: entry.robot for entry in check.robots}
+    found = []
+    for tag, asks in check.instances().items():
+        using = [r for r in dict.fromkeys(a.robot for a in asks) if users[r]]
+        other = next((r for r in using if users[r] != users[using[0]]), None)
+        if other is None:
+            continue
+        who = ", ".join(f"{r} as {'/'.join(repr(u) for u in users[r])}" for r in using)
+        found.append(
+            Diagnostic(
+                robots[other].location,
+                f"robot {other}: shared instance {tag} is used by robots of different Rapyuta "
+                f"users ({who}); the engine keeps each user's containers apart, so on "
+                "Rapyuta they share nothing (kubernetes/ and zenoh/ deploy one instance): "
+                "give these robots one user",
+                "warning",
+                SHARED_ACROSS_USERS,
+            )
+        )
+    return found
+
+
+def _user_of(container: Any) -> str | None:
+    endpoint = getattr(container, "endpoint", None)
+    return endpoint.user if container.eClass.name == "RobotContainer" and endpoint else None
 
 
 def _about(robot: FleetRobot, diagnostic: Diagnostic) -> Diagnostic:

@@ -212,3 +212,45 @@ class Placement:
     def node_place(self, node: Any, robot: Any) -> Place:
         """The instance ``node`` runs in for ``robot``."""
         return self.place(node.eContainer(), sharing_mode(node), robot)
+
+
+SHARED_ACROSS_USERS = "SPL047"
+
+
+def shared_across_users(system: Any) -> list[Diagnostic]:
+    """A warning for each shared cloud instance that robots of two Rapyuta users use.
+
+    The model says they share one instance, and Kubernetes and Zenoh deploy one; but the
+    engine keeps each user's containers apart, so on Rapyuta each user gets an instance
+    of its own and the robots share nothing there (a yield map one robot builds never
+    reaches the other). Tag problems are left to the generators, which report them."""
+    T = tsm()
+    robots = [c for c in system.containers if isinstance(c, T.RobotContainer) and c.endpoint]
+    if len({robot.endpoint.user for robot in robots if robot.endpoint.user}) < 2:
+        return []  # one user (most lines): nothing to place
+    placement = Placement(system, [])
+    users = {
+        placement.robot_ids[id(robot)]: robot.endpoint.user
+        for robot in robots
+        if robot.endpoint.user
+    }
+    problems = []
+    for instance in placement.cloud_instances():
+        using = [r for r in instance.robots if r in users]
+        if not instance.place.shared or len({users[r] for r in using}) < 2:
+            continue
+        nodes = ", ".join(node.name for node in instance.nodes)
+        robots = ", ".join(f"{r} (user {users[r]!r})" for r in using)
+        problems.append(
+            Diagnostic(
+                location_of(instance.container),
+                f"cloud container {instance.container.name}: its {instance.place.kind} nodes "
+                f"({nodes}) run in one instance, {instance.place.tag}, for robots {robots}; "
+                "the Rapyuta engine keeps each user's containers apart, so rapyuta/ gives "
+                "each user an instance of its own and they share nothing there (kubernetes/ "
+                "and zenoh/ deploy one): give these robots one user",
+                "warning",
+                SHARED_ACROSS_USERS,
+            )
+        )
+    return problems

@@ -223,7 +223,9 @@ async def test_references_of_a_node_and_a_feature_across_files(
         ("orchard.rm", n) for n, line in enumerate(text.split("\n")) if "FruitDetector" in line
     )
     assert [p for p in places if p[0] == "orchard.rm"] == expected_rm
-    assert [p for p in places if p[0] == "orchard.tsm"] == [("orchard.tsm", 81)]
+    tsm_lines = (orchard / "orchard.tsm").read_text(encoding="utf-8").split("\n")
+    declared = next(n for n, line in enumerate(tsm_lines) if "node FruitDetector" in line)
+    assert [p for p in places if p[0] == "orchard.tsm"] == [("orchard.tsm", declared)]
     found = await client.text_document_references_async(
         types.ReferenceParams(
             text_document=types.TextDocumentIdentifier(uri(rm)),

@@ -4,6 +4,7 @@ schema and rules accept them, and the placement is the one the case study descri
 from __future__ import annotations
 
 import json
+import shutil
 from pathlib import Path
 
 import pytest
@@ -151,13 +152,43 @@ def test_two_robots_of_a_group_parsed_from_tsm():
     assert own == connections(beta)
 
 
-def test_robots_of_two_users_each_declare_their_users_instance():
-    # orchard's Harvester (user harvester) and Scout (user scout) share the public yield
-    # map: the engine keeps each user's containers apart, so each file declares its own
-    # user's instance and connects only to it
-    line = load_product_line(ROOT / "product_lines" / "orchard")
-    selection = load_selection_file(ROOT / "product_lines/orchard/products/scout_yield_public.yaml")
-    files = generate(resolve(line, selection).product)
+ORCHARD = ROOT / "product_lines" / "orchard"
+YIELD_PUBLIC = ORCHARD / "products" / "scout_yield_public.yaml"
+
+
+def test_orchard_robots_share_one_yield_map_declared_once():
+    # Harvester and Scout log in as one user: the public yield map is one instance,
+    # declared by the first robot's file (by name) and used by the other's
+    product = resolve(load_product_line(ORCHARD), load_selection_file(YIELD_PUBLIC)).product
+    assert not [w for w in product.warnings if w.code == "SPL047"]
+    files = generate(product)
+    assert accepted(files) == []
+    harvester, scout = (json.loads(files[f"rapyuta/{r}.json"]) for r in ("Harvester", "Scout"))
+    assert "OrchardCloud_public" in [c["cTag"] for c in harvester["containers"]]
+    assert "OrchardCloud_public" not in [c["cTag"] for c in scout["containers"]]
+    assert any("OrchardCloud_public/" in c for c in connections(scout))
+
+
+def test_robots_of_two_users_each_declare_their_users_instance_and_are_warned(tmp_path):
+    # the engine keeps each user's containers apart: with the Scout logging in as a user
+    # of its own, each file declares its own user's instance and connects only to it, and
+    # the product says the robots share nothing on Rapyuta
+    line = tmp_path / "orchard"
+    shutil.copytree(ORCHARD, line)
+    tsm_file = line / "orchard.tsm"
+    text = tsm_file.read_text()
+    scout = 'robot_id "scout_1" url "wss://orchard.example.org:9000/" user "orchard"'
+    assert scout in text
+    tsm_file.write_text(text.replace(scout, scout.replace('"orchard"', '"scout"')))
+    selection = load_selection_file(line / "products" / YIELD_PUBLIC.name)
+    product = resolve(load_product_line(line), selection).product
+    [warning] = [w for w in product.warnings if w.code == "SPL047"]
+    cloud_line = next(i for i, t in enumerate(text.splitlines(), 1) if "cloud container" in t)
+    assert (warning.location.file, warning.location.line) == (str(tsm_file), cloud_line)
+    assert warning.severity == "warning"
+    assert "(YieldMapper) run in one instance, OrchardCloud_public, for robots " in warning.message
+    assert "harvester_03 (user 'orchard'), scout_02 (user 'scout')" in warning.message
+    files = generate(product)
     assert accepted(files) == []
     for path in files:
         document = json.loads(files[path])

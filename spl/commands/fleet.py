@@ -33,6 +33,7 @@ def check(fleet_file: Path) -> None:
     result = check_fleet(load_fleet(fleet_file))
     if not result.ok:
         raise ModelError(located(result.diagnostics))
+    _warn(result.diagnostics)
     for line in summary(result):
         click.echo(line)
 
@@ -77,6 +78,15 @@ def options(
         if result.alternatives:
             message += f" (it could with sharing {' or '.join(result.alternatives)})"
         raise ModelError([Diagnostic(where, message)])
+
+
+def _warn(diagnostics: list[Diagnostic]) -> None:
+    """The warnings of a fleet that passed its check, on stderr: the robots' products'
+    and the fleet's own."""
+    from spl.resolver.fleet import located
+
+    for warning in located([d for d in diagnostics if d.severity == "warning"]):
+        click.echo(str(warning), err=True)
 
 
 def _lines(result) -> list[str]:
@@ -131,6 +141,7 @@ def resolve(fleet_file: Path, out: Path | None) -> None:
     result = check_fleet(fleet)
     if not result.ok:
         raise ModelError(located(result.diagnostics))
+    _warn(result.diagnostics)
     files = fleet_files(deploy(result))
     out = out or Path("build") / fleet.name
     write_bundle(files, out)
