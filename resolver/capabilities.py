@@ -97,13 +97,18 @@ def load_capabilities(path: str | Path) -> RobotCapabilities:
             if isinstance(value_node, yaml.MappingNode):
                 read(value_node, f"{name}.")
                 continue
-            value = yaml.safe_load(yaml.serialize(value_node))
+            expected = f"capability {name}: expected a string, number, true/false or a list of them"
+            try:  # a tag safe YAML has no constructor for, a scalar its tag cannot convert
+                value = yaml.safe_load(yaml.serialize(value_node))
+            except yaml.YAMLError as exc:
+                sink.error(at(value_node), f"{expected} ({getattr(exc, 'problem', None) or exc})")
+                continue
+            except (ValueError, TypeError) as exc:  # `!!int x`, `!!timestamp 2024-13-01`
+                sink.error(at(value_node), f"{expected} ({exc})")
+                continue
             items = value if isinstance(value, list) else [value]
             if not items or not all(_scalar(item) for item in items):
-                sink.error(
-                    at(value_node),
-                    f"capability {name}: expected a string, number, true/false or a list of them",
-                )
+                sink.error(at(value_node), expected)
                 continue
             capabilities.values[name] = value
 

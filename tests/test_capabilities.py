@@ -136,6 +136,16 @@ def test_a_capability_of_the_wrong_kind_is_located_in_the_robot_file(tmp_path) -
         # was: "capability name [ScalarNode(tag='tag:yaml.org,2002:str', ...)]"
         ("? [a, b]\n: c\n", "1:3: error: capability name: a sequence is not an identifier"),
         ("base: [youbot\n", "error: invalid YAML"),
+        # were tracebacks: a tag safe YAML has no constructor for, a scalar that does not
+        # convert to its tag
+        (
+            "base: !!python/name:os.system ''\n",
+            "1:7: error: capability base: expected a string, number, true/false or a list of "
+            "them (could not determine a constructor for the tag "
+            "'tag:yaml.org,2002:python/name:os.system')",
+        ),
+        ("sensors: [a, !!int x]\n", "1:10: error: capability sensors: expected a string"),
+        ("built: !!timestamp 2024-13-01\n", "(month must be in 1..12)"),
     ],
 )
 def test_bad_capability_files_are_located(tmp_path, text: str, expected: str) -> None:
