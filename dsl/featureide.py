@@ -33,7 +33,7 @@ from spl.dsl.fm_formats import (
     original_name,
 )
 from spl.dsl.fm_printer import format_capabilities
-from spl.dsl.fm_vocabulary import SHARING_MODES, canonical_value, too_deep
+from spl.dsl.fm_vocabulary import SHARING_MODES, canonical_value, formula_too_deep, too_deep
 from spl.metamodels import fm as fm_metamodel
 
 _FEATURE_TAGS = {"feature", "and", "or", "alt"}
@@ -132,7 +132,10 @@ class _Reader:
                 self.error(rule, "a <rule> holds exactly one formula")
                 continue
             formula = self.formula(parts[0])
-            if formula is not None:
+            refused = formula_too_deep(formula) if formula is not None else None
+            if refused:
+                self.error(rule, refused)
+            elif formula is not None:
                 constraint = self.locate(F.Constraint(), rule)
                 constraint.formula = formula
                 model.constraints.append(constraint)

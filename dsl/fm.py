@@ -32,7 +32,7 @@ from spl.dsl.fm_vocabulary import IDENTIFIER as IDENTIFIER
 from spl.dsl.fm_vocabulary import OPERATORS as OPERATORS
 from spl.dsl.fm_vocabulary import RESERVED_WORDS as RESERVED_WORDS
 from spl.dsl.fm_vocabulary import SHARING_MODES as SHARING_MODES
-from spl.dsl.fm_vocabulary import canonical_value, too_deep
+from spl.dsl.fm_vocabulary import canonical_value, formula_too_deep, too_deep
 from spl.dsl.fm_vocabulary import is_feature_name as is_feature_name
 from spl.dsl.parse_tree import Positions
 from spl.metamodels import fm as fm_metamodel
@@ -143,6 +143,10 @@ class _Builder:
         model.root = self.feature(tree.root)
         for constraint_tree in tree.constraints:
             formula = self.formula(constraint_tree.formula)
+            refused = formula_too_deep(formula)
+            if refused:
+                self.sink.error(self.loc(constraint_tree), refused)
+                continue
             constraint = self.locate(F.Constraint(), self.loc(constraint_tree))
             constraint.formula = formula
             model.constraints.append(constraint)

@@ -8,6 +8,7 @@ either import.
 from __future__ import annotations
 
 import re
+from typing import Any
 
 from spl.diagnostics import Diagnostic, Location
 from spl.dsl import literals
@@ -70,3 +71,41 @@ def canonical_value(type_name: str, text: str) -> str | None:
             return None
         return repr(number)
     return text
+
+
+# Operators on the longest path of one constraint from its root to a feature. Every
+# reader refuses deeper constraints: a chain of 900 `or`s is 900 levels (the readers make
+# binary operators left-associative), and the encodings, printers and checks that walk
+# formulas recursively would each run out of Python's stack on it. The deepest constraint
+# of the community corpus (the Linux kernel models) is 28 levels. A FeatureIDE export
+# nests one element per level below <featureModel><constraints><rule>, and lxml reads
+# no XML deeper than 256 elements.
+MAX_FORMULA_DEPTH = 200
+
+
+def formula_too_deep(formula: Any) -> str | None:
+    """Why a constraint's formula (pyecore, or a tuple tree of ``spl.dsl.fm_plain``) is
+    refused for its depth, or None. Measured without recursion, so any depth is."""
+    deepest, stack = 0, [(formula, 0)]
+    while stack:
+        node, depth = stack.pop()
+        deepest = max(deepest, depth)
+        if isinstance(node, tuple):
+            head = node[0]
+            children = () if head == "ref" else (node[1],) if head == "not" else node[1:3]
+        else:
+            kind = type(node).__name__
+            children = (
+                ()
+                if kind == "FeatureRef"
+                else (node.operand,)
+                if kind == "Not"
+                else (node.left, node.right)
+            )
+        stack.extend((child, depth + 1) for child in children if child is not None)
+    if deepest <= MAX_FORMULA_DEPTH:
+        return None
+    return (
+        f"constraint nested {deepest} operators deep (at most {MAX_FORMULA_DEPTH}): split it "
+        "into several constraints, or group a long chain with parentheses"
+    )

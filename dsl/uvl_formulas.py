@@ -12,6 +12,7 @@ from __future__ import annotations
 from typing import Any, ClassVar
 
 from spl.dsl.fm_plain import Constraint
+from spl.dsl.fm_vocabulary import formula_too_deep
 
 # Tokens only an equation (arithmetic or attribute constraint) holds.
 _ARITHMETIC = frozenset(
@@ -80,6 +81,10 @@ class FormulaReader:
         except Syntax:
             formula = None
         self.index = end + 1 if tokens[end][0] == "NL" else end
+        refused = formula_too_deep(formula) if formula is not None else None
+        if refused:
+            self.error(position, refused)
+            formula = None
         if formula is None or self.failed_names:
             self.failed_names = False
             return None

@@ -44,7 +44,7 @@ def constraint_clauses(tree: tuple, var: Mapping[str, int], top: int) -> tuple[l
                 clauses.extend(_distribute(part))
             except _TooBig:
                 clauses.append((clausifier.tseitin(part),))
-        clauses.extend(clausifier.definitions)
+    clauses.extend(clausifier.definitions)
     return _simplify(clauses), clausifier.top
 
 
@@ -55,12 +55,13 @@ class _Clausifier:
         self.var = var
         self.top = top
         self.definitions: list[Clause] = []
+        self.aliases: dict[str, int] = {}  # defined variables standing in for operands
 
     def nnf(self, tree: tuple, positive: bool) -> tuple:
         """Negation normal form as nested tuples: ("lit", l) | ("and"|"or", [parts])."""
         op = tree[0]
         if op == "ref":
-            v = self.var[tree[1]]
+            v = self.aliases.get(tree[1]) or self.var[tree[1]]
             return ("lit", v if positive else -v)
         if op == "not":
             return self.nnf(tree[1], not positive)
@@ -74,6 +75,12 @@ class _Clausifier:
         elif op == "excludes":
             parts, junctor = [self.nnf(a, not positive), self.nnf(b, not positive)], "or"
         elif op == "iff":
+            # each iff writes both operands twice: an operand holding another iff stands
+            # in as a defined variable, or nested iffs would grow the formula 2**depth
+            if _holds_iff(a):
+                a = ("ref", self.define(self.nnf(a, True)))
+            if _holds_iff(b):
+                b = ("ref", self.define(self.nnf(b, True)))
             if positive:
                 return (
                     "or",
@@ -95,6 +102,12 @@ class _Clausifier:
             junctor = "or" if junctor == "and" else "and"
         return (junctor, parts)
 
+    def define(self, node: tuple) -> str:
+        """A name for a Tseitin literal equivalent to NNF ``node``, usable as a ``ref``."""
+        name = f"\0aux{len(self.aliases)}"  # no feature is named so
+        self.aliases[name] = self.tseitin(node)
+        return name
+
     def tseitin(self, node: tuple) -> int:
         """A literal equivalent to ``node``; full equivalences keep auxiliaries determined.
 
@@ -114,6 +127,17 @@ class _Clausifier:
             self.definitions.append((-x, *lits))
             self.definitions.extend((x, -lit) for lit in lits)
         return x
+
+
+def _holds_iff(tree: tuple) -> bool:
+    stack = [tree]
+    while stack:
+        node = stack.pop()
+        if node[0] == "iff":
+            return True
+        if node[0] != "ref":
+            stack.extend(node[1:2] if node[0] == "not" else node[1:3])
+    return False
 
 
 class _TooBig(Exception):

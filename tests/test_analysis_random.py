@@ -104,3 +104,49 @@ def test_random_model_against_brute_force(seed: int) -> None:
         for product in products[:3]:
             result = check_selection(f, sorted(product), sorted(names - product))
             assert result.status == "complete" and set(result.features) == product
+
+
+def iff_heavy_model(rng: random.Random):
+    """Five optional features under the root and constraints of nested iffs (with the
+    other operators and negations in between), six levels deep."""
+    m = model(feature("R", group("optional", *(feature(f"F{i}") for i in range(1, 6)))))
+    fs = all_features(m)
+    names = sorted(fs)
+
+    def formula(depth: int):
+        if depth == 0 or rng.random() < 0.15:
+            leaf = ref(rng.choice(names), fs)
+            return negate(leaf) if rng.random() < 0.3 else leaf
+        operator = "iff" if rng.random() < 0.6 else rng.choice(OPERATORS)
+        node = binary(operator, formula(depth - 1), formula(depth - 1))
+        return negate(node) if rng.random() < 0.2 else node
+
+    for line in range(rng.randint(1, 2)):
+        m.constraints.append(constraint(formula(6), 20 + line))
+    return m
+
+
+@pytest.mark.parametrize("seed", range(30))
+def test_nested_iffs_against_brute_force(seed: int) -> None:
+    # each iff writes its operands twice: nested ones used to grow the CNF as 2**depth
+    # (a chain of 257 iffs exhausted the memory); operands holding an iff are now defined
+    # variables, which must not change any answer
+    m = iff_heavy_model(random.Random(seed))
+    products = brute_force_products(m)
+    with FeatureModelFormula(m) as f:
+        assert f.count().value == len(products)
+        assert set(f.products()) == set(products)
+        assert sum(1 for _ in f.cnf.clauses) < 2000
+
+
+def test_a_long_iff_chain_is_encoded_in_linear_size() -> None:
+    m = model(feature("R", group("optional", feature("A"), feature("B"), feature("C"))))
+    fs = all_features(m)
+    chain = ref("A", fs)
+    for index in range(200):
+        chain = binary("iff", chain, ref("BCA"[index % 3], fs))
+    m.constraints.append(constraint(chain, 20))
+    products = brute_force_products(m)
+    with FeatureModelFormula(m) as f:
+        assert f.count().value == len(products) == 4
+        assert sum(1 for _ in f.cnf.clauses) < 4000

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import pytest
@@ -11,6 +12,7 @@ from real_models import REAL_MODELS
 from spl.diagnostics import ModelError
 from spl.dsl import fm
 from spl.dsl.fm_printer import print_model
+from spl.dsl.fm_vocabulary import MAX_FORMULA_DEPTH
 from spl.emf import differences
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -275,3 +277,65 @@ def test_spl_check_reports_a_summary_or_every_error(tmp_path: Path) -> None:
         f"{bad}:2:30: error: duplicate feature A (first declared at line 2)",
         f"{bad}:3:15: error: unknown feature B",
     ]
+
+
+@pytest.mark.parametrize(
+    ("fm_op", "uvl_op", "xml_tag"),
+    [("or", "|", "disj"), ("and", "&", "conj"), ("=>", "=>", None), ("<=>", "<=>", None)],
+)
+def test_a_constraint_too_deep_for_the_readers_is_refused_by_every_format(
+    tmp_path: Path, fm_op: str, uvl_op: str, xml_tag: str | None
+) -> None:
+    # was: an internal error (RecursionError) from a chain of 900 operators, a flat
+    # `A or B or ...` as much as nested parentheses: every reader makes chains binary
+    from spl.dsl.featureide import read_featureide
+    from spl.dsl.uvl import read_uvl
+
+    too_deep = f"constraint nested 899 operators deep (at most {MAX_FORMULA_DEPTH})"
+    chain = f" {fm_op} ".join(["A", "B"] * 450)
+    assert error_list(
+        f"feature model M root R {{ optional A optional B }} constraints {{\n  {chain}\n}}"
+    ) == [
+        (
+            2,
+            3,
+            f"{too_deep}: split it into several constraints, or group a long chain with "
+            "parentheses",
+        )
+    ]
+    uvl = tmp_path / "m.uvl"
+    uvl.write_text("features\n\tR\n\t\toptional\n\t\t\tA\n\t\t\tB\nconstraints\n\t"
+                   + f" {uvl_op} ".join(["A", "B"] * 450) + "\n")  # fmt: skip
+    with pytest.raises(ModelError) as refused:
+        read_uvl(uvl)
+    assert [str(d) for d in refused.value.diagnostics] == [
+        f"{uvl}:7:2: error: {too_deep}: split it into several constraints, or group a long "
+        "chain with parentheses"
+    ]
+    if xml_tag is not None:  # FeatureIDE's n-ary <disj>/<conj> are read as chains too
+        xml = tmp_path / "m.xml"
+        operands = "<var>A</var><var>B</var>" * 450
+        xml.write_text(
+            '<featureModel><struct><and name="R"><feature name="A"/><feature name="B"/></and>'
+            f"</struct><constraints><rule><{xml_tag}>{operands}</{xml_tag}></rule>"
+            "</constraints></featureModel>"
+        )
+        with pytest.raises(ModelError, match=re.escape(too_deep)):
+            read_featureide(xml)
+
+
+def test_the_deepest_constraint_allowed_goes_through_every_format(tmp_path: Path) -> None:
+    from spl.dsl.featureide import read_featureide, write_featureide
+    from spl.dsl.uvl import read_uvl, write_uvl
+
+    chain = " => ".join(["A", "B"] * (MAX_FORMULA_DEPTH // 2) + ["A"])
+    model = fm.parse_text(
+        f"feature model M root R {{ optional A optional B }} constraints {{ {chain} }}"
+    )
+    (tmp_path / "m.uvl").write_text(write_uvl(model))
+    (tmp_path / "m.xml").write_bytes(write_featureide(read_uvl(tmp_path / "m.uvl")))
+    back = read_featureide(tmp_path / "m.xml")
+    constraints = print_model(model).partition("constraints")[2]
+    assert chain in constraints
+    assert print_model(back).partition("constraints")[2] == constraints
+    assert products(back) == products(model)
