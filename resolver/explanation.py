@@ -58,19 +58,20 @@ def explanation(template: Any, product: Any, trace: Trace, name: str) -> list[st
     gets how it stands in the product, the trace entries about it (and its parts), then
     those about the node or container holding it (a node's migration moved its
     interfaces too; a container's removal removed its topics)."""
-    in_product = [e for e in named_elements(product) if _means(name, e)]
+    in_product = list(named_elements(product))
     in_template = [e for e in named_elements(template) if _means(name, e)]
-    if not in_product and not in_template:
+    meant = [e.name for e in in_product if _means(name, e)] + [e.name for e in in_template]
+    if not meant:
         return None
     lines: list[str] = []
-    for element_name in dict.fromkeys(e.name for e in [*in_product, *in_template]):
+    for element_name in dict.fromkeys(meant):  # a node by its old container: where it is now
         present = [e.element for e in in_product if e.name == element_name]
         written = next((e.element for e in in_template if e.name == element_name), None)
         owners = {qualified(o) for o in _holders(present[0] if present else written)}
         own = [e for e in trace.entries if _is_about(e.subject, element_name)]
         held = [e for e in trace.entries if e.subject in owners and e.decision in MOVED_OR_GONE]
         lines += [f"{element_name}: {_standing(element)}" for element in present]
-        if not present and not any(entry.subject == element_name for entry in own):
+        if not present:
             lines.append(f"{element_name}: not in this product")
         lines += [f"  {entry}" for entry in own + held]
         if present and not own + held and written is not None:

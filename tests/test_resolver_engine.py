@@ -283,6 +283,18 @@ def test_explain_an_interface_says_what_it_is_bound_to_and_why_it_moved():
     ]
 
 
+def test_explain_says_how_a_node_stands_when_asked_by_its_template_place():
+    # were: only the decisions, with no line saying where the node is or that it is gone
+    moved = explain("MappingCloud.MapOptimizer")
+    assert moved[0] == "MapOptimizer: present in container Robot"
+    assert moved == explain("MapOptimizer")
+    assert explain("DepthCamera")[:2] == [
+        "DepthCamera: not in this product",
+        "  DepthCamera: removed: optional node that no active resolution element requires or "
+        f"transforms ({MAPPING / 'mapping.tsm'}:17:19)",
+    ]
+
+
 def test_explain_refuses_a_bare_interface_name_and_names_the_ones_meant():
     args = ["explain", str(MAPPING), "--features", "YouBot,Stereo,AdditionalPC,Room"]
     result = run(*args, "keyframes")
