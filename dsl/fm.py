@@ -245,8 +245,9 @@ class _Builder:
                 problem = f" [{lower}..{upper}]: the lower bound exceeds the upper bound"
             elif lower > len(node.members):  # no product could choose that many
                 count = len(node.members)
+                written = f"[{lower}..{node.upper}]" if node.upper else f"[{lower}]"
                 problem = (
-                    f" [{lower}..]: the group has {count} feature{'s' * (count != 1)}, fewer "
+                    f" {written}: the group has {count} feature{'s' * (count != 1)}, fewer "
                     "than its lower bound (no product could choose that many)"
                 )
             else:

@@ -573,6 +573,16 @@ def test_a_group_asking_for_more_features_than_it_has_is_refused(tmp_path):
     result = run("check", path)
     assert result.exit_code == 1
     assert errors(result) == [
-        f"{path}:2:8: error: bad cardinality [5..]: the group has 2 features, fewer than its "
+        f"{path}:2:8: error: bad cardinality [5..5]: the group has 2 features, fewer than its "
         "lower bound (no product could choose that many)"
+    ]
+    # the bounds as written (was "[3..]" for each of these)
+    path.write_text(
+        "feature model V\nroot R {\n optional F group [3..*] { A B }\n"
+        " optional G group [3] { C D }\n}\n",
+        encoding="utf-8",
+    )
+    assert [e.split(": ")[2] for e in errors(run("check", path))] == [
+        "bad cardinality [3..*]",
+        "bad cardinality [3]",
     ]
