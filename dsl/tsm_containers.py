@@ -60,6 +60,7 @@ def container(names: Names, tree: Any) -> Any:
     members: dict[str, Any] = {}  # nodes and stores share one namespace
     topics = names.topics[id(container)] = {}
     nodes = names.nodes[id(container)] = {}
+    by_ros_name: dict[str, Any] = {}
     where = f" in container {container.name}"
     for member in tree.members:
         rule = kind(member)
@@ -67,6 +68,10 @@ def container(names: Names, tree: Any) -> Any:
             topic = _topic(names, member)
             names.declare(topics, topic, member.name, "topic", where)
             container.topics.append(topic)
+            first = by_ros_name.setdefault(topic.rosName, topic)
+            clash = first is not topic and None not in (first.type, topic.type)
+            if clash and first.type != topic.type:
+                names.error(member.name, ros_name_clash(topic, first))
             continue
         if rule == "Store" and robot:
             names.error(
@@ -147,3 +152,12 @@ def _topic(names: Names, tree: Any) -> Any:
         names.check(tree.name, rosnames.problem_graph_name(ros_name, f"topic {name} name"))
     topic.rosName = ros_name
     return topic
+
+
+def ros_name_clash(topic: Any, first: Any) -> str:
+    """Two topics of one container under one ROS name with two message types: ROS has one
+    topic there, and its subscribers would get messages of the wrong type."""
+    return (
+        f"topic {topic.name} is {topic.rosName}, as topic {first.name} (line {first.srcLine}) "
+        f"is, but carries {topic.type}, not {first.type}: one ROS topic carries one message type"
+    )

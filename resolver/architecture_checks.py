@@ -14,6 +14,7 @@ import networkx as nx
 from spl.diagnostics import Diagnostic, location_of
 from spl.metamodels import tsm
 from spl.resolver.context import qualified
+from spl.resolver.product import topic_ros_name
 
 SOURCE = "publishers"
 
@@ -107,6 +108,19 @@ def check_architecture(system: Any) -> list[Diagnostic]:
                             "error",
                             "SPL044",
                         )
+    for container in system.containers:  # a topic a .rm statement created, too
+        by_ros_name: dict[str, Any] = {}
+        for topic in container.topics:
+            first = by_ros_name.setdefault(topic_ros_name(topic), topic)
+            if first is not topic and first.type != topic.type:
+                report(
+                    topic,
+                    f"topics {qualified(first)} and {qualified(topic)} are both "
+                    f"{topic_ros_name(topic)} but carry {first.type} and {topic.type}: one "
+                    "ROS topic carries one message type",
+                    "error",
+                    "SPL044",
+                )
     for connection in system.connections:
         source, target = connection.source, connection.target
         if source.type != target.type:

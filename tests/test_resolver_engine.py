@@ -315,3 +315,31 @@ def test_explain_answers_for_a_feature_left_out_and_says_which_capability_did(tm
     assert lines[0] == "Roomba: feature not selected"
     assert lines[1].startswith(f"  capability base: youbot ({robot}:3:1) deselects Roomba: ")
     assert run(*args[:-1], "Nope").exit_code == 2
+
+
+def test_a_new_topic_under_a_ros_name_taken_by_another_type_is_an_error(tmp_path):
+    # was resolved and validated: Sonar's Range and Lidar's LaserScan were both /scan
+    line = tmp_path / "line"
+    line.mkdir()
+    (line / "l.tsm").write_text(
+        "system D\nrobot container R {\n"
+        '    endpoint robot_id "r1" url "wss://x.example.org:9000/" user "u" password env "P"\n'
+        '    topic Scan : sensor_msgs/LaserScan name "/scan"\n'
+        "    node Lidar { implementation a/b publishes scan -> Scan }\n"
+        "    optional node Sonar { implementation a/c publishes range : sensor_msgs/Range }\n"
+        "    node Planner { implementation a/d subscribes scan <- Scan }\n}\n"
+    )
+    (line / "l.fm").write_text("feature model D\nroot D { optional Sonars }\n")
+    (line / "l.rm").write_text(
+        'resolution model D\ntsm "l.tsm"\nfm "l.fm"\nwhen Sonars selected {\n'
+        "    require Sonar\n"
+        '    connect Sonar.range to new topic Ranges : sensor_msgs/Range name "/scan"\n}\n'
+    )
+    result = run("resolve", str(line), "--features", "Sonars", "-o", str(tmp_path / "out"))
+    assert result.exit_code == 1
+    assert result.stderr == (
+        f"{line / 'l.rm'}:6:5: error: topics R.Scan and R.Ranges are both /scan but carry "
+        "sensor_msgs/LaserScan and sensor_msgs/Range: one ROS topic carries one message type "
+        "[SPL044]\n"
+    )
+    assert not (tmp_path / "out").exists()

@@ -194,6 +194,30 @@ def test_interface_connected_to_topic_of_another_type() -> None:
     )
 
 
+def test_two_topics_of_one_container_under_one_ros_name_must_carry_one_type() -> None:
+    # was accepted: the launch file remapped a Range publisher and LaserScan subscribers
+    # onto one /scan, which the live ROS graph refused (found by a from-scratch user test)
+    assert_errors(
+        """\
+        system S
+        robot container R {
+            topic Scan : sensor_msgs/LaserScan name "/scan"
+            topic @@Range : sensor_msgs/Range name "/scan"
+            topic Copy : sensor_msgs/LaserScan name "/scan"
+            topic Cmd_vel : sensor_msgs/Image
+            topic @@Cmd : geometry_msgs/Twist name "/Cmd_vel"
+        }
+        cloud container C {
+            topic Other : sensor_msgs/Range name "/scan"
+        }
+        """,
+        "topic Range is /scan, as topic Scan (line 3) is, but carries sensor_msgs/Range, not "
+        "sensor_msgs/LaserScan: one ROS topic carries one message type",
+        "topic Cmd is /Cmd_vel, as topic Cmd_vel (line 6) is, but carries geometry_msgs/Twist, "
+        "not sensor_msgs/Image: one ROS topic carries one message type",
+    )
+
+
 def test_bridge_between_topics_of_different_types_and_duplicate_bridge() -> None:
     assert_errors(
         ROBOT
