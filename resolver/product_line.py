@@ -46,14 +46,22 @@ class ProductLine:
 
 
 def find_resolution_model(directory: Path) -> Path:
+    """The line's one .rm; a ModelError when there is none, or one error at each .rm
+    after the first (by name), so an editor shows it on the file to remove or move."""
     found = sorted(directory.glob("*.rm"))
-    if len(found) != 1:
-        what = "no .rm file" if not found else f"{len(found)} .rm files"
+    if not found:
+        raise ModelError(
+            [Diagnostic(Location(str(directory), 0, 0), "a product line holds one .rm; found none")]
+        )
+    if len(found) > 1:
         raise ModelError(
             [
                 Diagnostic(
-                    Location(str(directory), 0, 0), f"a product line holds one .rm; found {what}"
+                    Location(str(extra), 1, 1),
+                    f"a product line holds one .rm, and {found[0].name} is this folder's first: "
+                    f"move or remove {extra.name}",
                 )
+                for extra in found[1:]
             ]
         )
     return found[0]

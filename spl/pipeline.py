@@ -207,6 +207,13 @@ def check_models(target: Path, count: bool = True) -> tuple[dict[str, Any], list
     elif resolution_models != 1:
         count = resolution_models or "no"
         report["not_a_line"] = f"{count} .rm files; a product line holds one"
+        if resolution_models > 1:  # resolve and validate refuse the folder: so does check
+            from spl.resolver.product_line import find_resolution_model
+
+            try:
+                find_resolution_model(target)
+            except ModelError as exc:
+                found.extend(exc.diagnostics)
     elif found:
         report["not_a_line"] = "its models do not parse"
     else:

@@ -179,3 +179,24 @@ def test_counts_of_one_are_singular():
     assert ": ok: 2 containers, 3 nodes, 2 topics, 3 interfaces, 1 bridge\n" in result.stdout
     analysed = run("analyze", str(ROOT / "product_lines" / "mapping3d" / "mapping.fm"))
     assert analysed.stdout.splitlines()[0].endswith(": 12 features, 1 constraint")
+
+
+def test_a_folder_with_two_resolution_models_fails_check_as_it_fails_resolve(tmp_path):
+    # was: spl check "0 errors", exit 0, on a folder spl resolve and spl validate refuse
+    line = tmp_path / "two"
+    shutil.copytree(ROOT / "product_lines" / "mapping3d", line)
+    shutil.copy(line / "mapping.rm", line / "other.rm")
+    refusal = (
+        f"{line / 'other.rm'}:1:1: error: a product line holds one .rm, and mapping.rm is this "
+        "folder's first: move or remove other.rm"
+    )
+    checked = run("check", str(line))
+    assert (checked.exit_code, checked.stderr) == (1, refusal + "\n")
+    assert checked.stdout.splitlines()[-1] == (
+        "two: 1 error, 0 warnings (not checked as a product line: 2 .rm files; a product line "
+        "holds one)"
+    )
+    resolved = run(
+        "resolve", str(line), "--features", "YouBot,Stereo,Room", "-o", str(tmp_path / "o")
+    )
+    assert (resolved.exit_code, resolved.stderr) == (1, refusal + "\n")
