@@ -200,3 +200,33 @@ def test_a_folder_with_two_resolution_models_fails_check_as_it_fails_resolve(tmp
         "resolve", str(line), "--features", "YouBot,Stereo,Room", "-o", str(tmp_path / "o")
     )
     assert (resolved.exit_code, resolved.stderr) == (1, refusal + "\n")
+
+
+def test_a_robot_container_without_what_the_client_needs_fails_check(tmp_path):
+    # was: spl check "0 errors", then 33 of 82 products failed validate for want of it
+    line = tmp_path / "noendpoint"
+    shutil.copytree(
+        ROOT / "product_lines" / "mapping3d", line, ignore=shutil.ignore_patterns("fleets")
+    )
+    tsm = line / "mapping.tsm"
+    endpoint = (
+        '    endpoint robot_id "robot_1" url "wss://cloud.example.org:9000/" user "mapper"\n'
+        '             password env "RCE_PASSWORD"\n'
+    )
+    text = tsm.read_text()
+    assert endpoint in text
+    tsm.write_text(text.replace(endpoint, ""))
+    checked = run("check", str(line))
+    assert checked.exit_code == 1
+    assert checked.stderr.splitlines() == [
+        f"{tsm}:7:17: warning: robot container Robot: its endpoint has no robot_id and no url: "
+        "every product keeping it must set them in its deployment [SPL018]",
+        f"{tsm}:7:17: error: robot container Robot: its endpoint has no user and no password "
+        "env: every product keeping it fails to resolve (the rce-ros client needs them, and a "
+        "deployment cannot set them) [SPL018]",
+    ]
+    # robot_id and url alone are what a product's deployment can give
+    tsm.write_text(text.replace('robot_id "robot_1" url "wss://cloud.example.org:9000/" ', ""))
+    checked = run("check", str(line))
+    assert checked.exit_code == 0
+    assert "its endpoint has no robot_id and no url" in checked.stderr

@@ -31,6 +31,9 @@ SPL016    error     a statement that fails in some product activating its elemen
                     the message names a witness product
 SPL017    warning   two robot containers with one robot_id (or ids differing only in
                     case): products keeping both fail unless their deployment sets one
+SPL018    error     a robot container whose endpoint has no user or password env (no
+          warning   product keeping it resolves), or no robot_id or url (each such
+                    product must set it in its deployment)
 ========  ========  ==================================================================
 
 One module a check family; this package runs them all. :class:`ActivationSolver`
@@ -43,6 +46,7 @@ from spl.diagnostics import Diagnostic, Location
 from spl.resolver.line_checks.activation import ActivationSolver
 from spl.resolver.line_checks.conflicts import reachable_conflicts
 from spl.resolver.line_checks.dead_elements import never_active_elements
+from spl.resolver.line_checks.endpoints import incomplete_endpoints
 from spl.resolver.line_checks.listed_products import unresolvable_products
 from spl.resolver.line_checks.lookups import product_dependent_statements
 from spl.resolver.line_checks.no_effect import features_without_effect
@@ -60,6 +64,7 @@ def check_product_line(line: ProductLine, products: bool = True) -> list[Diagnos
         found += product_dependent_statements(line, solver)
     found += features_without_effect(line)
     found += shared_robot_ids(line)
+    found += incomplete_endpoints(line)
     if products:
         found += unresolvable_products(line)
     return sorted(found, key=diagnostic_order)
