@@ -22,7 +22,7 @@ from spl.resolver.architecture_checks import check_architecture
 from spl.resolver.capabilities import CapabilityChoice, choose_features, merge_choices
 from spl.resolver.context import ResolutionContext, describe
 from spl.resolver.data_clients import implement_data_clients
-from spl.resolver.placement import shared_across_users
+from spl.resolver.placement import shared_across_users, unlinked_clouds
 from spl.resolver.product import ResolvedProduct, node_keys
 from spl.resolver.product_line import ProductLine
 from spl.resolver.product_selection import CommandLineValue, ProductSelection, typed_text
@@ -93,7 +93,8 @@ def _resolve(line: ProductLine, selection: ProductSelection) -> Resolution:
     warnings = rewiring.rewire(system, trace, {m.node for m in ctx.migrations})
     left_out = pruning.prune_unused(system, trace)
 
-    problems = check_architecture(system) + warnings + shared_across_users(system)  # step 8
+    problems = check_architecture(system) + warnings  # step 8
+    problems += shared_across_users(system) + unlinked_clouds(system)
     errors = [p for p in problems if p.severity == "error"]
     if errors:
         raise ModelError(errors)

@@ -254,3 +254,42 @@ def shared_across_users(system: Any) -> list[Diagnostic]:
             )
         )
     return problems
+
+
+UNLINKED_CLOUD = "SPL048"
+
+
+def unlinked_clouds(system: Any) -> list[Diagnostic]:
+    """A warning at each cloud container with nodes that no robot container reaches
+    through endpoint connections (directly or through other clouds).
+
+    A cloud instance is deployed for the robots that use it (Rapyuta declares it in a
+    robot's file; Kubernetes deploys what some robot's scope holds), so such a container's
+    nodes get a launch file and nothing that starts them: deployed by neither."""
+    T = tsm()
+    neighbours: dict[int, set[int]] = defaultdict(set)
+    for connection in system.connections:
+        a, b = container_of(connection.source), container_of(connection.target)
+        if a is not None and b is not None and a is not b:
+            neighbours[id(a)].add(id(b))
+            neighbours[id(b)].add(id(a))
+    robots = [c for c in system.containers if isinstance(c, T.RobotContainer)]
+    reached = {id(robot) for robot in robots}
+    frontier = list(reached)
+    while frontier:
+        for neighbour in neighbours[frontier.pop()] - reached:
+            reached.add(neighbour)
+            frontier.append(neighbour)
+    return [
+        Diagnostic(
+            location_of(cloud),
+            f"cloud container {cloud.name} is linked to no robot container (no bridge joins "
+            "it to one, directly or through other clouds): rapyuta/ and kubernetes/ deploy "
+            f"none of its nodes ({', '.join(n.name for n in cloud.nodes)}); bridge it to the "
+            "robot containers that use it",
+            "warning",
+            UNLINKED_CLOUD,
+        )
+        for cloud in system.containers
+        if isinstance(cloud, T.CloudContainer) and cloud.nodes and id(cloud) not in reached
+    ]

@@ -343,3 +343,43 @@ def test_a_new_topic_under_a_ros_name_taken_by_another_type_is_an_error(tmp_path
         "[SPL044]\n"
     )
     assert not (tmp_path / "out").exists()
+
+
+UNLINKED_TSM = """system M
+robot container R {
+    endpoint robot_id "r" url "wss://x.example.org:9000/" user "u" password env "P"
+    node Drv { implementation a/drv calls get : nav_msgs/GetMap }
+}
+cloud container C group "g" {
+    node MapServer sharing protected { implementation a/map
+        provides get_map : nav_msgs/GetMap name "/static_map" }
+    node FleetManager sharing public { implementation a/fleet
+        calls map -> MapServer.get_map }
+}
+"""
+
+
+@pytest.mark.parametrize("bridged", [False, True])
+def test_a_cloud_container_no_robot_reaches_is_warned_about(tmp_path, bridged):
+    # was silent: its nodes got a launch file, and neither rapyuta/ nor kubernetes/
+    # deployed them (reported by a from-scratch user test)
+    line = tmp_path / "line"
+    line.mkdir()
+    bridge = "bridge R.Drv.get -> C.MapServer.get_map\n" if bridged else ""
+    (line / "m.tsm").write_text(UNLINKED_TSM + bridge)
+    (line / "m.fm").write_text("feature model M\nroot M { optional X }\n")
+    (line / "m.rm").write_text('resolution model M\ntsm "m.tsm"\nfm "m.fm"\n')
+    result = run("resolve", str(line), "--features", "M", "-o", str(tmp_path / "out"))
+    assert result.exit_code == 0, result.output
+    kustomization = (tmp_path / "out" / "kubernetes" / "kustomization.yaml").read_text()
+    if bridged:
+        assert "SPL048" not in result.stderr
+        assert "resources: []" not in kustomization
+    else:
+        assert result.stderr.splitlines()[-1] + "\n" == (
+            f"{line / 'm.tsm'}:6:17: warning: cloud container C is linked to no robot container "
+            "(no bridge joins it to one, directly or through other clouds): rapyuta/ and "
+            "kubernetes/ deploy none of its nodes (MapServer, FleetManager); bridge it to the "
+            "robot containers that use it [SPL048]\n"
+        )
+        assert "resources: []" in kustomization
