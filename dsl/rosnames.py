@@ -19,6 +19,7 @@ Rules (ROS 1 wiki "Names", REP 144 for packages):
 
 from __future__ import annotations
 
+import keyword
 import re
 
 BASE_NAME = re.compile(r"[A-Za-z][A-Za-z0-9_]*")
@@ -76,12 +77,19 @@ def problem_type(text: str, what: str = "type") -> str | None:
     package, slash, name = text.partition("/")
     if not slash:
         return f"{what} {_shown(text)} must be written package/Type"
-    return problem_package(package) or (
+    problem = problem_package(package) or (
         None
         if len(name) <= _MAX and TYPE_NAME.fullmatch(name)
         else f"{what} name {_shown(name)} is not valid (a letter, then letters, digits, "
         f"underscores; at most {_MAX} characters)"
     )
+    keywords = [part for part in (package, name) if keyword.iskeyword(part)]
+    if problem is None and keywords:  # `from import.msg import Scan` does not parse
+        return (
+            f"{what} {text}: {keywords[0]} is a Python keyword, so rospy code (the generated "
+            f"writers and readers, spl smoke) cannot import it"
+        )
+    return problem
 
 
 def problem_executable(name: str) -> str | None:

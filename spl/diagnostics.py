@@ -122,7 +122,12 @@ def model_text(path: str | Path) -> str:
     if unsaved is not None and (text := unsaved.get(os.path.abspath(path))) is not None:
         return _line_breaks(text.removeprefix("\ufeff"))
     path = Path(path)
-    data = path.read_bytes()
+    try:
+        data = path.read_bytes()
+    except OSError as exc:  # a folder named like a model, an unreadable file, ...
+        reason = exc.strerror or type(exc).__name__
+        where = Location(str(path), 1, 1)
+        raise ModelError([Diagnostic(where, f"cannot read: {reason}")]) from None
     try:
         return _line_breaks(data.decode("utf-8-sig"))
     except UnicodeDecodeError as exc:

@@ -561,3 +561,22 @@ def test_byte_order_mark_is_accepted(tmp_path: Path) -> None:
     path = tmp_path / "bom.tsm"
     path.write_bytes(b"\xef\xbb\xbfsystem Bom\n")
     assert tsm.parse_file(path).name == "Bom"
+
+
+def test_a_message_type_rospy_cannot_import_is_refused() -> None:
+    # was accepted: a generated reader node said `from import.msg import ...` and did not
+    # parse (found by fuzzing)
+    assert_errors(
+        """\
+        system S
+        robot container R {
+            topic A : @@import/Scan
+            topic B : @@std_msgs/None
+            topic C : std_msgs/String
+        }
+        """,
+        "type import/Scan: import is a Python keyword, so rospy code (the generated writers "
+        "and readers, spl smoke) cannot import it",
+        "type std_msgs/None: None is a Python keyword, so rospy code (the generated writers "
+        "and readers, spl smoke) cannot import it",
+    )

@@ -217,3 +217,18 @@ def test_diagrams_are_rendered_only_when_asked() -> None:
     assert quick.skipped == {}  # nothing to warn about: it was not asked for
     assert full.files["architecture.svg"].startswith(b"<?xml")
     assert quick.files["architecture.dot"] == full.files["architecture.dot"]
+
+
+def test_a_folder_named_like_a_selection_file_is_a_failed_product_not_an_internal_error(
+    tmp_path,
+):
+    # was: "internal error: IsADirectoryError" (found by fuzzing)
+    line = tmp_path / "line"
+    shutil.copytree(ROOT / "product_lines" / "data_acquisition", line)
+    (line / "products" / "dir.yaml").mkdir()
+    result = CliRunner().invoke(main, ["validate", str(line)])
+    assert result.exit_code == 1
+    assert "internal error" not in result.output
+    assert f"    {line / 'products' / 'dir.yaml'}:1:1: error: cannot read: Is a directory" in (
+        result.output.splitlines()
+    )
