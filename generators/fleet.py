@@ -44,6 +44,7 @@ from spl.generators.bundle import TARGETS, build_bundle, manifest
 from spl.generators.launch_xml import serialize
 from spl.generators.rapyuta import configurations, declare_once, render
 from spl.generators.rapyuta_rules import check_all
+from spl.generators.zenoh_bridge import transport
 from spl.resolver.fleet_deployment import FleetDeployment, SharedInstance
 from spl.resolver.placement import Placement, sharing_mode
 
@@ -147,6 +148,14 @@ def fleet_files(deployment: FleetDeployment) -> dict[str, bytes]:
     return dict(sorted(files.items()))
 
 
+def fleet_skipped(deployment: FleetDeployment) -> dict[str, str]:
+    """What the fleet bundle leaves out and why (``fleet.json``'s ``skipped``, and a
+    warning of ``spl fleet resolve``): ``zenoh/`` when Zenoh cannot carry the fleet, whose
+    instances then run without bridges."""
+    wiring = transport(*(entry.product.system for entry in deployment.robots))
+    return {} if wiring.carried else {"zenoh/": f"Zenoh cannot carry this fleet: {wiring.reason}"}
+
+
 def _fleet_manifest(
     deployment: FleetDeployment,
     files: dict[str, bytes],
@@ -187,6 +196,7 @@ def _fleet_manifest(
         "robots": robots,
         "shared": shared,
         "toolchain": {"name": "spl-robotics", "version": __version__},
+        **({"skipped": skipped} if (skipped := fleet_skipped(deployment)) else {}),
         "files": {path: hashlib.sha256(data).hexdigest() for path, data in sorted(files.items())},
     }
     return (json.dumps(document, indent=2, sort_keys=True) + "\n").encode("utf-8")

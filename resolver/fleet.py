@@ -37,6 +37,7 @@ from spl.resolver.effects import (
     active_in,
     observed,
     origin_of,
+    real_server,
 )
 from spl.resolver.engine import Resolution, resolve
 from spl.resolver.fleet_file import Fleet, FleetRobot
@@ -51,6 +52,7 @@ from spl.resolver.product_line import ProductLine, load_product_line
 from spl.resolver.product_selection import ProductSelection
 
 CONFLICT = "SPL040"
+AMBIGUOUS_SERVER = "SPL049"  # a shared node whose client reaches a server per group/robot
 ROBOT_ID_TAKEN = "SPL041"
 
 
@@ -287,6 +289,7 @@ def shared_asks(robot: FleetRobot, product: Any, placement: Placement) -> list[A
             values = {
                 k: v for k, v in observed(node, product).items() if k not in (PLACEMENT, SHARING)
             }
+            values.update(_server_instances(robot, node, product, placement))
             asks.append(
                 Ask(
                     robot.name,
@@ -300,6 +303,34 @@ def shared_asks(robot: FleetRobot, product: Any, placement: Placement) -> list[A
                 )
             )
     return asks
+
+
+SERVER_INSTANCE = "server instance of "
+
+
+def _server_instances(robot: FleetRobot, node: Any, product: Any, placement: Placement) -> dict:
+    """The instance each cloud server the shared node calls runs in, for this robot: one
+    shared instance cannot call two (a public node's protected server is its group's, a
+    private one the robot's own)."""
+    found = {}
+    for interface in node.interfaces:
+        server = (
+            real_server(interface.server, product.system)
+            if interface.eClass.name == ("ServiceClient")
+            else None
+        )
+        if server is None or placement.is_robot(server.eContainer().eContainer()):
+            continue
+        server_node = server.eContainer()
+        mode = sharing_mode(server_node)
+        if mode == "private":  # robotIDs aside, equal selections share one resolution
+            where = f"{server_node.eContainer().name}, private to robot {robot.name}"
+        else:
+            tag = placement.node_place(server_node, None).tag
+            owner = f"group {robot.group}" if mode == "protected" else "every group"
+            where = f"{tag}, {mode} for {owner}"
+        found[f"{SERVER_INSTANCE}{interface.name}"] = f"{server_node.name} in {where}"
+    return found
 
 
 def scopes(ask: Ask) -> list[tuple[str, str]]:
@@ -317,7 +348,13 @@ def differences(first: Ask, second: Ask) -> list[str]:
     if first.mode != second.mode:
         return [SHARING]
     aspects = sorted({k for k, _ in first.values} | {k for k, _ in second.values})
-    return [a for a in aspects if first.value(a) != second.value(a)]
+    differing = [a for a in aspects if first.value(a) != second.value(a)]
+    return [  # another server: its instance is not a difference of its own
+        a
+        for a in differing
+        if not a.startswith(SERVER_INSTANCE)
+        or f"server of {a.removeprefix(SERVER_INSTANCE)}" not in differing
+    ]
 
 
 def find_conflicts(check: FleetCheck) -> list[Diagnostic]:
@@ -352,13 +389,21 @@ def conflict(
     aspect: str,
 ) -> Diagnostic:
     node = effects.nodes[ask.key]
+    differ = (
+        f"robots {fixed.robot} and {ask.robot} ask for a different {aspect}: {fixed.robot} has "
+        f"{shown(fixed, aspect)} ({why(effects, node, first, aspect)}), {ask.robot} has "
+        f"{shown(ask, aspect)} ({why(effects, node, second, aspect)})"
+    )
+    if aspect.startswith(SERVER_INSTANCE):  # each product alone is fine, so a warning
+        return Diagnostic(
+            second.robot.location,
+            f"shared node {ask.node} cannot call both servers: {differ}; the deployment "
+            "connects its one instance to one of them, so give the server the node's sharing",
+            "warning",
+            AMBIGUOUS_SERVER,
+        )
     return Diagnostic(
-        second.robot.location,
-        f"conflict on shared node {ask.node}: robots {fixed.robot} and {ask.robot} ask for a "
-        f"different {aspect}: {fixed.robot} has {shown(fixed, aspect)} "
-        f"({why(effects, node, first, aspect)}), {ask.robot} has {shown(ask, aspect)} "
-        f"({why(effects, node, second, aspect)})",
-        code=CONFLICT,
+        second.robot.location, f"conflict on shared node {ask.node}: {differ}", code=CONFLICT
     )
 
 
@@ -377,6 +422,14 @@ def shown(ask: Ask, aspect: str) -> str:
 def why(effects: LineEffects, node: Any, entry: RobotProduct, aspect: str) -> str:
     """The feature and resolution element that gave the robot's node this value."""
     active = active_in(set(entry.product.features))
+    if aspect.startswith(SERVER_INSTANCE):  # the server's sharing mode decides it
+        server = node.servers[aspect.removeprefix(SERVER_INSTANCE)].value(active, None)
+        server_node = effects.by_node.get(id(server.eContainer())) if server else None
+        if server_node is None:
+            return "the server's sharing mode"
+        return (
+            f"{server_node.name}'s sharing: {_decided(server_node.aspects[SHARING], active, entry)}"
+        )
     if aspect.startswith("server of "):
         chosen = node.servers[aspect.removeprefix("server of ")]
         reason = _decided(chosen, active, entry)

@@ -32,7 +32,7 @@ from spl.dsl.fm import all_features
 from spl.resolver.capabilities import choose_features
 from spl.resolver.context import describe
 from spl.resolver.effects import PLACEMENT, SHARING, NodeEffects, Settings
-from spl.resolver.fleet import Ask, FleetCheck, check_fleet, shown
+from spl.resolver.fleet import SERVER_INSTANCE, Ask, FleetCheck, check_fleet, shown
 from spl.resolver.fleet_file import DEFAULT_GROUP, Fleet
 
 TRUE, FALSE = ("const", True), ("const", False)
@@ -323,8 +323,8 @@ def _requirements(encoding: _Encoding, asks: list[Ask], group: str) -> list[str]
         exempt = _or([_not(comparable), on_board if ask.on_robot else FALSE])
         suffix = f", as {ask.robot} fixed it ({ask.where()})"
         wanted = [(PLACEMENT, ask.placement), (SHARING, ask.mode)]
-        if not ask.on_robot:
-            wanted += list(ask.values)
+        if not ask.on_robot:  # a server's instance is a warning of the check, not a rule
+            wanted += [(a, v) for a, v in ask.values if not a.startswith(SERVER_INSTANCE)]
         for aspect, value in wanted:
             if aspect == PLACEMENT:
                 where = "on the robot" if ask.on_robot else f"in {ask.placement}"

@@ -502,3 +502,76 @@ def test_a_fleet_shows_its_robots_product_warnings_and_the_shipped_ones_have_non
 
 def _line_of(path: Path, text: str) -> int:
     return next(i for i, t in enumerate(path.read_text().splitlines(), 1) if text in t)
+
+
+GROUPS_TSM = """system M
+robot container R {
+    endpoint robot_id "r" url "wss://x.example.org:9000/" user "u" password env "P"
+    node Drv { implementation a/drv  calls get : nav_msgs/GetMap }
+}
+cloud container C group "g" {
+    node MapServer sharing protected { implementation a/map
+        provides get_map : nav_msgs/GetMap name "/static_map" }
+    node FleetManager sharing public { implementation a/fleet
+        calls map -> MapServer.get_map }
+}
+bridge R.Drv.get -> C.MapServer.get_map
+"""
+
+
+def test_a_public_node_calling_each_groups_own_server_is_warned_about(tmp_path) -> None:
+    # was silent: the one public FleetManager was wired to C_hall's MapServer in a's
+    # Rapyuta file and to C_dock's in b's (reported by a from-scratch user test)
+    line = tmp_path / "line"
+    line.mkdir()
+    (line / "m.tsm").write_text(GROUPS_TSM)
+    (line / "m.fm").write_text("feature model M\nroot M { optional X }\n")
+    (line / "m.rm").write_text('resolution model M\ntsm "m.tsm"\nfm "m.fm"\n')
+    robots = "  a: {group: hall, features: [M]}\n  b: {group: dock, features: [M]}\n"
+    code, _, stderr = run("fleet", "check", fleet(tmp_path, robots, line=line))
+    assert code == 0
+    template = f"as the template has it ({line / 'm.tsm'}:7:10)"
+    assert stderr == (
+        f"{tmp_path / 'lab.yaml'}:5:3: warning: shared node FleetManager cannot call both "
+        "servers: robots a and b ask for a different server instance of map: a has MapServer "
+        f"in C_hall, protected for group hall (MapServer's sharing: {template}), b has "
+        f"MapServer in C_dock, protected for group dock (MapServer's sharing: {template}); the "
+        "deployment connects its one instance to one of them, so give the server the node's "
+        "sharing [SPL049]\n"
+    )
+    # one group: one MapServer for the one FleetManager
+    same = "  a: {group: hall, features: [M]}\n  b: {group: hall, features: [M]}\n"
+    code, _, stderr = run("fleet", "check", fleet(tmp_path, same, line=line, name="one.yaml"))
+    assert (code, stderr) == (0, "")
+
+
+RENAMING_TSM = """system M
+robot container R {
+    endpoint robot_id "r" url "wss://x.example.org:9000/" user "u" password env "P"
+    topic Scan : sensor_msgs/LaserScan name "/scan"
+    node Lidar { implementation a/lidar publishes scan -> Scan }
+}
+cloud container C {
+    topic Laser : sensor_msgs/LaserScan name "/laser"
+    node Mapper { implementation a/map subscribes laser <- Laser }
+}
+bridge R.Scan -> C.Laser
+"""
+
+
+def test_fleet_resolve_says_when_zenoh_cannot_carry_the_fleet(tmp_path) -> None:
+    # was silent: no zenoh/, the reason only in kubernetes/README.md
+    line = tmp_path / "line"
+    line.mkdir()
+    (line / "m.tsm").write_text(RENAMING_TSM)
+    (line / "m.fm").write_text("feature model M\nroot M { optional X }\n")
+    (line / "m.rm").write_text('resolution model M\ntsm "m.tsm"\nfm "m.fm"\n')
+    out = tmp_path / "out"
+    path = fleet(tmp_path, "  a: {features: [M]}\n", line=line)
+    code, _, stderr = run("fleet", "resolve", path, "-o", out)
+    assert code == 0, stderr
+    assert stderr.startswith("warning: zenoh/ not written: Zenoh cannot carry this fleet: ")
+    reason = stderr.removeprefix("warning: zenoh/ not written: ").rstrip("\n")
+    assert "/scan" in reason and "/laser" in reason
+    assert json.loads((out / "fleet.json").read_text())["skipped"] == {"zenoh/": reason}
+    assert not (out / "zenoh").exists()

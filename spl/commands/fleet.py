@@ -132,7 +132,8 @@ def resolve(fleet_file: Path, out: Path | None) -> None:
     """Write one bundle for the fleet: each robot's own files, each shared cloud instance
     once, and fleet.json. Refused, writing nothing, when the fleet check fails."""
     from spl.generators.bundle import write_bundle
-    from spl.generators.fleet import fleet_files
+    from spl.generators.fleet import fleet_files, fleet_skipped
+    from spl.generators.zenoh_bridge import transport_reused
     from spl.resolver.fleet import check_fleet, located, summary
     from spl.resolver.fleet_deployment import deploy
     from spl.resolver.fleet_file import load_fleet
@@ -142,7 +143,12 @@ def resolve(fleet_file: Path, out: Path | None) -> None:
     if not result.ok:
         raise ModelError(located(result.diagnostics))
     _warn(result.diagnostics)
-    files = fleet_files(deploy(result))
+    deployment = deploy(result)
+    with transport_reused():  # the fleet's wiring, computed once for all that read it
+        files = fleet_files(deployment)
+        skipped = fleet_skipped(deployment)
+    for path, reason in skipped.items():
+        click.echo(f"warning: {path} not written: {reason}", err=True)
     out = out or Path("build") / fleet.name
     write_bundle(files, out)
     for line in summary(result):
