@@ -19,7 +19,7 @@ from pathlib import Path
 from typing import Any
 
 from spl.atomic_write import write_atomically
-from spl.diagnostics import Diagnostic, Location, ModelError
+from spl.diagnostics import Diagnostic, Location, ModelError, location_of
 from spl.dsl.fm_vocabulary import RESERVED_WORDS, is_feature_name
 
 FORMATS = {".fm": "FeatureModel (.fm)", ".uvl": "UVL", ".xml": "FeatureIDE XML"}
@@ -67,6 +67,7 @@ def render_feature_model(model: Any, suffix: str) -> bytes:
     if suffix == ".fm":
         from spl.dsl.fm_printer import print_model
 
+        _refuse_what_fm_refuses(model)
         return print_model(model).encode("utf-8")
     if suffix == ".uvl":
         from spl.dsl.uvl import write_uvl
@@ -77,6 +78,30 @@ def render_feature_model(model: Any, suffix: str) -> bytes:
 
         return write_featureide(model)
     raise ValueError(f"no feature-model format for {suffix!r}")
+
+
+def _refuse_what_fm_refuses(model: Any) -> None:
+    """A group asking for more features than it has (UVL reads ``[2]`` over one child;
+    the model is void) would be written as a .fm file the .fm reader refuses: say so."""
+    from spl.dsl.fm import all_features
+
+    problems = [
+        Diagnostic(
+            location_of(group) or location_of(feature),
+            f"feature {feature.name}: its group [{group.lower}..{_upper(group.upper)}] asks for "
+            f"more features than its {len(group.features)}, which the .fm language refuses (no "
+            "product could choose that many: the model is void)",
+        )
+        for feature in all_features(model)
+        for group in feature.groups
+        if group.kind.name == "cardinality" and group.lower > len(group.features)
+    ]
+    if problems:
+        raise ModelError(problems)
+
+
+def _upper(bound: int) -> str:
+    return "*" if bound == -1 else str(bound)
 
 
 def save_feature_model(model: Any, path: str | Path) -> None:

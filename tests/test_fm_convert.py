@@ -127,3 +127,19 @@ def test_out_naming_in_itself_is_refused(tmp_path) -> None:
         assert result.exit_code == 2
         assert "is IN itself; give another file" in result.output
     assert source.read_bytes() == before
+
+
+def test_a_void_uvl_group_is_not_written_as_a_fm_file_the_fm_reader_refuses(tmp_path) -> None:
+    # was: written, and spl analyze of the written file failed (found by fuzzing)
+    source = tmp_path / "void.uvl"
+    source.write_text("features\n\tR\n\t\t[2]\n\t\t\tA\n")
+    target = tmp_path / "void.fm"
+    result = CliRunner().invoke(main, ["convert", str(source), str(target)])
+    assert result.exit_code == 1
+    assert result.stderr == (
+        f"{source}:3:3: error: feature R: its group [2..2] asks for more features than its 1, "
+        "which the .fm language refuses (no product could choose that many: the model is void)\n"
+    )
+    assert not target.exists()
+    to_uvl = CliRunner().invoke(main, ["convert", str(source), str(tmp_path / "same.uvl")])
+    assert to_uvl.exit_code == 0  # UVL itself reads it: a void model, said by analyze
