@@ -11,6 +11,7 @@ from pathlib import Path
 
 import pytest
 from click.testing import CliRunner
+from one_feature_line import MAP_SERVER_BRIDGE, MAP_SERVER_TSM, one_feature_line
 
 from spl.cli import main
 from spl.generators.launch_schema import validate_ros1_launch, validate_ros2_launch
@@ -504,29 +505,10 @@ def _line_of(path: Path, text: str) -> int:
     return next(i for i, t in enumerate(path.read_text().splitlines(), 1) if text in t)
 
 
-GROUPS_TSM = """system M
-robot container R {
-    endpoint robot_id "r" url "wss://x.example.org:9000/" user "u" password env "P"
-    node Drv { implementation a/drv  calls get : nav_msgs/GetMap }
-}
-cloud container C group "g" {
-    node MapServer sharing protected { implementation a/map
-        provides get_map : nav_msgs/GetMap name "/static_map" }
-    node FleetManager sharing public { implementation a/fleet
-        calls map -> MapServer.get_map }
-}
-bridge R.Drv.get -> C.MapServer.get_map
-"""
-
-
 def test_a_public_node_calling_each_groups_own_server_is_warned_about(tmp_path) -> None:
     # was silent: the one public FleetManager was wired to C_hall's MapServer in a's
     # Rapyuta file and to C_dock's in b's (reported by a from-scratch user test)
-    line = tmp_path / "line"
-    line.mkdir()
-    (line / "m.tsm").write_text(GROUPS_TSM)
-    (line / "m.fm").write_text("feature model M\nroot M { optional X }\n")
-    (line / "m.rm").write_text('resolution model M\ntsm "m.tsm"\nfm "m.fm"\n')
+    line = one_feature_line(tmp_path / "line", MAP_SERVER_TSM + MAP_SERVER_BRIDGE)
     robots = "  a: {group: hall, features: [M]}\n  b: {group: dock, features: [M]}\n"
     code, _, stderr = run("fleet", "check", fleet(tmp_path, robots, line=line))
     assert code == 0
@@ -561,11 +543,7 @@ bridge R.Scan -> C.Laser
 
 def test_fleet_resolve_says_when_zenoh_cannot_carry_the_fleet(tmp_path) -> None:
     # was silent: no zenoh/, the reason only in kubernetes/README.md
-    line = tmp_path / "line"
-    line.mkdir()
-    (line / "m.tsm").write_text(RENAMING_TSM)
-    (line / "m.fm").write_text("feature model M\nroot M { optional X }\n")
-    (line / "m.rm").write_text('resolution model M\ntsm "m.tsm"\nfm "m.fm"\n')
+    line = one_feature_line(tmp_path / "line", RENAMING_TSM)
     out = tmp_path / "out"
     path = fleet(tmp_path, "  a: {features: [M]}\n", line=line)
     code, _, stderr = run("fleet", "resolve", path, "-o", out)

@@ -10,6 +10,7 @@ from pathlib import Path
 
 import pytest
 from click.testing import CliRunner
+from one_feature_line import MAP_SERVER_BRIDGE, MAP_SERVER_TSM, one_feature_line
 
 from spl.cli import main
 from spl.diagnostics import ModelError
@@ -345,30 +346,12 @@ def test_a_new_topic_under_a_ros_name_taken_by_another_type_is_an_error(tmp_path
     assert not (tmp_path / "out").exists()
 
 
-UNLINKED_TSM = """system M
-robot container R {
-    endpoint robot_id "r" url "wss://x.example.org:9000/" user "u" password env "P"
-    node Drv { implementation a/drv calls get : nav_msgs/GetMap }
-}
-cloud container C group "g" {
-    node MapServer sharing protected { implementation a/map
-        provides get_map : nav_msgs/GetMap name "/static_map" }
-    node FleetManager sharing public { implementation a/fleet
-        calls map -> MapServer.get_map }
-}
-"""
-
-
 @pytest.mark.parametrize("bridged", [False, True])
 def test_a_cloud_container_no_robot_reaches_is_warned_about(tmp_path, bridged):
     # was silent: its nodes got a launch file, and neither rapyuta/ nor kubernetes/
     # deployed them (reported by a from-scratch user test)
-    line = tmp_path / "line"
-    line.mkdir()
-    bridge = "bridge R.Drv.get -> C.MapServer.get_map\n" if bridged else ""
-    (line / "m.tsm").write_text(UNLINKED_TSM + bridge)
-    (line / "m.fm").write_text("feature model M\nroot M { optional X }\n")
-    (line / "m.rm").write_text('resolution model M\ntsm "m.tsm"\nfm "m.fm"\n')
+    bridge = MAP_SERVER_BRIDGE if bridged else ""
+    line = one_feature_line(tmp_path / "line", MAP_SERVER_TSM + bridge)
     result = run("resolve", str(line), "--features", "M", "-o", str(tmp_path / "out"))
     assert result.exit_code == 0, result.output
     kustomization = (tmp_path / "out" / "kubernetes" / "kustomization.yaml").read_text()

@@ -16,6 +16,22 @@ from spl.resolver.product_line import ProductLine
 INCOMPLETE_ENDPOINT = "SPL018"
 
 
+# (the settings, by their .tsm name and attribute), severity, what follows when one is missing
+RULES = (
+    (
+        (("user", "user"), ("password env", "passwordEnv")),
+        "error",
+        "every product keeping it fails to resolve (the rce-ros client needs {them}, and a "
+        "deployment cannot set {them})",
+    ),
+    (
+        (("robot_id", "robotId"), ("url", "url")),
+        "warning",
+        "every product keeping it must set {them} in its deployment",
+    ),
+)
+
+
 def incomplete_endpoints(line: ProductLine) -> list[Diagnostic]:
     found = []
     for container in line.tsm.containers:
@@ -23,36 +39,17 @@ def incomplete_endpoints(line: ProductLine) -> list[Diagnostic]:
             continue
         endpoint = container.endpoint
         where = location_of(endpoint) or location_of(container)
-        missing = [
-            setting
-            for setting, value in (("user", endpoint.user), ("password env", endpoint.passwordEnv))
-            if not value
-        ]
-        if missing:
-            found.append(
-                Diagnostic(
-                    where,
-                    f"robot container {container.name}: its endpoint has no "
-                    f"{' and no '.join(missing)}: every product keeping it fails to resolve "
-                    "(the rce-ros client needs them, and a deployment cannot set them)",
-                    "error",
-                    INCOMPLETE_ENDPOINT,
+        for settings, severity, consequence in RULES:
+            missing = [name for name, attribute in settings if not getattr(endpoint, attribute)]
+            if missing:
+                them = "them" if len(missing) > 1 else "it"
+                found.append(
+                    Diagnostic(
+                        where,
+                        f"robot container {container.name}: its endpoint has no "
+                        f"{' and no '.join(missing)}: {consequence.format(them=them)}",
+                        severity,
+                        INCOMPLETE_ENDPOINT,
+                    )
                 )
-            )
-        unset = [
-            setting
-            for setting, value in (("robot_id", endpoint.robotId), ("url", endpoint.url))
-            if not value
-        ]
-        if unset:
-            found.append(
-                Diagnostic(
-                    where,
-                    f"robot container {container.name}: its endpoint has no "
-                    f"{' and no '.join(unset)}: every product keeping it must set "
-                    f"{'them' if len(unset) > 1 else 'it'} in its deployment",
-                    "warning",
-                    INCOMPLETE_ENDPOINT,
-                )
-            )
     return found
