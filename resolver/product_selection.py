@@ -95,7 +95,44 @@ def read_yaml(path: Path, sink: DiagnosticSink) -> tuple[yaml.Node | None, Calla
     def at(node: yaml.Node) -> Location:
         return Location(filename, node.start_mark.line + 1, node.start_mark.column + 1)
 
+    recursive = _recursive_node(root)
+    if recursive is not None:  # `x: &a {y: *a}`: every walk of it would never end
+        sink.error(at(recursive), "invalid YAML: a recursive alias (a node that holds itself)")
+        sink.raise_if_errors()
     return root, at
+
+
+def _recursive_node(root: yaml.Node | None) -> yaml.Node | None:
+    """A collection node that holds itself through aliases, or None. Depth first, without
+    recursion: (node, its children not yet visited); a child already on the path closes a
+    cycle, one finished before (an alias used twice) does not."""
+    if root is None:
+        return None
+    on_path: set[int] = set()
+    done: set[int] = set()
+    stack = [(root, iter(_children(root)))]
+    on_path.add(id(root))
+    while stack:
+        node, children = stack[-1]
+        child = next(children, None)
+        if child is None:
+            stack.pop()
+            on_path.discard(id(node))
+            done.add(id(node))
+        elif id(child) in on_path:
+            return child
+        elif id(child) not in done:
+            on_path.add(id(child))
+            stack.append((child, iter(_children(child))))
+    return None
+
+
+def _children(node: yaml.Node) -> list[yaml.Node]:
+    if isinstance(node, yaml.MappingNode):
+        return [part for pair in node.value for part in pair]
+    if isinstance(node, yaml.SequenceNode):
+        return list(node.value)
+    return []
 
 
 def _refuse_duplicate_keys(

@@ -123,8 +123,11 @@ def model_text(path: str | Path) -> str:
         return _line_breaks(text.removeprefix("\ufeff"))
     path = Path(path)
     try:
+        if not path.is_file():  # a named pipe would block the read for ever
+            kind = "a folder" if path.is_dir() else "not a file" if path.exists() else "missing"
+            raise OSError(0, kind)
         data = path.read_bytes()
-    except OSError as exc:  # a folder named like a model, an unreadable file, ...
+    except OSError as exc:  # a folder named like a model, an unreadable file, a link loop
         reason = exc.strerror or type(exc).__name__
         where = Location(str(path), 1, 1)
         raise ModelError([Diagnostic(where, f"cannot read: {reason}")]) from None

@@ -124,6 +124,8 @@ def _listed_name(path: Path) -> str:
     parsed properly (and its errors reported) when the case runs."""
     import yaml
 
+    if not path.is_file():  # a named pipe would block; the case reports what it is
+        return path.stem
     try:
         data = yaml.safe_load(path.read_text(encoding="utf-8"))
     except (yaml.YAMLError, OSError, ValueError, TypeError, RecursionError):

@@ -146,6 +146,8 @@ def test_a_capability_of_the_wrong_kind_is_located_in_the_robot_file(tmp_path) -
         ),
         ("sensors: [a, !!int x]\n", "1:10: error: capability sensors: expected a string"),
         ("built: !!timestamp 2024-13-01\n", "(month must be in 1..12)"),
+        # was an internal RecursionError
+        ("base: &a {x: *a}\n", "1:7: error: invalid YAML: a recursive alias (a node that holds"),
     ],
 )
 def test_bad_capability_files_are_located(tmp_path, text: str, expected: str) -> None:

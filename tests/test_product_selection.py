@@ -93,3 +93,28 @@ def test_a_key_given_twice_is_refused(tmp_path):
         "p.yaml:3:1: error: duplicate key 'features' (first at line 2)",
         "p.yaml:4:22: error: duplicate key 'A.b' (first at line 4)",
     ]
+
+
+@pytest.mark.parametrize(
+    ("text", "where"),
+    [
+        ("x: &a {y: *a}\n", "1:4"),
+        ("features: [A]\nsharing: &a {SharedMap: *a}\n", "2:10"),
+        ("&a {features: [A], again: *a}\n", "1:1"),
+        ("features: &l [A, *l]\n", "1:11"),
+    ],
+)
+def test_a_recursive_alias_is_refused_not_walked_forever(tmp_path, text, where):
+    # was: spl resolve, explain, check and validate never ended (found by fuzzing)
+    assert problems(tmp_path, text) == [
+        f"p.yaml:{where}: error: invalid YAML: a recursive alias (a node that holds itself)"
+    ]
+
+
+def test_an_alias_used_twice_is_no_recursion(tmp_path):
+    selection = tmp_path / "p.yaml"
+    selection.write_text("product: p\nfeatures: &f [A, B]\ndeselected: [C]\n")
+    assert load_selection_file(selection).features == ["A", "B"]
+    shared = tmp_path / "q.yaml"
+    shared.write_text("product: q\nattributes: {F.a: &v 1, G.b: *v}\nfeatures: [F, G]\n")
+    assert load_selection_file(shared).attributes == {"F.a": 1, "G.b": 1}

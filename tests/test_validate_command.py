@@ -3,6 +3,7 @@ the same report whatever the number of worker processes."""
 
 from __future__ import annotations
 
+import os
 import shutil
 from pathlib import Path
 
@@ -219,16 +220,23 @@ def test_diagrams_are_rendered_only_when_asked() -> None:
     assert quick.files["architecture.dot"] == full.files["architecture.dot"]
 
 
-def test_a_folder_named_like_a_selection_file_is_a_failed_product_not_an_internal_error(
-    tmp_path,
-):
-    # was: "internal error: IsADirectoryError" (found by fuzzing)
+def test_what_is_no_selection_file_in_products_fails_its_product_and_never_blocks(tmp_path):
+    # were: "internal error: IsADirectoryError" for a folder, and validate and check
+    # waiting for ever on a named pipe (found by fuzzing)
     line = tmp_path / "line"
     shutil.copytree(ROOT / "product_lines" / "data_acquisition", line)
-    (line / "products" / "dir.yaml").mkdir()
+    products = line / "products"
+    (products / "folder.yaml").mkdir()
+    os.mkfifo(products / "pipe.yaml")
+    (products / "dangling.yaml").symlink_to(tmp_path / "nowhere.yaml")
     result = CliRunner().invoke(main, ["validate", str(line)])
     assert result.exit_code == 1
     assert "internal error" not in result.output
-    assert f"    {line / 'products' / 'dir.yaml'}:1:1: error: cannot read: Is a directory" in (
-        result.output.splitlines()
+    lines = result.output.splitlines()
+    for name, reason in (("folder", "a folder"), ("pipe", "not a file"), ("dangling", "missing")):
+        failed = lines.index(f"FAIL line :: {name}")
+        assert lines[failed + 1] == f"    {products / name}.yaml:1:1: error: cannot read: {reason}"
+    checked = CliRunner().invoke(main, ["check", str(line)])
+    assert f"{products / 'pipe'}.yaml:1:1: warning: product pipe: cannot read: not a file" in (
+        checked.stderr
     )
