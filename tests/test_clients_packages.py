@@ -52,6 +52,31 @@ def test_a_keyword_named_client_is_a_package_python_imports(tmp_path: Path) -> N
         py_compile.compile(str(module), doraise=True)
 
 
+def test_a_message_named_like_a_name_of_the_node_module_does_not_replace_it(
+    tmp_path: Path,
+) -> None:
+    # was `from rover_msgs.msg import Node` after `from rclpy.node import Node`: the node
+    # class inherited from the message (found by fuzzing)
+    resolved = product()
+    for node in (n for c in resolved.system.containers for n in c.nodes):
+        for interface in node.interfaces:
+            if interface.name == "records":
+                if getattr(interface, "topic", None) is not None:
+                    interface.topic.type = "rover_msgs/Node"
+                interface.type = "rover_msgs/Node"
+    root = write_files(clients.generate(resolved), tmp_path) / "clients"
+    for module in root.glob("*/*/*_node.py"):
+        tree = ast.parse(module.read_text())
+        bound = {
+            alias.asname or alias.name: (statement.module, alias.name)
+            for statement in tree.body
+            if isinstance(statement, ast.ImportFrom)
+            for alias in statement.names
+        }
+        assert bound["Node"] == ("rclpy.node", "Node"), module
+        assert bound["MessageType"] == ("rover_msgs.msg", "Node"), module
+
+
 def test_one_ament_python_package_per_writer_and_reader(files, tmp_path: Path) -> None:
     root = write_files(files, tmp_path)
     assert sorted(p.name for p in (root / "clients").iterdir()) == sorted(EXPECTED)
