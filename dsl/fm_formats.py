@@ -68,7 +68,9 @@ def render_feature_model(model: Any, suffix: str) -> bytes:
         from spl.dsl.fm_printer import print_model
 
         _refuse_what_fm_refuses(model)
-        return print_model(model).encode("utf-8")
+        text = print_model(model)
+        _refuse_what_fm_cannot_read_back(model, text)
+        return text.encode("utf-8")
     if suffix == ".uvl":
         from spl.dsl.uvl import write_uvl
 
@@ -98,6 +100,50 @@ def _refuse_what_fm_refuses(model: Any) -> None:
     ]
     if problems:
         raise ModelError(problems)
+
+
+def _refuse_what_fm_cannot_read_back(model: Any, text: str) -> None:
+    """UVL's ``A => B => C`` is ``(A => B) => C``, .fm's is ``A => (B => C)``: a long UVL
+    chain is written with one parenthesis per implication, and the .fm reader follows a
+    few dozen. Text nested beyond what the fast reader takes is read back, and refused,
+    at each constraint nested that deep, when the reader refuses it."""
+    from spl.dsl import fm, fm_reader
+    from spl.dsl.fm_printer import format_formula
+
+    if _parentheses(text) <= fm_reader.MAX_DEPTH:
+        return
+    try:
+        fm.parse_text(text, "converted.fm")
+    except ModelError as exc:
+        reason = exc.diagnostics[0].message
+        deep = [
+            (constraint, depth)
+            for constraint in model.constraints
+            if (depth := _parentheses(format_formula(constraint.formula))) > fm_reader.MAX_DEPTH
+        ]
+        raise ModelError(
+            [
+                Diagnostic(
+                    location_of(constraint),
+                    f"this constraint is written with {depth} nested parentheses in .fm (an "
+                    f"implication chain associates the other way there), which the .fm reader "
+                    f"refuses ({reason}): split it into several constraints",
+                )
+                for constraint, depth in deep
+            ]
+            or exc.diagnostics
+        ) from None
+
+
+def _parentheses(text: str) -> int:
+    depth = deepest = 0
+    for character in text:
+        if character == "(":
+            depth += 1
+            deepest = max(deepest, depth)
+        elif character == ")":
+            depth -= 1
+    return deepest
 
 
 def _upper(bound: int) -> str:

@@ -143,3 +143,23 @@ def test_a_void_uvl_group_is_not_written_as_a_fm_file_the_fm_reader_refuses(tmp_
     assert not target.exists()
     to_uvl = CliRunner().invoke(main, ["convert", str(source), str(tmp_path / "same.uvl")])
     assert to_uvl.exit_code == 0  # UVL itself reads it: a void model, said by analyze
+
+
+def test_a_uvl_implication_chain_the_fm_reader_cannot_follow_is_not_written(tmp_path) -> None:
+    # UVL's A => B => C is (A => B) => C: written in .fm with a parenthesis per implication;
+    # 60 of them were written, and the .fm reader refused its own output (found by fuzzing)
+    source = tmp_path / "chain.uvl"
+    chain = " => ".join(["A"] * 60)
+    source.write_text(f"features\n\tR\n\t\toptional\n\t\t\tA\nconstraints\n\tA | A\n\t{chain}\n")
+    target = tmp_path / "chain.fm"
+    result = CliRunner().invoke(main, ["convert", str(source), str(target)])
+    assert result.exit_code == 1
+    assert result.stderr.startswith(
+        f"{source}:7:2: error: this constraint is written with 58 nested parentheses in .fm "
+        "(an implication chain associates the other way there), which the .fm reader refuses"
+    )
+    assert not target.exists()
+    short = " => ".join(["A"] * 20)  # what the reader follows is written, and reads back
+    source.write_text(f"features\n\tR\n\t\toptional\n\t\t\tA\nconstraints\n\t{short}\n")
+    assert CliRunner().invoke(main, ["convert", str(source), str(target)]).exit_code == 0
+    assert CliRunner().invoke(main, ["check", str(target)]).exit_code == 0
