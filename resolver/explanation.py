@@ -106,10 +106,11 @@ def _is_about(subject: str, name: str) -> bool:
 
 def _holders(element: Any) -> list[Any]:
     """The node and container holding ``element`` (an endpoint's, its container)."""
+    T = tsm()
     holders = []
     owner = element.eContainer()
-    while owner is not None and not isinstance(owner, tsm().System):
-        if not isinstance(owner, tsm().Endpoint):
+    while owner is not None and not isinstance(owner, T.System):
+        if not isinstance(owner, T.Endpoint):
             holders.append(owner)
         owner = owner.eContainer()
     return holders

@@ -46,6 +46,7 @@ from spl.resolver.placement import (
     SHARED_MODES,
     Place,
     Placement,
+    rapyuta_user,
     sharing_mode,
 )
 from spl.resolver.product_line import ProductLine, load_product_line
@@ -184,7 +185,7 @@ def users_apart(check: FleetCheck) -> list[Diagnostic]:
     that product's own warning.)"""
     users = {
         entry.robot.name: tuple(
-            sorted({c.endpoint.user for c in entry.product.system.containers if _user_of(c)})
+            sorted({u for c in entry.product.system.containers if (u := rapyuta_user(c))})
         )
         for entry in check.robots
     }
@@ -208,11 +209,6 @@ def users_apart(check: FleetCheck) -> list[Diagnostic]:
             )
         )
     return found
-
-
-def _user_of(container: Any) -> str | None:
-    endpoint = getattr(container, "endpoint", None)
-    return endpoint.user if container.eClass.name == "RobotContainer" and endpoint else None
 
 
 def _about(robot: FleetRobot, diagnostic: Diagnostic) -> Diagnostic:
@@ -314,11 +310,9 @@ def _server_instances(robot: FleetRobot, node: Any, product: Any, placement: Pla
     private one the robot's own)."""
     found = {}
     for interface in node.interfaces:
-        server = (
-            real_server(interface.server, product.system)
-            if interface.eClass.name == ("ServiceClient")
-            else None
-        )
+        if interface.eClass.name != "ServiceClient":
+            continue
+        server = real_server(interface.server, product.system)
         if server is None or placement.is_robot(server.eContainer().eContainer()):
             continue
         server_node = server.eContainer()

@@ -80,6 +80,25 @@ def container_of(interface: Any) -> Any:
     return owner.eContainer() if owner is not None else None
 
 
+def links(system: Any) -> defaultdict[int, set[int]]:
+    """The containers (by ``id``) each container exchanges data with through endpoint
+    connections, in both directions."""
+    neighbours: defaultdict[int, set[int]] = defaultdict(set)
+    for connection in system.connections:
+        a, b = container_of(connection.source), container_of(connection.target)
+        if a is not None and b is not None and a is not b:
+            neighbours[id(a)].add(id(b))
+            neighbours[id(b)].add(id(a))
+    return neighbours
+
+
+def rapyuta_user(container: Any) -> str | None:
+    """The Rapyuta user a robot container logs in as (None: a cloud container, or none
+    given)."""
+    endpoint = container.endpoint if container.eClass.name == "RobotContainer" else None
+    return endpoint.user if endpoint is not None and endpoint.user else None
+
+
 class Placement:
     """Where each node runs in the instance of one resolved system seen from each robot.
 
@@ -100,13 +119,8 @@ class Placement:
             for c in system.containers
             if isinstance(c, T.CloudContainer)
         }
-        self.neighbours: dict[int, set[int]] = defaultdict(set)
+        self.neighbours = links(system)
         self.by_id = {id(c): c for c in system.containers}
-        for connection in system.connections:
-            a, b = container_of(connection.source), container_of(connection.target)
-            if a is not None and b is not None and a is not b:
-                self.neighbours[id(a)].add(id(b))
-                self.neighbours[id(b)].add(id(a))
         self.tags: dict[str, Place] = {}
         self.folded_tags: dict[str, Place] = {}  # by tag in lower case
         for robot in self.robots:  # robots first: a container tag may not take their ids
@@ -224,16 +238,11 @@ def shared_across_users(system: Any) -> list[Diagnostic]:
     engine keeps each user's containers apart, so on Rapyuta each user gets an instance
     of its own and the robots share nothing there (a yield map one robot builds never
     reaches the other). Tag problems are left to the generators, which report them."""
-    T = tsm()
-    robots = [c for c in system.containers if isinstance(c, T.RobotContainer) and c.endpoint]
-    if len({robot.endpoint.user for robot in robots if robot.endpoint.user}) < 2:
+    logins = {id(c): user for c in system.containers if (user := rapyuta_user(c))}
+    if len(set(logins.values())) < 2:
         return []  # one user (most lines): nothing to place
     placement = Placement(system, [])
-    users = {
-        placement.robot_ids[id(robot)]: robot.endpoint.user
-        for robot in robots
-        if robot.endpoint.user
-    }
+    users = {placement.robot_ids[i]: user for i, user in logins.items()}
     problems = []
     for instance in placement.cloud_instances():
         using = [r for r in instance.robots if r in users]
@@ -267,14 +276,8 @@ def unlinked_clouds(system: Any) -> list[Diagnostic]:
     robot's file; Kubernetes deploys what some robot's scope holds), so such a container's
     nodes get a launch file and nothing that starts them: deployed by neither."""
     T = tsm()
-    neighbours: dict[int, set[int]] = defaultdict(set)
-    for connection in system.connections:
-        a, b = container_of(connection.source), container_of(connection.target)
-        if a is not None and b is not None and a is not b:
-            neighbours[id(a)].add(id(b))
-            neighbours[id(b)].add(id(a))
-    robots = [c for c in system.containers if isinstance(c, T.RobotContainer)]
-    reached = {id(robot) for robot in robots}
+    neighbours = links(system)
+    reached = {id(c) for c in system.containers if isinstance(c, T.RobotContainer)}
     frontier = list(reached)
     while frontier:
         for neighbour in neighbours[frontier.pop()] - reached:

@@ -122,15 +122,7 @@ def model_text(path: str | Path) -> str:
     if unsaved is not None and (text := unsaved.get(os.path.abspath(path))) is not None:
         return _line_breaks(text.removeprefix("\ufeff"))
     path = Path(path)
-    try:
-        if not path.is_file():  # a named pipe would block the read for ever
-            kind = "a folder" if path.is_dir() else "not a file" if path.exists() else "missing"
-            raise OSError(0, kind)
-        data = path.read_bytes()
-    except OSError as exc:  # a folder named like a model, an unreadable file, a link loop
-        reason = exc.strerror or type(exc).__name__
-        where = Location(str(path), 1, 1)
-        raise ModelError([Diagnostic(where, f"cannot read: {reason}")]) from None
+    data = _read(path)
     try:
         return _line_breaks(data.decode("utf-8-sig"))
     except UnicodeDecodeError as exc:
@@ -139,6 +131,20 @@ def model_text(path: str | Path) -> str:
         col = start - (data.rfind(b"\n", 0, start) + 1) + 1
         where = Location(str(path), line, col)
         raise ModelError([Diagnostic(where, f"file is not UTF-8 text ({exc.reason})")]) from None
+
+
+def _read(path: Path) -> bytes:
+    """The bytes of a regular file, or a located error saying why not: a folder named like
+    a model, a named pipe (reading it would block for ever), a dangling link or a link
+    loop, a file without permission."""
+    if path.is_file():
+        try:
+            return path.read_bytes()
+        except OSError as exc:
+            reason = exc.strerror or type(exc).__name__
+    else:
+        reason = "a folder" if path.is_dir() else "not a file" if path.exists() else "missing"
+    raise ModelError([Diagnostic(Location(str(path), 1, 1), f"cannot read: {reason}")])
 
 
 def _line_breaks(text: str) -> str:
