@@ -126,6 +126,19 @@ def test_unknown_and_contradictory_names_are_located_errors(mapping) -> None:
     ]
 
 
+def test_every_unknown_name_is_reported_and_the_first_ones_get_a_suggestion(mapping) -> None:
+    from spl.resolver.selection import SUGGESTED
+
+    names = [f"Rooomba{i}" for i in range(SUGGESTED + 5)]
+    with pytest.raises(ModelError) as caught:
+        check_selection(mapping, ["YouBot", *names])
+    messages = [d.message for d in caught.value.diagnostics]
+    assert len(messages) == SUGGESTED + 5
+    assert messages[0] == "unknown feature 'Rooomba0' (did you mean Roomba?)"
+    assert all("did you mean Roomba?" in m for m in messages[:SUGGESTED])
+    assert messages[SUGGESTED:] == [f"unknown feature {n!r}" for n in names[SUGGESTED:]]
+
+
 def test_any_selection_of_a_void_model_names_the_contradiction() -> None:
     from analysis_models import all_features, feature, group, model
 
