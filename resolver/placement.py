@@ -123,6 +123,7 @@ class Placement:
         self.by_id = {id(c): c for c in system.containers}
         self.tags: dict[str, Place] = {}
         self.folded_tags: dict[str, Place] = {}  # by tag in lower case
+        self.clashes: list[Diagnostic] = []  # the tag clashes among ``errors``
         for robot in self.robots:  # robots first: a container tag may not take their ids
             self.place(robot, "private", robot)
 
@@ -188,23 +189,24 @@ class Placement:
         known = self.tags.setdefault(place.tag, place)
         twin = self.folded_tags.setdefault(place.tag.lower(), place)
         if twin.tag != place.tag:  # files are named after tags (zenoh/<robot_id>.json5)
-            self.errors.append(
-                Diagnostic(
-                    location_of(container),
-                    f"Rapyuta tags {twin.tag!r} ({twin.describe()}) and {place.tag!r} "
-                    f"({place.describe()}) differ only in case: their bundle files would be "
-                    "one file on a case-insensitive file system; rename one",
-                )
+            self._clash(
+                container,
+                f"Rapyuta tags {twin.tag!r} ({twin.describe()}) and {place.tag!r} "
+                f"({place.describe()}) differ only in case: their bundle files would be "
+                "one file on a case-insensitive file system; rename one",
             )
         if known != place:
-            self.errors.append(
-                Diagnostic(
-                    location_of(container),
-                    f"Rapyuta tag {place.tag!r} would name both {known.describe()} and "
-                    f"{place.describe()}: rename a container, group or robot_id",
-                )
+            self._clash(
+                container,
+                f"Rapyuta tag {place.tag!r} would name both {known.describe()} and "
+                f"{place.describe()}: rename a container, group or robot_id",
             )
         return place
+
+    def _clash(self, container: Any, message: str) -> None:
+        clash = Diagnostic(location_of(container), message)
+        self.errors.append(clash)
+        self.clashes.append(clash)
 
     def cloud_instances(self) -> list[Instance]:
         """Every deployed cloud instance once, with its nodes, ordered by tag: the

@@ -564,6 +564,7 @@ def test_check_warns_of_robot_ids_every_product_keeping_both_fails_on(tmp_path, 
         "container R0 has 'robot_1': a product keeping both fails to resolve unless its "
         "deployment sets another for one [SPL017]"
     ]
+    assert "SPL019" not in result.stderr  # robots alike are SPL017's alone
 
 
 def test_a_group_asking_for_more_features_than_it_has_is_refused(tmp_path):

@@ -230,3 +230,67 @@ def test_a_robot_container_without_what_the_client_needs_fails_check(tmp_path):
     checked = run("check", str(line))
     assert checked.exit_code == 0
     assert "its endpoint has no robot_id and no url" in checked.stderr
+
+
+def _mapping_copy(tmp_path: Path) -> Path:
+    line = tmp_path / "tags"
+    shutil.copytree(
+        ROOT / "product_lines" / "mapping3d", line, ignore=shutil.ignore_patterns("fleets")
+    )
+    return line
+
+
+def test_a_robot_id_naming_a_cloud_partition_is_a_warning_where_resolve_fails(tmp_path):
+    # was: spl check "0 errors, 0 warnings", then every product failed validate
+    line = _mapping_copy(tmp_path)
+    tsm = line / "mapping.tsm"
+    # the protected partition of MappingCloud (group mappers) is MappingCloud_mappers: its
+    # mode is the feature model's default for SharedMap's nodes, not the .tsm's
+    tsm.write_text(tsm.read_text().replace('robot_id "robot_1"', 'robot_id "MappingCloud_mappers"'))
+    clash = (
+        "Rapyuta tag 'MappingCloud_mappers' would name both robot container Robot and the "
+        "protected partition of MappingCloud: rename a container, group or robot_id"
+    )
+    checked = run("check", str(line))
+    assert checked.exit_code == 0
+    assert checked.stderr.splitlines() == [
+        f"{tsm}:59:17: warning: {clash}; a product that has both fails to resolve [SPL019]"
+    ]
+    validated = run("validate", str(line), "--all")
+    assert validated.exit_code == 1
+    assert f"{tsm}:59:17: error: {clash}" in validated.output
+    # a tag only a public partition would take: no node of MappingCloud is public unless a
+    # selection says so, and only a listed product does
+    tsm.write_text(
+        tsm.read_text().replace('robot_id "MappingCloud_mappers"', 'robot_id "MappingCloud_public"')
+    )
+    listed = line / "products" / "youbot_depth_room_pc.yaml"
+    assert "SharedMap: public" in listed.read_text()
+    checked = run("check", str(line))
+    assert checked.stderr.count("[SPL019]") == 1
+    assert "'MappingCloud_public' would name both robot container Robot and the public" in (
+        checked.stderr
+    )
+    shutil.rmtree(line / "products")
+    assert run("check", str(line)).stderr == ""
+    assert run("validate", str(line), "--all").exit_code == 0
+
+
+def test_a_node_migrated_to_a_cloud_container_makes_its_partition_there(tmp_path):
+    line = _mapping_copy(tmp_path)
+    shutil.rmtree(line / "products")
+    tsm, rm = line / "mapping.tsm", line / "mapping.rm"
+    # a public robot node that Corridor products run in MappingCloud's public partition
+    text = tsm.read_text().replace(
+        "node RobotController {", "node RobotController sharing public {"
+    )
+    tsm.write_text(text.replace('robot_id "robot_1"', 'robot_id "MappingCloud_public"'))
+    assert run("check", str(line)).stderr == ""  # on the robot it is no partition
+    rm.write_text(
+        rm.read_text() + "when Corridor selected { migrate RobotController to MappingCloud }\n"
+    )
+    checked = run("check", str(line))
+    assert checked.stderr.count("[SPL019]") == 1
+    assert "the public partition of MappingCloud" in checked.stderr
+    validated = run("validate", str(line), "--all")
+    assert validated.output.count("FAIL") == 6  # the Corridor products

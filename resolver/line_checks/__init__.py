@@ -34,6 +34,8 @@ SPL017    warning   two robot containers with one robot_id (or ids differing onl
 SPL018    error     a robot container whose endpoint has no user or password env (no
           warning   product keeping it resolves), or no robot_id or url (each such
                     product must set it in its deployment)
+SPL019    warning   two instances of the template (robots, cloud partitions) that would
+                    get one Rapyuta tag, or tags differing only in case
 ========  ========  ==================================================================
 
 One module a check family; this package runs them all. :class:`ActivationSolver`
@@ -47,6 +49,7 @@ from spl.resolver.line_checks.activation import ActivationSolver
 from spl.resolver.line_checks.conflicts import reachable_conflicts
 from spl.resolver.line_checks.dead_elements import never_active_elements
 from spl.resolver.line_checks.endpoints import incomplete_endpoints
+from spl.resolver.line_checks.instance_tags import clashing_instance_tags
 from spl.resolver.line_checks.listed_products import unresolvable_products
 from spl.resolver.line_checks.lookups import product_dependent_statements
 from spl.resolver.line_checks.no_effect import features_without_effect
@@ -65,6 +68,7 @@ def check_product_line(line: ProductLine, products: bool = True) -> list[Diagnos
     found += features_without_effect(line)
     found += shared_robot_ids(line)
     found += incomplete_endpoints(line)
+    found += clashing_instance_tags(line)
     if products:
         found += unresolvable_products(line)
     return sorted(found, key=diagnostic_order)
