@@ -96,11 +96,11 @@ def _quoted(text: str) -> str:
 
 
 class _XMIText:
-    """The text pyecore's writer and lxml's pretty printer make of a
-    model in one package whose references all point inside it; :class:`_Elsewhere`
-    for anything else. A reference may point to an element written later, so the text
-    is gathered as pieces in which a referenced element stands for its path (its URI
-    fragment, ``//@containers.0/@topics.5``), filled in once every path is known."""
+    """The text pyecore's writer and lxml's pretty printer make of a model in one package
+    whose references all point inside it; :class:`_Elsewhere` for anything else. A
+    reference may point to an element written later, so the text is gathered as pieces in
+    which a referenced element stands for its path (its URI fragment,
+    ``//@containers.0/@topics.5``), filled in once every path is known."""
 
     def __init__(self, root: Any) -> None:
         self.package = root.eClass.ePackage

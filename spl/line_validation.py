@@ -277,9 +277,9 @@ def _results(cases: list[ProductCase], jobs: int) -> Iterator[CaseResult]:
     if jobs <= 1 or len(cases) <= 1:
         yield from map(_run_in_worker, cases)
         return
-    # The first product runs here: it imports the generators and loads the schemas,
-    # templates and grammars, and every worker forked afterwards inherits them warm
-    # (otherwise each worker pays that first-product cost, ~0.2 s, again).
+    # The first product runs here: it loads the schemas, templates and grammars (the
+    # generators are imported already), and every worker forked afterwards inherits them
+    # warm (otherwise each worker pays that first-product cost again).
     yield _run_in_worker(cases[0])
     import multiprocessing  # here: a run with one job does without its ~15 ms import
 
