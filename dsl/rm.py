@@ -30,6 +30,7 @@ from spl.dsl.rm_names import (
     agree,
     name_taken,
     new_topic_clash,
+    new_topic_ros_name_clash,
     not_served_here,
     same_container_bridge,
     same_topic,
@@ -246,18 +247,22 @@ class _Builder:
         if not self._same_type(stmt, interface, topic):
             return None
         places = self.names.places(interface.eContainer())
-        clashes = [
-            (container, existing)
-            for container in places
-            if (existing := self.names.topic(container, stmt.name)) is not None
-            and not self._same_new_topic(existing, topic)
-        ]
+        clashes = [c for c in (self._new_topic_clash(stmt.name, p, topic) for p in places) if c]
         if len(clashes) == len(places):  # refused wherever the node can be
-            container, existing = clashes[0]
-            created = self.names.is_created(existing)
-            self.error(stmt, new_topic_clash(stmt.name, container, existing, created))
+            self.error(stmt, clashes[0])
             return None
         return self.R.ConnectToNewTopic(interface=interface, topic=topic)
+
+    def _new_topic_clash(self, name: str, container: Any, topic: Any) -> str | None:
+        """Why ``new topic`` cannot create ``topic`` in ``container``, or None: the name is
+        another topic's, or its ROS name is a topic's of another type."""
+        existing = self.names.topic(container, name)
+        if existing is not None and not self._same_new_topic(existing, topic):
+            return new_topic_clash(name, container, existing, self.names.is_created(existing))
+        other = self.names.ros_name_taken(container, topic)
+        if other is not None:
+            return new_topic_ros_name_clash(name, container, other, topic)
+        return None
 
     def _same_new_topic(self, existing: Any, topic: Any) -> bool:
         """Two `new topic` statements creating one topic (same type and ROS name) agree."""

@@ -93,6 +93,11 @@ class Names:
                 self.declared[member.name].append(member)
         self._topics = {(id(c), t.name): t for c in system.containers for t in c.topics}
         self._created: dict[tuple[int, str], Any] = {}  # first `new topic` declaration
+        # the topics of each container by ROS name: the .tsm's, then those created
+        self._ros_names: dict[tuple[int, str], list[Any]] = defaultdict(list)
+        for c in system.containers:
+            for t in c.topics:
+                self._ros_names[(id(c), t.rosName)].append(t)
         self._creators: dict[tuple[int, str], list[Creation]] = defaultdict(list)
         self._element: Any = None  # the running resolution element
         # migrations of earlier elements, node id -> [(target, element)], and of earlier
@@ -123,15 +128,24 @@ class Names:
             self._moved[id(transformation.node)] = transformation.target
         elif kind == "ConnectToNewTopic":
             placement = self.placement(transformation.interface.eContainer())
+            topic = transformation.topic
             for container in placement.places:
-                key = (id(container), transformation.topic.name)
-                self._created.setdefault(key, transformation.topic)
+                key = (id(container), topic.name)
+                if key not in self._created:
+                    self._created[key] = topic
+                    self._ros_names[(id(container), topic.rosName)].append(topic)
                 self._creators[key].append(Creation(self._element, placement))
 
     def topic(self, container: Any, name: str) -> Any:
         """Topic ``name`` of ``container`` (the .tsm's or an earlier `new topic`'s), or None."""
         key = (id(container), name)
         return self._topics.get(key) or self._created.get(key)
+
+    def ros_name_taken(self, container: Any, topic: Any) -> Any:
+        """A topic of ``container`` (the .tsm's or an earlier `new topic`'s) under the ROS
+        name of ``topic`` with another message type, or None."""
+        others = self._ros_names.get((id(container), topic.rosName), ())
+        return next((other for other in others if other.type != topic.type), None)
 
     def declared_topic(self, container: Any, name: str) -> bool:
         return (id(container), name) in self._topics
@@ -327,6 +341,16 @@ def new_topic_clash(name: str, container: Any, existing: Any, created: bool) -> 
     return (
         f"new topic {name}: container {container.name} already has a topic named {name} "
         f"({at(existing)}; connect to it with 'to topic {name}')"
+    )
+
+
+def new_topic_ros_name_clash(name: str, container: Any, other: Any, topic: Any) -> str:
+    """A `new topic` under the ROS name of a topic of another type in its container: ROS has
+    one topic there, and its subscribers would get messages of the wrong type."""
+    return (
+        f"new topic {name} is {topic.rosName} in container {container.name}, as topic "
+        f"{other.name} is ({at(other)}), but carries {topic.type}, not {other.type}: one ROS "
+        "topic carries one message type"
     )
 
 

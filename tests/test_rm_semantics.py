@@ -632,3 +632,57 @@ def test_a_syntax_error_naming_the_end_of_the_file_says_so_the_same_every_time()
             rm.parse_text(text, "farm.rm", base=MODELS)
         messages.add(str(caught.value.diagnostics[0]))
     assert messages == {"farm.rm:4:1: error: syntax error: expected end of file, when"}
+
+
+# -- a new topic under a ROS name another type has ----------------------------------------
+ROS_CLASH = (
+    "new topic {name} is /cmd_vel in container Tractor, as topic Cmd is (farm.tsm:11:11), "
+    "but carries sensor_msgs/Image, not geometry_msgs/Twist: one ROS topic carries one "
+    "message type"
+)
+
+
+def test_a_new_topic_under_a_ros_name_of_another_type_is_refused(tmp_path):
+    # was: spl check passed; the products activating it failed resolve (SPL044)
+    errors = parse_errors(
+        tmp_path,
+        element(
+            "Thumbs",
+            'connect Tractor.Camera.thumbs to new topic Thumbs : sensor_msgs/Image name "/cmd_vel"',
+        ),
+    )
+    assert errors == ["farm.rm:5:5: error: " + ROS_CLASH.format(name="Thumbs")]
+
+
+def test_a_new_topic_under_a_ros_name_an_earlier_new_topic_took_is_refused(tmp_path):
+    errors = parse_errors(
+        tmp_path,
+        element(
+            "Thumbs",
+            'connect Tractor.Camera.thumbs to new topic Thumbs : sensor_msgs/Image name "/t"',
+            'connect Tractor.Navigator.route to new topic Plan : nav_msgs/Path name "/t"',
+        ),
+    )
+    assert errors == [
+        "farm.rm:6:5: error: new topic Plan is /t in container Tractor, as topic Thumbs is "
+        "(farm.rm:5:5), but carries nav_msgs/Path, not sensor_msgs/Image: one ROS topic "
+        "carries one message type"
+    ]
+
+
+def test_a_new_topic_sharing_a_ros_name_with_a_topic_of_its_type_is_accepted(tmp_path):
+    statement = "connect Tractor.Camera.thumbs to new topic Thumbs : sensor_msgs/Image"
+    body = element("Thumbs", statement + ' name "/camera/image"')
+    resolved = product(tmp_path, body, "Thumbs")  # one ROS topic, as two topics of the .tsm
+    assert view(resolved.system)["bindings"]["Camera.thumbs"] == "Tractor.Thumbs"
+
+
+def test_a_ros_name_clash_in_some_places_only_fails_the_products_that_meet_it(tmp_path):
+    # Detector may run on the tractor (OnBoard), where /cmd_vel is a Twist; in the cloud the
+    # name is free: the statement stands, and the product moving Detector fails to resolve
+    body = element("OnBoard", "migrate Detector to Tractor") + element(
+        "Thumbs", 'connect Detector.thumbs to new topic Small : sensor_msgs/Image name "/cmd_vel"'
+    )
+    assert product(tmp_path, body, "Thumbs").system is not None
+    errors = resolution_errors(tmp_path, body, "OnBoard,Thumbs")
+    assert any("/cmd_vel" in e and "[SPL044]" in e for e in errors), errors
