@@ -319,7 +319,8 @@ def test_explain_answers_for_a_feature_left_out_and_says_which_capability_did(tm
 
 
 def test_a_new_topic_under_a_ros_name_taken_by_another_type_is_an_error(tmp_path):
-    # was resolved and validated: Sonar's Range and Lidar's LaserScan were both /scan
+    # was resolved and validated: Sonar's Range and Lidar's LaserScan were both /scan; then
+    # refused per product (SPL044) while spl check passed; now refused with the .rm
     line = tmp_path / "line"
     line.mkdir()
     (line / "l.tsm").write_text(
@@ -336,14 +337,16 @@ def test_a_new_topic_under_a_ros_name_taken_by_another_type_is_an_error(tmp_path
         "    require Sonar\n"
         '    connect Sonar.range to new topic Ranges : sensor_msgs/Range name "/scan"\n}\n'
     )
-    result = run("resolve", str(line), "--features", "Sonars", "-o", str(tmp_path / "out"))
-    assert result.exit_code == 1
-    assert result.stderr == (
-        f"{line / 'l.rm'}:6:5: error: topics R.Scan and R.Ranges are both /scan but carry "
-        "sensor_msgs/LaserScan and sensor_msgs/Range: one ROS topic carries one message type "
-        "[SPL044]\n"
+    refusal = (
+        f"{line / 'l.rm'}:6:5: error: new topic Ranges is /scan in container R, as topic Scan "
+        f"is ({line / 'l.tsm'}:4:11), but carries sensor_msgs/Range, not "
+        "sensor_msgs/LaserScan: one ROS topic carries one message type\n"
     )
+    result = run("resolve", str(line), "--features", "Sonars", "-o", str(tmp_path / "out"))
+    assert (result.exit_code, result.stderr) == (1, refusal)
     assert not (tmp_path / "out").exists()
+    checked = run("check", str(line))
+    assert checked.exit_code == 1 and refusal in checked.stderr
 
 
 @pytest.mark.parametrize("bridged", [False, True])
