@@ -9,6 +9,8 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from pyecore.ecore import EAttribute, EClass, EPackage, EReference, EString
 from pyecore.resources import URI
 from pyecore.resources.xmi import XMIResource
@@ -109,6 +111,34 @@ def test_a_parameter_value_is_escaped_as_lxml_escapes_it(value):
     except ValueError as refused:
         written = str(refused)
     assert written == expected
+
+
+_MAPPING_SYSTEM: list = []
+
+
+def _mapping_system():
+    """One resolved mapping3d model, built once for the generated values below."""
+    if not _MAPPING_SYSTEM:
+        line = load_product_line(ROOT / "product_lines" / "mapping3d")
+        features = sorted(next(iter(enumerate_products(line.fm))))
+        _MAPPING_SYSTEM.append(resolve(line, ProductSelection("p", features)).product.system)
+    return _MAPPING_SYSTEM[0]
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.text(), st.text(alphabet=st.characters(max_codepoint=0x7F)))
+def test_any_text_values_are_written_as_pyecore_writes_them(anything, ascii_text):
+    system = _mapping_system()
+    parameters = [p for c in system.containers for n in c.nodes for p in n.parameters]
+    parameters[0].value = anything
+    parameters[-1].value = ascii_text
+    outcomes = []
+    for write in (resolved_xmi.resolved_xmi, pyecore_own):
+        try:
+            outcomes.append(write(system))
+        except ValueError as refused:  # a character no XML file can hold: lxml's refusal
+            outcomes.append(str(refused))
+    assert outcomes[0] == outcomes[1]
 
 
 def test_a_reference_out_of_the_file_is_written_as_pyecore_writes_it():
