@@ -39,7 +39,7 @@ from spl.diagnostics import Location, location_of
 from spl.metamodels import tsm
 from spl.resolver.data_clients import client_packages
 from spl.resolver.line_checks.unreachable_optionals import touched_elements
-from spl.resolver.placement import sharing_mode
+from spl.resolver.placement import sharing_mode, sharing_targets
 from spl.resolver.product import topic_ros_name
 from spl.resolver.transformations.parameter import canonical_text
 
@@ -186,12 +186,7 @@ class LineEffects:
             def mode(settings: Settings, feature: str = feature, default: str = default) -> str:
                 return dict(settings.sharing).get(feature, default)
 
-            targets = list(element.required) + [
-                t.node
-                for t in element.transformations
-                if t.eClass.name in ("Implementation", "NodeMigration")
-            ]
-            for node in dict.fromkeys(targets):
+            for node in dict.fromkeys(sharing_targets(element)):
                 self._effect(node, SHARING, element, mode, location_of(element))
 
     def _topic_value(self, connect: Any) -> str:

@@ -22,7 +22,7 @@ from spl.resolver.architecture_checks import check_architecture
 from spl.resolver.capabilities import CapabilityChoice, choose_features, merge_choices
 from spl.resolver.context import ResolutionContext, describe
 from spl.resolver.data_clients import implement_data_clients
-from spl.resolver.placement import shared_across_users, unlinked_clouds
+from spl.resolver.placement import shared_across_users, sharing_targets, unlinked_clouds
 from spl.resolver.product import ResolvedProduct, node_keys
 from spl.resolver.product_line import ProductLine
 from spl.resolver.product_selection import CommandLineValue, ProductSelection, typed_text
@@ -215,11 +215,7 @@ def _apply_sharing(ctx: ResolutionContext, active: list[Any], selection: Product
         features_with_sharing.add(feature)
         mode = selection.sharing.get(feature, config.mode.name)
         origin = "product selection" if feature in selection.sharing else "feature model default"
-        targets = [ctx.copies[id(r)] for r in element.required] + [
-            ctx.copies[id(t.node)]
-            for t in element.transformations
-            if t.eClass.name in ("Implementation", "NodeMigration")
-        ]
+        targets = [ctx.copies[id(target)] for target in sharing_targets(element)]
         for node in targets:
             if not isinstance(node, T.Node):
                 continue

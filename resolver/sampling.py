@@ -83,13 +83,13 @@ def covering_array(formula: FeatureModelFormula, t: int = 2) -> Sample:
     fixed = [(cnf.var[name],) for name in core] + [(-cnf.var[name],) for name in dead]
     free = [v for v in range(1, n + 1) if cnf.names[v - 1] not in core | dead]
     literals = [lit for v in free for lit in (v, -v)]
-    total = math.comb(len(free), t) * 2 ** t
+    total = math.comb(len(free), t) * 2**t
     if total > MAX_COMBINATIONS:
         raise SampleTooLarge(
             f"{t}-wise sampling of {len(free)} free features means {total:,} combinations, "
-            f"more than the {MAX_COMBINATIONS:,} spl samples; use a smaller t")
-    with Solver(name=formula.solver_name,
-                bootstrap_with=list(cnf.clauses) + fixed) as solver:
+            f"more than the {MAX_COMBINATIONS:,} spl samples; use a smaller t"
+        )
+    with Solver(name=formula.solver_name, bootstrap_with=list(cnf.clauses) + fixed) as solver:
         implied = {}
         for lit in literals:
             ok, lits = solver.propagate(assumptions=[lit])
@@ -124,8 +124,9 @@ def covering_array(formula: FeatureModelFormula, t: int = 2) -> Sample:
     return Sample(t, tuple(products), covered, invalid, time.perf_counter() - start)
 
 
-def _next_product(solver: Solver, pending: list[tuple[int, ...]],
-                  n: int) -> tuple[list[int], set[tuple[int, ...]]]:
+def _next_product(
+    solver: Solver, pending: list[tuple[int, ...]], n: int
+) -> tuple[list[int], set[tuple[int, ...]]]:
     """One greedy pass: the product's feature literals and the combinations found invalid
     while it was still empty (an empty model when every pending one was invalid)."""
     decided: list[int] = []
@@ -161,8 +162,9 @@ def _next_product(solver: Solver, pending: list[tuple[int, ...]],
     return solver.get_model()[:n], refuted
 
 
-def random_products(formula: FeatureModelFormula, count: int,
-                    seed: int) -> Iterator[frozenset[str]]:
+def random_products(
+    formula: FeatureModelFormula, count: int, seed: int
+) -> Iterator[frozenset[str]]:
     """Up to ``count`` distinct products, reproducible from ``seed``.
 
     Distribution (not uniform): for each product every feature gets a preferred
@@ -193,4 +195,3 @@ def product_key(formula: FeatureModelFormula, product: frozenset[str]) -> list[s
     """
     core = formula.backbone()[0]
     return [name for name in formula.cnf.names if name in product and name not in core]
-

@@ -50,18 +50,33 @@ def random_model(rng: random.Random):
         return feature(name, *groups)
 
     m = model(new_feature(0))
-    fs = all_features(m)
-    names = sorted(fs)
-
-    def formula(depth: int):
-        if depth == 0 or rng.random() < 0.4:
-            leaf = ref(rng.choice(names), fs)
-            return negate(leaf) if rng.random() < 0.2 else leaf
-        return binary(rng.choice(OPERATORS), formula(depth - 1), formula(depth - 1))
-
     for line in range(rng.randint(0, 3)):
-        m.constraints.append(constraint(formula(2), 20 + line))
+        formula = random_formula(rng, all_features(m), 2, leaf=0.4, negated_leaf=0.2)
+        m.constraints.append(constraint(formula, 20 + line))
     return m
+
+
+def random_formula(
+    rng: random.Random,
+    fs: dict,
+    depth: int,
+    leaf: float,
+    negated_leaf: float,
+    iff: float = 0.0,
+    negated: float = 0.0,
+):
+    """A random constraint over the features ``fs``, at most ``depth`` operators deep:
+    a leaf with probability ``leaf`` (negated with ``negated_leaf``), else an operator, an
+    iff with probability ``iff`` (any operator otherwise), negated with ``negated``."""
+    if depth == 0 or rng.random() < leaf:
+        node = ref(rng.choice(sorted(fs)), fs)
+        return negate(node) if rng.random() < negated_leaf else node
+    operator = "iff" if iff and rng.random() < iff else rng.choice(OPERATORS)
+    node = binary(
+        operator,
+        *(random_formula(rng, fs, depth - 1, leaf, negated_leaf, iff, negated) for _ in "ab"),
+    )
+    return negate(node) if negated and rng.random() < negated else node
 
 
 def expected_false_optional(m, products):
@@ -111,18 +126,9 @@ def iff_heavy_model(rng: random.Random):
     other operators and negations in between), six levels deep."""
     m = model(feature("R", group("optional", *(feature(f"F{i}") for i in range(1, 6)))))
     fs = all_features(m)
-    names = sorted(fs)
-
-    def formula(depth: int):
-        if depth == 0 or rng.random() < 0.15:
-            leaf = ref(rng.choice(names), fs)
-            return negate(leaf) if rng.random() < 0.3 else leaf
-        operator = "iff" if rng.random() < 0.6 else rng.choice(OPERATORS)
-        node = binary(operator, formula(depth - 1), formula(depth - 1))
-        return negate(node) if rng.random() < 0.2 else node
-
     for line in range(rng.randint(1, 2)):
-        m.constraints.append(constraint(formula(6), 20 + line))
+        formula = random_formula(rng, fs, 6, leaf=0.15, negated_leaf=0.3, iff=0.6, negated=0.2)
+        m.constraints.append(constraint(formula, 20 + line))
     return m
 
 

@@ -50,7 +50,7 @@ from spl.resolver.line_checks.conflicts import reachable_conflicts
 from spl.resolver.line_checks.dead_elements import never_active_elements
 from spl.resolver.line_checks.endpoints import incomplete_endpoints
 from spl.resolver.line_checks.instance_tags import clashing_instance_tags
-from spl.resolver.line_checks.listed_products import unresolvable_products
+from spl.resolver.line_checks.listed_products import read_listed, unresolvable_products
 from spl.resolver.line_checks.lookups import product_dependent_statements
 from spl.resolver.line_checks.no_effect import features_without_effect
 from spl.resolver.line_checks.robot_ids import shared_robot_ids
@@ -68,9 +68,10 @@ def check_product_line(line: ProductLine, products: bool = True) -> list[Diagnos
     found += features_without_effect(line)
     found += shared_robot_ids(line)
     found += incomplete_endpoints(line)
-    found += clashing_instance_tags(line)
+    listed = read_listed(line)
+    found += clashing_instance_tags(line, listed)
     if products:
-        found += unresolvable_products(line)
+        found += unresolvable_products(line, listed)
     return sorted(found, key=diagnostic_order)
 
 

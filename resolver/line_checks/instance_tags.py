@@ -18,23 +18,22 @@ in, or migrate to). A warning, as SPL017: a product may set another robot_id in 
 from __future__ import annotations
 
 from collections import defaultdict
-from typing import Any
 
 from spl.diagnostics import Diagnostic, ModelError
 from spl.metamodels import tsm
-from spl.resolver.placement import MODES, Placement, sharing_mode
+from spl.resolver.line_checks.listed_products import Listed
+from spl.resolver.placement import MODES, Placement, sharing_mode, sharing_targets
 from spl.resolver.product_line import ProductLine
-from spl.resolver.product_selection import load_selection_file
 
 CLASHING_TAGS = "SPL019"
 
 
-def clashing_instance_tags(line: ProductLine) -> list[Diagnostic]:
+def clashing_instance_tags(line: ProductLine, listed: Listed) -> list[Diagnostic]:
     """A warning for each tag clash, where resolve reports it (at the later instance's
-    container)."""
+    container); ``listed`` are the listed products, for the sharing modes they choose."""
     placement = Placement(line.tsm, [])  # a robot_id or group that is no tag: SPL018, parser
     robots_only = len(placement.clashes)  # two robots with one robot_id: SPL017
-    modes = _possible_modes(line)
+    modes = _possible_modes(line, listed)
     for robot in placement.robots:
         for cloud in placement.scope(robot):
             for mode in MODES:
@@ -51,46 +50,29 @@ def clashing_instance_tags(line: ProductLine) -> list[Diagnostic]:
     ]
 
 
-def _possible_modes(line: ProductLine) -> dict[int, set[str]]:
+def _possible_modes(line: ProductLine, listed: Listed) -> dict[int, set[str]]:
     """The sharing modes a node can have in each container, by container id."""
     Node = tsm().Node
+    chosen: dict[str, set[str]] = defaultdict(set)  # by feature, the listed products' modes
+    for _, selection in listed:
+        if not isinstance(selection, ModelError):  # one that does not read is SPL015's
+            for feature, mode in selection.sharing.items():
+                chosen[feature].add(mode)
     modes: dict[int, set[str]] = defaultdict(set)
     for container in line.tsm.containers:
         for node in container.nodes:
             modes[id(container)].add(sharing_mode(node))
-    chosen = _chosen_modes(line)
     for element in line.rm.elements:
+        moves = [t for t in element.transformations if t.eClass.name == "NodeMigration"]
+        for move in moves:
+            modes[id(move.target)].add(sharing_mode(move.node))
         config = element.feature.sharing
-        used: list[Any] = list(element.required)
-        moved: list[tuple[Any, Any]] = []
-        for transformation in element.transformations:
-            kind = transformation.eClass.name
-            if kind in ("Implementation", "NodeMigration"):
-                used.append(transformation.node)
-            if kind == "NodeMigration":
-                moved.append((transformation.node, transformation.target))
-        for node, target in moved:
-            modes[id(target)].add(sharing_mode(node))
         if config is None:
             continue
         feature_modes = {config.mode.name} | chosen[element.feature.name]
-        for node in used:
+        for node in sharing_targets(element):
             if isinstance(node, Node):  # not a store
                 modes[id(node.eContainer())] |= feature_modes
-        for _, target in moved:
-            modes[id(target)] |= feature_modes
+        for move in moves:
+            modes[id(move.target)] |= feature_modes
     return modes
-
-
-def _chosen_modes(line: ProductLine) -> dict[str, set[str]]:
-    """The sharing modes the listed products choose, by feature (a product that does not
-    load is SPL015's)."""
-    chosen: dict[str, set[str]] = defaultdict(set)
-    for path in line.product_files():
-        try:
-            selection = load_selection_file(path)
-        except ModelError:
-            continue
-        for feature, mode in selection.sharing.items():
-            chosen[feature].add(mode)
-    return chosen

@@ -6,20 +6,38 @@ at the file's first line for a choice it leaves open, or where the file is malfo
 
 from __future__ import annotations
 
+from pathlib import Path
+
 from spl.diagnostics import Diagnostic, Location, ModelError
 from spl.resolver.product_line import ProductLine
-from spl.resolver.product_selection import load_selection_file
+from spl.resolver.product_selection import ProductSelection, load_selection_file
 from spl.resolver.selection import check_selection
 
 UNRESOLVABLE_PRODUCT = "SPL015"
 
 
-def unresolvable_products(line: ProductLine) -> list[Diagnostic]:
-    """Listed products that are not a valid, complete selection of the feature model."""
-    found = []
+Listed = list[tuple[Path, "ProductSelection | ModelError"]]
+
+
+def read_listed(line: ProductLine) -> Listed:
+    """Each listed product's selection, or the error reading it: read once for the checks
+    that look at them (this one, and SPL019's sharing modes)."""
+    listed: Listed = []
     for path in line.product_files():
         try:
-            selection = load_selection_file(path)
+            listed.append((path, load_selection_file(path)))
+        except ModelError as exc:
+            listed.append((path, exc))
+    return listed
+
+
+def unresolvable_products(line: ProductLine, listed: Listed) -> list[Diagnostic]:
+    """Listed products that are not a valid, complete selection of the feature model."""
+    found = []
+    for path, selection in listed:
+        try:
+            if isinstance(selection, ModelError):  # the file did not read
+                raise selection
             check = check_selection(
                 line.formula,
                 selection.features,
@@ -27,7 +45,7 @@ def unresolvable_products(line: ProductLine) -> list[Diagnostic]:
                 selection.locations,
                 Location(str(path), 1, 1),
             )
-        except ModelError as exc:
+        except ModelError as exc:  # unreadable, or unknown or contradictory names
             found.extend(_as_warnings(exc.diagnostics, f"product {path.stem}: "))
             continue
         if check.status == "invalid":  # located at the selected feature that contradicts
