@@ -124,7 +124,7 @@ def fleet_files(deployment: FleetDeployment) -> dict[str, bytes]:
     for entry in deployment.robots:
         prefix = f"robots/{entry.robot.name}/"
         own = _robot_files(deployment, entry)
-        for name, document in configurations(entry.product.system).items():
+        for name, document in configurations(entry.product).items():
             documents[f"{prefix}rapyuta/{name}.json"] = document
         files.update({prefix + path: data for path, data in own.items()})
     declare_once(documents)  # each shared instance by the first robot's file using it
@@ -152,7 +152,7 @@ def fleet_skipped(deployment: FleetDeployment) -> dict[str, str]:
     """What the fleet bundle leaves out and why (``fleet.json``'s ``skipped``, and a
     warning of ``spl fleet resolve``): ``zenoh/`` when Zenoh cannot carry the fleet, whose
     instances then run without bridges."""
-    wiring = transport(*(entry.product.system for entry in deployment.robots))
+    wiring = transport(*(entry.product for entry in deployment.robots))
     return {} if wiring.carried else {"zenoh/": f"Zenoh cannot carry this fleet: {wiring.reason}"}
 
 

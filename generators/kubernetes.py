@@ -136,7 +136,7 @@ def generate(product: ResolvedProduct) -> dict[str, bytes]:
     placement = Placement(product.system, errors)
     instances = placement.cloud_instances()
     names = instance_names(instances, errors)
-    wiring = transport(product.system)
+    wiring = transport(product)
     if errors:
         raise ModelError(list(dict.fromkeys(errors)))
     files = BundleFiles()

@@ -75,7 +75,7 @@ def fleet_files(
     named = [names.name(i.place.tag, where, "cloud instance") for _, i, _, where in instances]
     if errors:
         raise ModelError(errors)
-    wiring = transport(*(entry.product.system for entry in deployment.robots))
+    wiring = transport(*(entry.product for entry in deployment.robots))
     files: dict[str, bytes] = {}
     for (product, instance, robot, _), name in zip(instances, named, strict=True):
         launch = ros2_launch.launch_file(

@@ -174,11 +174,11 @@ def _partition_entries(
     return container, node_entries, parameter_entries
 
 
-def configurations(system: Any) -> dict[str, dict[str, Any]]:
+def configurations(product: ResolvedProduct) -> dict[str, dict[str, Any]]:
     """The rce-ros configuration of every robot container, by container name."""
     errors: list[Diagnostic] = []
-    placement = Placement(system, errors)
-    bridges = Bridges(system, placement, errors)
+    placement = Placement(product.system, errors)
+    bridges = Bridges(product.flows, placement, errors)
     documents: dict[str, dict[str, Any]] = {}
     for robot in placement.robots:
         robot_id = placement.robot_ids[id(robot)]
@@ -300,7 +300,7 @@ def render(document: dict[str, Any]) -> bytes:
 
 def generate(product: ResolvedProduct) -> dict[str, bytes]:
     """``rapyuta/<robot>.json`` for every robot container of the product."""
-    documents = configurations(product.system)
+    documents = configurations(product)
     names = [f"{name}.json" for name in documents]
     problems = check_all(list(documents.values()), names)
     if problems:

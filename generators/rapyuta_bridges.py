@@ -25,6 +25,7 @@ from typing import Any
 
 from spl.diagnostics import Diagnostic
 from spl.resolver.endpoints import endpoint_name_choices
+from spl.resolver.flows import FlowTable
 from spl.resolver.placement import Place, Placement
 from spl.resolver.wiring import Crossing, Wiring
 
@@ -121,11 +122,11 @@ class Bridges:
     """Every bridge of the system, by the robot whose file declares it, and the engine
     entries of their interfaces (by ``(place tag, interface tag)``)."""
 
-    def __init__(self, system: Any, placement: Placement, errors: list[Diagnostic]) -> None:
+    def __init__(self, flows: FlowTable, placement: Placement, errors: list[Diagnostic]) -> None:
         self.errors = errors
         self.interfaces: dict[tuple[str, str], dict[str, str]] = {}
         self.of_robot: dict[int, set[Bridge]] = {}
-        wiring = Wiring(system, placement, errors)
+        wiring = Wiring(flows, placement, errors)
         for robot in placement.robots:
             robot_id = placement.robot_ids[id(robot)]
             bridges: set[Bridge] = set()

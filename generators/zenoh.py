@@ -97,7 +97,7 @@ def folder(owner: str, wiring: Transport) -> dict[str, bytes]:
 
 def generate(product: ResolvedProduct) -> dict[str, bytes | Skipped]:
     """The bridge configurations, or ``zenoh/`` skipped with the reason."""
-    wiring = transport(product.system)
+    wiring = transport(product)
     if not wiring.carried:
         return {"zenoh/": Skipped(f"Zenoh cannot carry this product: {wiring.reason}")}
     return dict(folder(f"product {product.name}", wiring))

@@ -42,6 +42,7 @@ from spl.generators.json_text import indented
 from spl.generators.kubernetes_names import instance_names
 from spl.generators.zenoh_routes import KINDS, Bridge, routes
 from spl.resolver.placement import Placement
+from spl.resolver.product import ResolvedProduct
 from spl.resolver.wiring import Wiring
 
 ZENOH_PORT = 7447
@@ -159,7 +160,7 @@ def _plugin(namespace: str, lists: dict[str, set[str]] | None, localhost: bool) 
     return plugin
 
 
-# Inside transport_reused(): the transports computed so far, by the systems' identities
+# Inside transport_reused(): the transports computed so far, by the products' identities
 # (kept with them, so an identity is not reused while the entry lives).
 _REUSED: ContextVar[dict[tuple[int, ...], tuple[tuple, Transport]] | None] = ContextVar(
     "transport_reused", default=None
@@ -168,7 +169,7 @@ _REUSED: ContextVar[dict[tuple[int, ...], tuple[tuple, Transport]] | None] = Con
 
 @contextmanager
 def transport_reused() -> Iterator[None]:
-    """Within, :func:`transport` of the same system objects is computed once: a bundle's
+    """Within, :func:`transport` of the same products is computed once: a bundle's
     Zenoh and Kubernetes generators both need it, and nothing changes the resolved
     system while its bundle is generated. The callers treat the result as read-only."""
     token = _REUSED.set({})
@@ -178,24 +179,27 @@ def transport_reused() -> Iterator[None]:
         _REUSED.reset(token)
 
 
-def transport(*systems: Any) -> Transport:
-    """The bridges of every robot and cloud instance of one resolved system (a product),
-    or of several (the robots of a fleet, each resolved on its own, sharing the
-    instances their placement tags name alike), the router, or why not carried."""
+def transport(*products: ResolvedProduct) -> Transport:
+    """The bridges of every robot and cloud instance of one resolved product, or of
+    several (the robots of a fleet, each resolved on its own, sharing the instances
+    their placement tags name alike), the router, or why not carried."""
     reused = _REUSED.get()
     if reused is None:
-        return _transport(systems)
-    key = tuple(id(system) for system in systems)
+        return _transport(products)
+    key = tuple(id(product) for product in products)
     known = reused.get(key)
     if known is None:
-        known = reused[key] = (systems, _transport(systems))
+        known = reused[key] = (products, _transport(products))
     return known[1]
 
 
-def _transport(systems: tuple[Any, ...]) -> Transport:
+def _transport(products: tuple[ResolvedProduct, ...]) -> Transport:
     errors: list[Diagnostic] = []
-    placements = [Placement(system, errors) for system in systems]
-    wirings = [Wiring(s, p, errors) for s, p in zip(systems, placements, strict=True)]
+    placements = [Placement(product.system, errors) for product in products]
+    wirings = [
+        Wiring(product.flows, placement, errors)
+        for product, placement in zip(products, placements, strict=True)
+    ]
     instances = {i.place.tag: i for p in placements for i in p.cloud_instances()}
     services = instance_names(list(instances.values()), errors)
     found = routes(wirings)  # reports type clashes while it follows the flows

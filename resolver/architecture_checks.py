@@ -1,51 +1,46 @@
-"""Checks of a resolved architecture (SPEC 5.1 step 8) on a networkx data-flow graph.
+"""Checks of a resolved architecture (SPEC 5.1 step 8) against its flow table.
 
 A product can be valid for the feature model and still not work: a message type that
-differs across a connection is an error; a subscriber nothing feeds or a service
-client nothing serves is a warning (the data may come from outside the product).
+differs across a connection is an error; a subscriber no flow feeds or a service
+client no flow serves is a warning (the data may come from outside the product).
+Whether a flow reaches an input is the flow table's answer (:mod:`spl.resolver.flows`),
+the one every output follows.
 """
 
 from __future__ import annotations
 
 from typing import Any
 
-import networkx as nx
-
 from spl.diagnostics import Diagnostic, location_of
 from spl.metamodels import tsm
 from spl.resolver.context import qualified
+from spl.resolver.flows import FlowTable
 from spl.resolver.product import topic_ros_name
 
-SOURCE = "publishers"
+UNFED = "SPL045"
+UNSERVED = "SPL046"
 
 
-def data_flow_graph(system: Any) -> nx.DiGraph:
-    """Node publishers -> topics -> subscribers, topics linked by endpoint connections."""
-    T = tsm()
-    graph = nx.DiGraph()
-    graph.add_node(SOURCE)
-    for container in system.containers:
-        for node in container.nodes:
-            for interface in node.interfaces:
-                if isinstance(interface, T.Publisher) and interface.topic is not None:
-                    graph.add_edge(SOURCE, id(interface.topic))
-                elif isinstance(interface, T.Subscriber) and interface.topic is not None:
-                    graph.add_edge(id(interface.topic), id(interface))
-    for connection in system.connections:
-        source, target = connection.source, connection.target
-        if isinstance(source, T.Subscriber) and isinstance(target, T.Publisher):
-            graph.add_edge(id(source.topic), id(target.topic))
-    return graph
+def unfed_reason(interface: Any, flows: FlowTable) -> str:
+    """Why no flow reaches a subscriber: nothing publishes, or only through a robot that
+    passes on no data but its own."""
+    cut = next((c for c in flows.cut if c.subscriber is interface), None)
+    if cut is None:
+        return "which no node of the product publishes"
+    return (
+        f"which only {qualified(cut.publisher)} publishes, through robot container "
+        f"{cut.robot.name}; a robot passes on no data but its own"
+    )
 
 
-def check_architecture(system: Any) -> list[Diagnostic]:
+def check_architecture(system: Any, flows: FlowTable) -> list[Diagnostic]:
     T = tsm()
     problems: list[Diagnostic] = []
 
     def report(element: Any, message: str, severity: str, code: str) -> None:
         problems.append(Diagnostic(location_of(element), message, severity, code))
 
-    fed = nx.descendants(data_flow_graph(system), SOURCE)
+    unserved = {id(c) for c in flows.unserved}
     stores = {id(s) for c in system.containers for s in c.stores}
     for container in system.containers:
         for node in container.nodes:
@@ -82,23 +77,23 @@ def check_architecture(system: Any) -> list[Diagnostic]:
                         "error",
                         "SPL044",
                     )
-                unfed = isinstance(interface, T.Subscriber) and id(interface) not in fed
+                unfed = isinstance(interface, T.Subscriber) and not flows.feeding(interface)
                 if unfed and topic is not None:
                     report(
                         interface,
-                        f"{qualified(interface)} subscribes {qualified(topic)}, which no "
-                        "node of the product publishes",
+                        f"{qualified(interface)} subscribes {qualified(topic)}, "
+                        + unfed_reason(interface, flows),
                         "warning",
-                        "SPL045",
+                        UNFED,
                     )
                 if isinstance(interface, T.ServiceClient):
                     server = interface.server
-                    if server is None:
+                    if server is None or id(interface) in unserved:
                         report(
                             interface,
                             f"service client {qualified(interface)} has no server in this product",
                             "warning",
-                            "SPL046",
+                            UNSERVED,
                         )
                     elif interface.type and server.type and interface.type != server.type:
                         report(

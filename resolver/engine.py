@@ -22,6 +22,7 @@ from spl.resolver.architecture_checks import check_architecture
 from spl.resolver.capabilities import CapabilityChoice, choose_features, merge_choices
 from spl.resolver.context import ResolutionContext, describe
 from spl.resolver.data_clients import implement_data_clients
+from spl.resolver.flows import FlowTable
 from spl.resolver.placement import shared_across_users, sharing_targets, unlinked_clouds
 from spl.resolver.product import ResolvedProduct, node_keys
 from spl.resolver.product_line import ProductLine
@@ -93,7 +94,8 @@ def _resolve(line: ProductLine, selection: ProductSelection) -> Resolution:
     warnings = rewiring.rewire(system, trace, {m.node for m in ctx.migrations})
     left_out = pruning.prune_unused(system, trace)
 
-    problems = check_architecture(system) + warnings  # step 8
+    flows = FlowTable.of(system)  # who talks to whom, for the checks and every output
+    problems = check_architecture(system, flows) + warnings  # step 8
     problems += shared_across_users(system) + unlinked_clouds(system)
     errors = [p for p in problems if p.severity == "error"]
     if errors:
@@ -108,6 +110,7 @@ def _resolve(line: ProductLine, selection: ProductSelection) -> Resolution:
         warnings=tuple(problems),
         left_out=left_out,
     )
+    product.flows = flows
     system.name = line.tsm.name
     remaining = {id(n) for c in system.containers for n in c.nodes}
     removed = tuple(sorted(key for i, key in before.items() if i not in remaining))

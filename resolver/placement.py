@@ -122,6 +122,7 @@ class Placement:
         group, which decides whose protected instances it shares."""
         T = tsm()
         self.T = T
+        self.system = system
         self.errors = errors
         self.robots = [c for c in system.containers if isinstance(c, T.RobotContainer)]
         self.robot_ids = {id(r): self._robot_id(r) for r in self.robots}

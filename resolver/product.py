@@ -10,10 +10,14 @@ selection, attribute values, which nodes were migrated).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any, NamedTuple
+from functools import cached_property
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 from spl.diagnostics import Diagnostic, Location
 from spl.metamodels import tsm
+
+if TYPE_CHECKING:
+    from spl.resolver.flows import FlowTable
 
 
 @dataclass(frozen=True)
@@ -40,6 +44,14 @@ class ResolvedProduct:
 
     def migrated(self, node_name: str) -> NodeMigration | None:
         return next((m for m in self.migrations if m.node == node_name), None)
+
+    @cached_property
+    def flows(self) -> FlowTable:
+        """Who talks to whom in the resolved architecture, computed once: every output
+        that moves data reads it (docs/semantics.md, "Flows")."""
+        from spl.resolver.flows import FlowTable  # flows builds on this module
+
+        return FlowTable.of(self.system)
 
 
 def node_keys(system: Any) -> dict[int, str]:

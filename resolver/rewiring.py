@@ -3,10 +3,9 @@
 Rather than patching bridges migration by migration, the wiring across containers is
 derived once from the data flows of the template:
 
-1. The template's topics and endpoint connections give a directed graph of where data
-   published on a topic arrives (a bridge A.T1 -> B.T2 is an edge). A publisher feeds a
-   subscriber when the subscriber's template topic is reachable from the publisher's.
-   A service client is served by the real server behind any chain of stand-ins.
+1. The template's flow table (:mod:`spl.resolver.flows`, the rules every output
+   follows) says which publisher feeds which subscriber, and which real server behind
+   any chain of stand-ins answers each client.
 2. Each node interface is bound to a topic of the container its node now lives in:
    its own topic if it stayed; else the topic its flow peers there use, or a topic of
    the target container with the same ROS name and type (reused when it exists,
@@ -27,7 +26,6 @@ can deliver are reported: SPL031 (peers in one container on two topics) and SPL0
 
 from __future__ import annotations
 
-from collections import defaultdict
 from typing import Any
 
 import networkx as nx
@@ -36,50 +34,17 @@ from spl.diagnostics import Diagnostic, location_of
 from spl.metamodels import tsm
 from spl.resolver import endpoints
 from spl.resolver.context import qualified
+from spl.resolver.flows import SERVICE, TOPIC, FlowTable
 from spl.resolver.product import NodeInterfaces
 from spl.resolver.trace import Trace
 
 
 def rewire(system: Any, trace: Trace, migrated: set[str]) -> list[Diagnostic]:
-    T = tsm()
-    flow_graph = nx.DiGraph()
-    callers_of_stand_in: dict[int, Any] = {}
-    for connection in system.connections:
-        source, target = connection.source, connection.target
-        if isinstance(source, T.Subscriber) and isinstance(target, T.Publisher):
-            if source.topic is not None and target.topic is not None:
-                flow_graph.add_edge(id(source.topic), id(target.topic))
-        elif isinstance(source, T.ServiceServer) and isinstance(target, T.ServiceClient):
-            callers_of_stand_in[id(source)] = target
-
-    def real_server(server: Any) -> Any:
-        seen: set[int] = set()
-        while server is not None and endpoints.is_endpoint_interface(server):
-            if id(server) in seen:
-                return None
-            seen.add(id(server))
-            caller = callers_of_stand_in.get(id(server))
-            server = caller.server if caller is not None else None
-        if server is not None and server.eContainer().eContainer() is None:
-            return None  # its node was pruned: the client is left unserved
-        return server
-
+    template = FlowTable.of(system)  # interfaces still point at their template topics
     publishers, subscribers, clients = NodeInterfaces.of(system.containers)
-    template_topic = {id(i): i.topic for i in publishers + subscribers}
     order = {id(i): n for n, i in enumerate(publishers + subscribers)}
-    served_by = {id(c): real_server(c.server) for c in clients}
-
-    subscribers_of: dict[int, list[Any]] = defaultdict(list)
-    for subscriber in subscribers:
-        subscribers_of[id(template_topic[id(subscriber)])].append(subscriber)
-    reach: dict[int, set[int]] = {}
-    flows: list[tuple[Any, Any]] = []  # (publisher, subscriber) of the template, in model order
-    for publisher in publishers:
-        start = id(template_topic[id(publisher)])
-        if start not in reach:
-            downstream = nx.descendants(flow_graph, start) if start in flow_graph else set()
-            reach[start] = downstream | {start}
-        flows += [(publisher, s) for t in reach[start] for s in subscribers_of.get(t, ())]
+    served_by = {id(f.source): f.target for f in template if f.kind == SERVICE}
+    flows = [(f.source, f.target) for f in template if f.kind == TOPIC]
     flows.sort(key=lambda flow: (order[id(flow[0])], order[id(flow[1])]))
     _bind_moved(publishers + subscribers, flows, trace)
 
@@ -125,7 +90,7 @@ def rewire(system: Any, trace: Trace, migrated: set[str]) -> list[Diagnostic]:
                 f"to {qualified(subscriber.topic)} through the endpoints, carrying {carried}",
             )
     for client in clients:
-        server = served_by[id(client)]
+        server = served_by.get(id(client))
         if server is None:
             client.server = None
         elif _container(server) is _container(client):

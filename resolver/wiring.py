@@ -1,19 +1,18 @@
-"""Which data flows of a resolved architecture cross a deployment boundary (SPEC 5.2).
+"""Which flows of a resolved architecture cross a deployment boundary (SPEC 5.2).
 
-:mod:`spl.resolver.placement` says where each node runs: on a robot, or in one sharing
-partition of a cloud container (a *place*). This module follows every data flow of the
-architecture from the node that produces it to each node that consumes it: a
-publisher's topic, across endpoint connections, to the subscribers of every topic
-reached; a client, through any chain of endpoint stand-ins, to the real server. A flow
-whose two nodes end up in different places is a :class:`Crossing`; flows inside one
-place, and containers that only relay, cross nothing. Partitions of one TSM container
-are different places too (a private MapOptimizer calling a protected Database).
+:mod:`spl.resolver.flows` says who talks to whom in the architecture, one row per
+delivery; :mod:`spl.resolver.placement` says where each node runs: on a robot, or in
+one sharing partition of a cloud container (a *place*). This module puts the two
+together: a flow whose two nodes end up in different places is a :class:`Crossing`;
+flows inside one place, and containers that only relay, cross nothing. Partitions of
+one TSM container are different places too (a private MapOptimizer calling a protected
+Database).
 
 The flows are seen from one robot at a time, since a cloud container's private
 partition is instantiated per robot: the robot, the cloud containers it uses and the
-other robots linked to those. A private partition serves its own robot alone: data of
-another robot reaches it, or leaves it for another robot, only through a shared
-partition's nodes, so such a flow is no crossing in this robot's view.
+other robots linked to those. A private partition serves its own robot alone: a flow
+between another robot and it is *withheld* in this robot's view (no crossing; the
+other robot's own instance takes it), docs/semantics.md F4.
 
 Every deployment target that carries data between places takes its wiring from here
 (Rapyuta bridges; Kubernetes services and Zenoh allow lists likewise), so they agree.
@@ -21,14 +20,13 @@ Every deployment target that carries data between places takes its wiring from h
 
 from __future__ import annotations
 
-from collections import defaultdict
 from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import Any
 
 from spl.diagnostics import Diagnostic, location_of
-from spl.resolver.placement import Place, Placement, container_of
-from spl.resolver.product import NodeInterfaces
+from spl.resolver.flows import TOPIC, Flow, FlowTable, container_of
+from spl.resolver.placement import Place, Placement
 from spl.resolver.ros_names import resolved_service_name, resolved_topic_name
 
 
@@ -50,31 +48,19 @@ class Crossing:
 class Wiring:
     """The crossings of one resolved system, as each robot's deployment sees them.
 
-    Problems (a subscriber fed a message type it does not expect; the tag clashes the
-    placement finds) are appended to ``errors``, located in the model, when the flow
-    is reached.
+    Problems (a subscriber fed a message type it does not expect) are appended to
+    ``errors``, located in the model, when the flow is reached.
     """
 
-    def __init__(self, system: Any, placement: Placement, errors: list[Diagnostic]) -> None:
-        self.system = system
+    def __init__(self, flows: FlowTable, placement: Placement, errors: list[Diagnostic]) -> None:
+        self.flows = flows
         self.placement = placement
         self.errors = errors
-        T = placement.T
-        self.topic_edges: dict[int, list[Any]] = defaultdict(list)
-        self.callers_of: dict[int, list[Any]] = defaultdict(list)
-        for connection in system.connections:
-            source, target = connection.source, connection.target
-            if isinstance(source, T.Subscriber) and isinstance(target, T.Publisher):
-                if source.topic is not None and target.topic is not None:
-                    self.topic_edges[id(source.topic)].append(target.topic)
-            elif isinstance(source, T.ServiceServer) and isinstance(target, T.ServiceClient):
-                self.callers_of[id(source)].append(target)
 
-    def crossings(self, robot: Any) -> Iterator[Crossing]:
-        """The crossings of the system instantiated for ``robot``: topics first (by
-        publisher, then subscriber, in model order), then service calls (by client)."""
+    def view(self, robot: Any) -> list[Any]:
+        """The containers ``robot``'s deployment sees: itself, the clouds it uses and the
+        robots linked to those."""
         placement = self.placement
-        robot_id = placement.robot_ids[id(robot)]
         allowed = {id(robot)} | {id(c) for c in placement.scope(robot)}
         for container_id in list(allowed):
             allowed |= {
@@ -82,103 +68,74 @@ class Wiring:
                 for n in placement.neighbours[container_id]
                 if placement.is_robot(placement.by_id[n])
             }
-        members = [c for c in self.system.containers if id(c) in allowed]
+        return [c for c in placement.by_id.values() if id(c) in allowed]
 
-        publishers, subscribers, all_clients = NodeInterfaces.of(members)
-        clients = [client for client in all_clients if client.server is not None]
-        subscribers_of: dict[int, list[Any]] = defaultdict(list)
-        for subscriber in subscribers:
-            subscribers_of[id(subscriber.topic)].append(subscriber)
+    def deliveries(self, robot: Any) -> Iterator[Delivery]:
+        """Every flow between two containers of ``robot``'s view, placed, in table
+        order; ``withheld`` when a private partition would serve another robot."""
+        placement = self.placement
+        robot_id = placement.robot_ids[id(robot)]
+        allowed = {id(c) for c in self.view(robot)}
 
         def foreign(place: Place) -> bool:
             return place.is_robot and place.owner != robot_id
 
-        def serves(a: Place, b: Place) -> bool:
-            """False when a private partition would serve another robot."""
-            return not (
-                (foreign(a) and b.kind == "private") or (foreign(b) and a.kind == "private")
+        for flow in self.flows:
+            if id(flow.source_container) not in allowed or id(flow.target_container) not in allowed:
+                continue
+            source = placement.node_place(flow.source.eContainer(), robot)
+            target = placement.node_place(flow.target.eContainer(), robot)
+            withheld = (foreign(source) and target.kind == "private") or (
+                foreign(target) and source.kind == "private"
             )
+            yield Delivery(flow, source, target, withheld)
 
-        for publisher in publishers:
-            node = publisher.eContainer()
-            producer = placement.node_place(node, robot)
-            for topic in self._reached(publisher.topic, node.eContainer(), allowed):
-                for subscriber in subscribers_of.get(id(topic), ()):
-                    consumer = placement.node_place(subscriber.eContainer(), robot)
-                    source_topic, target_topic = publisher.topic, subscriber.topic
-                    source_name = resolved_topic_name(source_topic)
-                    target_name = resolved_topic_name(target_topic)
-                    if producer == consumer and source_name == target_name:
-                        continue
-                    if source_topic.type != target_topic.type:
-                        self.errors.append(
-                            Diagnostic(
-                                location_of(subscriber),
-                                f"{node.name}.{publisher.name} feeds "
-                                f"{subscriber.eContainer().name}.{subscriber.name} with "
-                                f"{source_topic.type} but it expects {target_topic.type}",
-                            )
+    def crossings(self, robot: Any) -> Iterator[Crossing]:
+        """The crossings of the system instantiated for ``robot``: topics first (by
+        publisher, then subscriber, in model order), then service calls (by client)."""
+        system = self.placement.system
+        for delivery in self.deliveries(robot):
+            flow, producer, consumer = delivery.flow, delivery.source, delivery.target
+            if delivery.withheld:
+                continue
+            if flow.kind == TOPIC:
+                source_topic, target_topic = flow.source.topic, flow.target.topic
+                source_name = resolved_topic_name(source_topic)
+                target_name = resolved_topic_name(target_topic)
+                if producer == consumer and source_name == target_name:
+                    continue
+                if source_topic.type != target_topic.type:
+                    self.errors.append(
+                        Diagnostic(
+                            location_of(flow.target),
+                            f"{flow.source.eContainer().name}.{flow.source.name} feeds "
+                            f"{flow.target.eContainer().name}.{flow.target.name} with "
+                            f"{source_topic.type} but it expects {target_topic.type}",
                         )
-                        continue
-                    if serves(producer, consumer):
-                        yield Crossing(
-                            "topic",
-                            producer,
-                            consumer,
-                            source_topic,
-                            target_topic,
-                            source_name,
-                            target_name,
-                        )
+                    )
+                    continue
+                yield Crossing(
+                    "topic", producer, consumer, source_topic, target_topic,
+                    source_name, target_name,
+                )  # fmt: skip
+            elif producer != consumer:
+                client, server = flow.source, flow.target
+                yield Crossing(
+                    "service",
+                    producer,
+                    consumer,
+                    client,
+                    server,
+                    resolved_service_name(client.server, container_of(client), system),
+                    resolved_service_name(server, container_of(server), system),
+                )
 
-        for client in clients:
-            node = client.eContainer()
-            server = self._real_server(client.server, allowed)
-            if server is None:
-                continue
-            caller_place = placement.node_place(node, robot)
-            server_node = server.eContainer()
-            server_place = placement.node_place(server_node, robot)
-            if caller_place == server_place or not serves(caller_place, server_place):
-                continue
-            yield Crossing(
-                "service",
-                caller_place,
-                server_place,
-                client,
-                server,
-                resolved_service_name(client.server, node.eContainer(), self.system),
-                resolved_service_name(server, server_node.eContainer(), self.system),
-            )
 
-    def _reached(self, start: Any, home: Any, allowed: set[int]) -> list[Any]:
-        """Topics data published on ``start`` arrives at; only clouds and home relay."""
-        placement = self.placement
-        seen = {id(start): start}
-        frontier = [start]
-        while frontier:
-            topic = frontier.pop()
-            container = topic.eContainer()
-            if placement.is_robot(container) and container is not home:
-                continue
-            for target in self.topic_edges.get(id(topic), ()):
-                if id(target.eContainer()) in allowed and id(target) not in seen:
-                    seen[id(target)] = target
-                    frontier.append(target)
-        return list(seen.values())
+@dataclass(frozen=True)
+class Delivery:
+    """A flow as one robot's deployment places it."""
 
-    def _real_server(self, server: Any, allowed: set[int]) -> Any:
-        """The node's ServiceServer behind a chain of endpoint stand-ins, if in view."""
-        T = self.placement.T
-        seen: set[int] = set()
-        while server is not None and not isinstance(server.eContainer(), T.Node):
-            if id(server) in seen:
-                return None
-            seen.add(id(server))
-            callers = [
-                c for c in self.callers_of.get(id(server), ()) if id(container_of(c)) in allowed
-            ]
-            server = callers[0].server if callers else None
-        if server is None or id(server.eContainer().eContainer()) not in allowed:
-            return None
-        return server
+    flow: Flow
+    source: Place
+    target: Place
+    withheld: bool  # a private partition and another robot: not delivered in this view

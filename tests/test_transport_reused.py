@@ -23,15 +23,15 @@ def products():
 
 def test_one_transport_per_system_within_and_a_new_one_outside():
     first, second = products()
-    outside = transport(first.system)
-    assert transport(first.system) is not outside
+    outside = transport(first)
+    assert transport(first) is not outside
     with transport_reused():
-        shared = transport(first.system)
-        assert transport(first.system) is shared
-        other = transport(second.system)
+        shared = transport(first)
+        assert transport(first) is shared
+        other = transport(second)
         assert other is not shared
-        assert transport(second.system) is other
-    assert transport(first.system) is not shared
+        assert transport(second) is other
+    assert transport(first) is not shared
     assert shared == outside  # the same result, computed once
 
 

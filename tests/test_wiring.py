@@ -8,6 +8,7 @@ from pathlib import Path
 from test_rapyuta_generator import mapping_system
 
 from spl.resolver.engine import resolve
+from spl.resolver.flows import FlowTable
 from spl.resolver.placement import Placement
 from spl.resolver.product_line import load_product_line
 from spl.resolver.product_selection import load_selection_file
@@ -20,7 +21,7 @@ def crossings(system):
     """Robot name -> ``(kind, source tag, ROS name there, target tag, ROS name there)``."""
     errors = []
     placement = Placement(system, errors)
-    wiring = Wiring(system, placement, errors)
+    wiring = Wiring(FlowTable.of(system), placement, errors)
     seen = {
         robot.name: [
             (c.kind, c.source.tag, c.source_name, c.target.tag, c.target_name)
