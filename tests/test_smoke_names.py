@@ -98,7 +98,8 @@ def test_the_endpoint_stand_in_takes_a_name_no_node_has(bundle: Path) -> None:
     assert len(ids) == len(set(ids))
     found = {i.id: i for i in plan.interfaces()}
     assert found["C1.Mapper.scan"].sources == ("Robot.endpoint.scan",)
-    assert found["Robot.endpoint_2.sub_Scan"].forward == ("C1", "pub_Scan")
+    (relay,) = found["Robot.endpoint_2.sub_Scan"].relays
+    assert (relay.container, relay.interface) == ("C1", "pub_Scan")
     assert endpoint_name({"endpoint", "/ns/endpoint_2"}, "/ns") == "endpoint_3"
 
 

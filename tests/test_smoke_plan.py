@@ -43,7 +43,9 @@ def test_sources_follow_the_bridges(paper):
         "Robot.MapOptimizer.pose_updated",
     )
     endpoint = found["Robot.endpoint.sub_RGBImg"]
-    assert endpoint.forward == ("MappingCloud", "pub_RGBImg") and endpoint.required
+    (relay,) = endpoint.relays  # the one flow it carries, straight from its publisher
+    assert (relay.container, relay.interface) == ("MappingCloud", "pub_RGBImg")
+    assert relay.passes == ("Robot.StereoVision.rgb|",) and endpoint.required
     assert found["Robot.StereoVision.rgb"].ros_name == "/camera/rgb/image"
 
 

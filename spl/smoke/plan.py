@@ -5,12 +5,16 @@ language) says which nodes, interfaces, types, topics, services and endpoint
 connections the product has; ``ros2/<container>.launch.xml`` says how the ROS 2 data
 clients (writers and readers, not in the ROS 1 launch files) are named and remapped.
 From the model every interface gets the ROS name it must have in its container, and
+from its flow table (:mod:`spl.resolver.flows`, the one Rapyuta, Kubernetes and Zenoh
+are generated from):
 
-- a subscriber the ids of the publishers whose data must reach it: those whose topic
-  (a ROS name in a container) reaches the subscriber's through endpoint connections;
-- a service client the id of the node server that must answer it, behind any chain of
-  endpoint stand-ins;
-- an endpoint interface the peer interface it relays to.
+- a subscriber the ids of the publishers whose data must reach it (the flows into it);
+- a service client the id of the node server that must answer it;
+- an endpoint subscriber its *relays*: for each endpoint connection it is the source
+  of, which messages it passes on (by the publisher that produced them and the
+  connections they crossed so far, so the rehearsal carries exactly the table's
+  routes: fan-out along every bridge a flow takes, nothing a robot may not relay);
+- an endpoint server the peer endpoint client it passes calls to.
 
 The stand-ins get a JSON rendering of the plan; the comparison with the live graph
 (:mod:`spl.smoke.live`) checks every expectation here.
@@ -27,6 +31,7 @@ from lxml import etree
 
 from spl.diagnostics import Diagnostic, Location, ModelError
 from spl.metamodels import tsm
+from spl.resolver.flows import SERVICE, FlowTable, container_of
 from spl.resolver.product import topic_ros_name
 from spl.resolver.ros_names import remappings, server_ros_name
 
@@ -49,13 +54,34 @@ class Interface:
     ros_name: str  # the absolute ROS name the model binds it to in its container
     sources: tuple[str, ...] = ()  # subscribers: ids of the publishers that must feed it
     server: str | None = None  # clients: id of the node server that must answer
-    forward: tuple[str, str] | None = None  # endpoint: (peer container, peer interface)
+    forward: tuple[str, str] | None = None  # endpoint server: (peer container, peer client)
+    relays: tuple[Relay, ...] = ()  # endpoint subscriber: where it passes which messages
     required: bool = True  # must see traffic (endpoint interfaces only when on a path)
     endpoint: bool = False  # an interface of the container's endpoint, not of a node
 
     @property
     def id(self) -> str:
         return f"{self.container}.{self.node}.{self.name}"
+
+
+@dataclass(frozen=True)
+class Relay:
+    """One endpoint connection from an endpoint subscriber: the peer container and its
+    endpoint publisher, the connection's id (messages record the ids they crossed) and
+    the messages it passes on, as ``<publisher id>|<ids crossed so far>``."""
+
+    container: str
+    interface: str
+    connection: str
+    passes: tuple[str, ...]
+
+    def as_json(self) -> dict[str, Any]:
+        return {
+            "container": self.container,
+            "interface": self.interface,
+            "connection": self.connection,
+            "passes": list(self.passes),
+        }
 
 
 @dataclass
@@ -112,6 +138,7 @@ class SmokePlan:
                             "type": i.type,
                             "ros_name": i.ros_name,
                             "forward": list(i.forward) if i.forward else None,
+                            "relays": [relay.as_json() for relay in i.relays],
                         }
                         for i in node.interfaces
                     ],
@@ -235,10 +262,11 @@ def endpoint_name(taken: set[str], namespace: str) -> str:
 def _endpoint(container: Any, namespace: str, system: Any, name: str) -> NodePlan:
     T = tsm()
     node = NodePlan(container.name, name, node_ros_name(namespace, name), "endpoint")
-    forward = {}
+    forward: dict[int, tuple[str, str]] = {}
     for connection in system.connections:
-        target = connection.target
-        forward[id(connection.source)] = (target.eContainer().eContainer().name, target.name)
+        if isinstance(connection.source, T.ServiceServer):  # a stand-in's one peer client
+            target = connection.target
+            forward.setdefault(id(connection.source), (container_of(target).name, target.name))
     for interface in container.endpoint.interfaces:
         if isinstance(interface, T.Publisher | T.Subscriber):
             ros_name = topic_ros_name(interface.topic) if interface.topic else interface.name
@@ -281,87 +309,61 @@ def _ros2_data_clients(path: Path) -> dict[str, tuple[str, list[tuple[str, str]]
 
 
 def _expect_flows(system: Any, plans: list[ContainerPlan]) -> None:
-    """Fill in the sources of every subscriber and the server of every client, and mark
-    the endpoint interfaces that lie on some path as required."""
-    by_id = {i.id: i for c in plans for n in c.nodes for i in n.interfaces}
+    """Fill in, from the flow table, the sources of every subscriber, the server of every
+    client and the relays of every endpoint subscriber; mark the endpoint interfaces a
+    flow passes as required."""
+    T = tsm()
     endpoints = {c.name: c.endpoint.name for c in plans if c.endpoint is not None}
-    reaches: dict[tuple[str, str], set[tuple[str, str]]] = {}  # topic -> topics it feeds
-    for interface in by_id.values():
-        if interface.kind == "subscriber" and interface.forward:
-            peer = _peer(interface, by_id, endpoints)
-            if peer is not None:
-                reaches.setdefault(_topic(interface), set()).add(_topic(peer))
-    fed: dict[tuple[str, str], list[str]] = {}
-    for publisher in by_id.values():
-        if publisher.kind != "publisher" or publisher.endpoint:
+    by_id = {i.id: i for c in plans for n in c.nodes for i in n.interfaces}
+
+    def plan_of(interface: Any) -> Interface:
+        owner = interface.eContainer()
+        node = endpoints[owner.eContainer().name] if isinstance(owner, T.Endpoint) else owner.name
+        return by_id[f"{container_of(interface).name}.{node}.{interface.name}"]
+
+    connection_ids = {id(c): f"c{n}" for n, c in enumerate(system.connections)}
+    arriving: dict[tuple[str, str], set[str]] = {}  # (container, ROS name) -> publisher ids
+    passes: dict[tuple[str, int], list[str]] = {}  # (endpoint subscriber id, conn) -> keys
+    sources: dict[str, list[str]] = {}
+    flows = FlowTable.of(system)
+    for flow in flows:
+        source, target = plan_of(flow.source), plan_of(flow.target)
+        if flow.kind == SERVICE:
+            source.server = target.id
+            for connection in flow.route:  # endpoint clients passing the calls on
+                relay = plan_of(connection.target)
+                relay.required, relay.server = True, target.id
             continue
-        for topic in _closure(_topic(publisher), reaches):
-            fed.setdefault(topic, []).append(publisher.id)
+        sources.setdefault(target.id, []).append(source.id)
+        crossed: list[str] = []
+        for connection in flow.route:
+            key = f"{source.id}|{','.join(crossed)}"
+            keys = passes.setdefault((plan_of(connection.source).id, id(connection)), [])
+            if key not in keys:
+                keys.append(key)
+            crossed.append(connection_ids[id(connection)])
+            arriving.setdefault(_topic(plan_of(connection.target)), set()).add(source.id)
     for interface in by_id.values():
-        if interface.kind == "subscriber":
-            interface.sources = tuple(sorted(fed.get(_topic(interface), ())))
-            if interface.endpoint:
-                interface.required = bool(interface.sources)
-        elif interface.kind == "client" and interface.endpoint:
-            interface.required = False  # until a node client's calls pass through it
+        if interface.kind == "publisher" and not interface.endpoint:
+            arriving.setdefault(_topic(interface), set()).add(interface.id)
     for interface in by_id.values():
-        if interface.kind == "client" and not interface.endpoint:
-            interface.server = _server_on_path(interface, by_id, endpoints)
-
-
-def _peer(
-    interface: Interface, by_id: dict[str, Interface], endpoints: dict[str, str]
-) -> Interface | None:
-    """The endpoint interface an endpoint interface's connection leads to."""
-    if interface.forward is None or interface.forward[0] not in endpoints:
-        return None
-    container, name = interface.forward
-    return by_id.get(".".join((container, endpoints[container], name)))
+        if interface.kind == "subscriber" and interface.endpoint:
+            interface.sources = tuple(sorted(arriving.get(_topic(interface), ())))
+            interface.required = bool(interface.sources)
+        elif interface.kind == "subscriber":
+            interface.sources = tuple(sorted(set(sources.get(interface.id, ()))))
+        elif interface.kind == "client" and interface.endpoint and interface.server is None:
+            interface.required = False  # no node client's calls pass through it
+    for connection in system.connections:
+        if isinstance(connection.source, T.Subscriber):
+            endpoint = plan_of(connection.source)
+            keys = passes.get((endpoint.id, id(connection)))
+            if keys:
+                peer = plan_of(connection.target)
+                relay = Relay(peer.container, peer.name, connection_ids[id(connection)],
+                              tuple(keys))  # fmt: skip
+                endpoint.relays = (*endpoint.relays, relay)
 
 
 def _topic(interface: Interface) -> tuple[str, str]:
     return interface.container, interface.ros_name
-
-
-def _closure(start: tuple[str, str], edges: dict) -> set[tuple[str, str]]:
-    seen, todo = {start}, [start]
-    while todo:
-        for nxt in edges.get(todo.pop(), ()):
-            if nxt not in seen:
-                seen.add(nxt)
-                todo.append(nxt)
-    return seen
-
-
-def _server_on_path(
-    client: Interface, by_id: dict[str, Interface], endpoints: dict[str, str]
-) -> str | None:
-    """The node server a client's calls end at: the server of its ROS name in its
-    container or, when that is an endpoint stand-in, the server behind the peer
-    endpoint's client, and so on. Endpoint clients on the path become required and
-    expect the same server."""
-    container, name = client.container, client.ros_name
-    visited: set[tuple[str, str]] = set()
-    passed: list[Interface] = []
-    while (container, name) not in visited:
-        visited.add((container, name))
-        server = next(
-            (
-                i
-                for i in by_id.values()
-                if i.kind == "server" and i.container == container and i.ros_name == name
-            ),
-            None,
-        )
-        if server is None:
-            return None
-        if not server.endpoint:
-            for peer in passed:
-                peer.required, peer.server = True, server.id
-            return server.id
-        peer = _peer(server, by_id, endpoints)
-        if peer is None:
-            return None
-        passed.append(peer)
-        container, name = peer.container, peer.ros_name
-    return None

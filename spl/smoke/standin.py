@@ -17,14 +17,16 @@ Roles:
     subscribes, serves and calls, and records what it saw in a status file.
 ``endpoint``
     The container's Rapyuta endpoint: its interfaces use the model's ROS names and relay
-    data and service calls to the peer endpoints, exactly along the endpoint connections
-    of the resolved architecture (over XML-RPC on the loopback interface).
+    data and service calls to the peer endpoints (over XML-RPC on the loopback
+    interface), exactly along the routes of the product's flow table: an endpoint
+    subscriber passes a message over a connection when the plan lists the message's
+    publisher and the connections it crossed so far for it.
 
 Message and service classes are generated at run time with genpy from a synthetic
 definition registered under the model's type name, so the master shows the model's
 types and no message package needs to be installed. Every message carries the id of
-the publisher that produced it and the containers it crossed; every answer the id of
-the server that gave it.
+the publisher that produced it and the endpoint connections it crossed; every answer
+the id of the server that gave it.
 """
 
 from __future__ import annotations
@@ -223,7 +225,7 @@ def _publish_forever(publisher, own_id: str, container: str, status: Status, ent
         while not rospy.is_shutdown():
             seq += 1
             try:
-                publisher.publish(publisher.data_class(source=own_id, route=container, seq=seq))
+                publisher.publish(publisher.data_class(source=own_id, route="", seq=seq))
                 status.count(entry, "sent")
             except rospy.ROSException:
                 return  # shutting down
@@ -278,7 +280,8 @@ def run_endpoint() -> None:
 
 class _Relay:
     """Forwards along the endpoint connections: topic data from a ``sub_`` interface to
-    the peer's ``pub_``, service calls from a ``srv_`` interface to the peer's ``cli_``."""
+    the peers' ``pub_`` (each message over the connections its flows take), service calls
+    from a ``srv_`` interface to the peer's ``cli_``."""
 
     def __init__(self, plan: dict, container: str, status: Status) -> None:
         self.plan, self.container, self.status = plan, container, status
@@ -290,6 +293,7 @@ class _Relay:
     def add(self, interface: dict) -> None:
         name, kind, type_name = interface["name"], interface["kind"], interface["type"]
         ros_name, forward = interface["ros_name"], interface.get("forward")
+        relays = interface.get("relays") or []
         entry = self.entries[name] = self.status.interface(name, rospy.resolve_name(ros_name))
         if kind == "publisher":
             self.publishers[name] = rospy.Publisher(
@@ -297,17 +301,20 @@ class _Relay:
             )
         elif kind == "subscriber":
 
-            def received(message, entry=entry, forward=forward) -> None:
+            def received(message, entry=entry, relays=relays) -> None:
                 self.status.count(entry, "received", message.source)
-                visited = message.route.split(",")
-                if forward is None or forward[0] in visited:
-                    return  # no connection, or it would bring data back: drop
-                message.route = ",".join([*visited, forward[0]])
-                try:
-                    self._peer(forward[0]).deliver(forward[1], serialize(message))
-                    self.status.count(entry, "sent")
-                except (OSError, xmlrpc.client.Error, KeyError) as error:
-                    self.status.set(entry, "last_error", f"relay: {error}"[:200])
+                crossed = message.route
+                for relay in relays:
+                    if f"{message.source}|{crossed}" not in relay["passes"]:
+                        continue  # no flow of this publisher takes this connection here
+                    message.route = f"{crossed},{relay['connection']}".lstrip(",")
+                    try:
+                        self._peer(relay["container"]).deliver(
+                            relay["interface"], serialize(message)
+                        )
+                        self.status.count(entry, "sent")
+                    except (OSError, xmlrpc.client.Error, KeyError) as error:
+                        self.status.set(entry, "last_error", f"relay: {error}"[:200])
 
             self.keep.append(rospy.Subscriber(ros_name, message_class(type_name), received))
         elif kind == "server":
