@@ -36,6 +36,15 @@ def describe(element: Any) -> str:
     return f"'when {element.feature.name} {state}' ({location_of(element)})"
 
 
+@dataclass(frozen=True)
+class Cause:
+    """Why an interface left the container of its template flows, in words naming the
+    resolution element and feature, and where the statement is."""
+
+    text: str  # "MapOptimizer is migrated to Robot by 'when AdditionalPC selected' (...)"
+    location: Location | None
+
+
 @dataclass
 class Decision:
     value: Any
@@ -54,6 +63,9 @@ class ResolutionContext:
     migrations: list[NodeMigration] = field(default_factory=list)
     decisions: dict[tuple[str, int], Decision] = field(default_factory=dict)
     created_topics: set[int] = field(default_factory=set)  # ids of topics `new topic` made
+    # id of a migrated node or of an interface connected to another container's topic ->
+    # why: the endpoint rewiring names it in every decision it takes for them
+    displaced: dict[int, Cause] = field(default_factory=dict)
     element: Any = None  # the active resolution element whose transformations run
     _topics: dict[int, dict[str, Any]] = field(default_factory=dict)  # container id -> by name
 

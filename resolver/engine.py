@@ -91,7 +91,7 @@ def _resolve(line: ProductLine, selection: ProductSelection) -> Resolution:
     before = node_keys(system)  # pruning removes nodes: named as the template names them
     pruning.prune_unkept(system, ctx.kept, trace)  # step 7
     implement_data_clients(system)
-    warnings = rewiring.rewire(system, trace, {m.node for m in ctx.migrations})
+    warnings = rewiring.rewire(system, trace, ctx.displaced)
     left_out = pruning.prune_unused(system, trace)
 
     flows = FlowTable.of(system)  # who talks to whom, for the checks and every output

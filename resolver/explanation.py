@@ -8,6 +8,10 @@ a topic or a store by its bare name (every container's one of that name is meant
 node, its parameters and interfaces prefixed with the container (``Robot.Planner.plan``):
 both are accepted. A bare interface or parameter name is not (it is ambiguous across
 nodes); the refusal lists the qualified names it could mean.
+
+Besides the trace, an interface is explained by the product's flow table (who feeds a
+subscriber, who answers a client, what an endpoint interface carries: the facts every
+output follows) and a cloud node by the instances its sharing mode gives it.
 """
 
 from __future__ import annotations
@@ -19,7 +23,9 @@ from typing import Any
 from spl.diagnostics import location_of
 from spl.metamodels import tsm
 from spl.resolver.context import qualified
-from spl.resolver.product import topic_ros_name
+from spl.resolver.flows import SERVICE, TOPIC
+from spl.resolver.placement import Placement
+from spl.resolver.product import ResolvedProduct, topic_ros_name
 from spl.resolver.trace import Trace
 
 
@@ -52,12 +58,16 @@ def named_elements(system: Any) -> Iterator[NamedElement]:
 MOVED_OR_GONE = frozenset({"migrated", "removed"})
 
 
-def explanation(template: Any, product: Any, trace: Trace, name: str) -> list[str] | None:
+def explanation(
+    template: Any, resolved: ResolvedProduct, trace: Trace, name: str
+) -> list[str] | None:
     """The lines explaining the elements ``name`` means, product's first, then those only
     the template has; None when neither model has an element of that name. Each element
     gets how it stands in the product, the trace entries about it (and its parts), then
     those about the node or container holding it (a node's migration moved its
-    interfaces too; a container's removal removed its topics)."""
+    interfaces too; a container's removal removed its topics), then its flows or its
+    instances."""
+    product = resolved.system
     in_product = list(named_elements(product))
     in_template = [e for e in named_elements(template) if _means(name, e)]
     meant = [e.name for e in in_product if _means(name, e)] + [e.name for e in in_template]
@@ -69,6 +79,7 @@ def explanation(template: Any, product: Any, trace: Trace, name: str) -> list[st
         written = next((e.element for e in in_template if e.name == element_name), None)
         owners = {qualified(o) for o in _holders(present[0] if present else written)}
         own = [e for e in trace.entries if _is_about(e.subject, element_name)]
+        own += [e for element in present for e in _bridging(element, product, trace)]
         held = [e for e in trace.entries if e.subject in owners and e.decision in MOVED_OR_GONE]
         lines += [f"{element_name}: {_standing(element)}" for element in present]
         if not present:
@@ -80,7 +91,105 @@ def explanation(template: Any, product: Any, trace: Trace, name: str) -> list[st
                 "  nothing in this product decided about it: as the template writes it"
                 + (f" ({where})" if where else "")
             )
+        for element in present:
+            lines += [f"  {line}" for line in _flows(element, resolved, trace)]
+            lines += [f"  {line}" for line in _instances(element, resolved)]
     return lines
+
+
+def _bridging(element: Any, system: Any, trace: Trace) -> list[Any]:
+    """For an endpoint interface, the trace entries of the bridges it belongs to: the
+    rewiring records a topic bridge under its source topic, a service bridge under the
+    client it serves."""
+    T = tsm()
+    if not isinstance(element, T.Interface) or not isinstance(element.eContainer(), T.Endpoint):
+        return []
+    subjects = set()
+    for connection in system.connections:
+        if element not in (connection.source, connection.target):
+            continue
+        source = connection.source
+        if isinstance(source, T.Subscriber) and source.topic is not None:
+            subjects.add(qualified(source.topic))
+        elif isinstance(source, T.ServiceServer):
+            subjects |= {
+                qualified(i)
+                for c in system.containers
+                for n in c.nodes
+                for i in n.interfaces
+                if isinstance(i, T.ServiceClient) and i.server is source
+            }
+    return [e for e in trace.entries if e.subject in subjects and e.decision == "bridged"]
+
+
+VERBS = {
+    (TOPIC, True): "delivers to",
+    (TOPIC, False): "fed by",
+    (SERVICE, True): "answered by",
+    (SERVICE, False): "called by",
+}
+
+
+def _flows(element: Any, product: ResolvedProduct, trace: Trace) -> list[str]:
+    """The flows at an interface, or carried by an endpoint interface, in words."""
+    T = tsm()
+    if not isinstance(element, T.Interface):
+        return []
+    flows = product.flows
+    if isinstance(element.eContainer(), T.Endpoint):
+        carried = [
+            flow
+            for connection in product.system.connections
+            if element in (connection.source, connection.target)
+            for flow in flows.through(connection)
+        ]
+        return [f"carries {flow.describe()}" for flow in dict.fromkeys(carried)]
+    lines = []
+    for flow in flows.at(element):
+        mine = element is flow.source
+        other = flow.target if mine else flow.source
+        if flow.route:
+            where = "through " + " -> ".join(c.name for c in flow.hops())
+        else:
+            where = f"in {flow.source_container.name}"
+        twice = " (by two routes: each message arrives twice)" if flow.routes > 1 else ""
+        moved = next(
+            (e for e in trace.entries if e.subject == other.eContainer().name
+             and e.decision == "migrated"),
+            None,
+        )  # fmt: skip
+        note = f"; {moved}" if moved is not None else ""
+        lines.append(f"{VERBS[(flow.kind, mine)]} {_end(other)} {where}{twice}{note}")
+    if not lines and isinstance(element, T.Subscriber) and element.topic is not None:
+        lines.append("fed by no flow of this product")
+    if not lines and isinstance(element, T.ServiceClient):
+        lines.append("answered by no server of this product")
+    return lines
+
+
+def _end(interface: Any) -> str:
+    """A node interface as ``Container.Node.interface``."""
+    node = interface.eContainer()
+    return f"{node.eContainer().name}.{node.name}.{interface.name}"
+
+
+INSTANCES = {"private": "one per robot", "protected": "one per group", "public": "one for all"}
+
+
+def _instances(element: Any, product: ResolvedProduct) -> list[str]:
+    """Where a cloud node runs once deployed: one instance per robot (private), per group
+    (protected) or one for all (public)."""
+    T = tsm()
+    if not isinstance(element, T.Node) or isinstance(element.eContainer(), T.RobotContainer):
+        return []
+    placement = Placement(product.system, [])
+    instances = [i for i in placement.cloud_instances() if element in i.nodes]
+    if not instances:
+        return []
+    mode = instances[0].place.kind
+    return [f"deployed {mode}: {INSTANCES[mode]}"] + [
+        f"instance {i.place.tag} for robot {', '.join(i.robots)}" for i in instances
+    ]
 
 
 def qualified_candidates(template: Any, product: Any, name: str) -> list[str]:

@@ -32,9 +32,10 @@ def prune_unkept(system: Any, kept: set[int], trace: Trace) -> None:
                 if element.optional and id(element) in kept:
                     element.optional = False
                 elif element.optional:
-                    collection.remove(element)
+                    subject = qualified(element) if what == "store" else element.name
+                    collection.remove(element)  # named first: qualified needs its container
                     trace.record(
-                        qualified(element) if what == "store" else element.name,
+                        subject,
                         "removed",
                         f"optional {what} that no active resolution element requires or transforms",
                         location_of(element),
@@ -58,9 +59,10 @@ def prune_unused(system: Any, trace: Trace) -> tuple[tuple[str, str], ...]:
     for container in system.containers:
         for topic in list(container.topics):
             if id(topic) not in used:
-                container.topics.remove(topic)
+                subject = qualified(topic)
+                container.topics.remove(topic)  # named first: qualified needs its container
                 trace.record(
-                    qualified(topic),
+                    subject,
                     "removed",
                     "no node or endpoint of the product uses this topic",
                     location_of(topic),

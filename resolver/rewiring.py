@@ -33,20 +33,54 @@ import networkx as nx
 from spl.diagnostics import Diagnostic, location_of
 from spl.metamodels import tsm
 from spl.resolver import endpoints
-from spl.resolver.context import qualified
+from spl.resolver.context import Cause, qualified
 from spl.resolver.flows import SERVICE, TOPIC, FlowTable
 from spl.resolver.product import NodeInterfaces
 from spl.resolver.trace import Trace
 
 
-def rewire(system: Any, trace: Trace, migrated: set[str]) -> list[Diagnostic]:
+class Causes:
+    """Why interfaces left the container of their template flows: the resolution
+    statements that migrated their node or connected them to a topic of another
+    container (``ResolutionContext.displaced``), so every rewiring decision in the trace
+    names the element and feature behind it."""
+
+    def __init__(self, displaced: dict[int, Cause]) -> None:
+        self.displaced = displaced
+
+    def of(self, *interfaces: Any) -> Cause | None:
+        """The first cause among ``interfaces`` (their own, else their node's)."""
+        for interface in interfaces:
+            for element in (interface, interface.eContainer()):
+                if id(element) in self.displaced:
+                    return self.displaced[id(element)]
+        return None
+
+    def record(
+        self, trace: Trace, subject: str, decision: str, text: str, *interfaces: Any
+    ) -> None:
+        """A trace entry ``text``, with the cause among ``interfaces`` and its location."""
+        cause = self.of(*interfaces)
+        if cause is None:
+            trace.record(subject, decision, text)
+        else:
+            trace.record(subject, decision, f"{text}, as {cause.text}", cause.location)
+
+
+def rewire(system: Any, trace: Trace, displaced: dict[int, Cause]) -> list[Diagnostic]:
+    """Rebuild the cross-container wiring; ``displaced`` says why interfaces left the
+    container of their template flows (ResolutionContext.displaced)."""
+    causes = Causes(displaced)
     template = FlowTable.of(system)  # interfaces still point at their template topics
+    local_before = {
+        id(f.source) for f in template if f.kind == SERVICE and f.source.server is f.target
+    }
     publishers, subscribers, clients = NodeInterfaces.of(system.containers)
     order = {id(i): n for n, i in enumerate(publishers + subscribers)}
     served_by = {id(f.source): f.target for f in template if f.kind == SERVICE}
     flows = [(f.source, f.target) for f in template if f.kind == TOPIC]
     flows.sort(key=lambda flow: (order[id(flow[0])], order[id(flow[1])]))
-    _bind_moved(publishers + subscribers, flows, trace)
+    _bind_moved(publishers + subscribers, flows, trace, causes)
 
     bridges: dict[tuple[int, int], list[tuple[Any, Any]]] = {}
     warnings: list[Diagnostic] = []
@@ -82,12 +116,15 @@ def rewire(system: Any, trace: Trace, migrated: set[str]) -> list[Diagnostic]:
         shared = minimal[key]
         publisher, subscriber = shared[0]
         wiring.topic_bridge(publisher.topic, subscriber.topic)
-        if {publisher.eContainer().name, subscriber.eContainer().name} & migrated:
+        ends = [end for flow in shared for end in flow]
+        if causes.of(*ends) is not None:
             carried = ", ".join(f"{qualified(p)} -> {qualified(s)}" for p, s in shared)
-            trace.record(
+            causes.record(
+                trace,
                 qualified(publisher.topic),
                 "bridged",
                 f"to {qualified(subscriber.topic)} through the endpoints, carrying {carried}",
+                *ends,
             )
     for client in clients:
         server = served_by.get(id(client))
@@ -95,14 +132,28 @@ def rewire(system: Any, trace: Trace, migrated: set[str]) -> list[Diagnostic]:
             client.server = None
         elif _container(server) is _container(client):
             client.server = server
+            if id(client) not in local_before:
+                causes.record(
+                    trace,
+                    qualified(client),
+                    "rebound",
+                    f"to {qualified(server)}, served in its own container "
+                    f"{_container(client).name} now (the template reached it through the "
+                    "endpoints)",
+                    client,
+                    server,
+                )
         else:
             wiring.service_bridge(client, server)
-            if {client.eContainer().name, server.eContainer().name} & migrated:
-                trace.record(
+            if causes.of(client, server) is not None:
+                causes.record(
+                    trace,
                     qualified(client),
                     "bridged",
-                    f"to {qualified(server)} through an endpoint stand-in in "
-                    f"{_container(client).name}",
+                    f"to {qualified(server)} in {_container(server).name} through an endpoint "
+                    f"stand-in in {_container(client).name}",
+                    client,
+                    server,
                 )
     return warnings
 
@@ -157,8 +208,11 @@ def _minimal_bridges(
     return {key: flows for key, flows in bridges.items() if kept.has_edge(*key)}
 
 
-def _bind_moved(interfaces: list[Any], flows: list[tuple[Any, Any]], trace: Trace) -> None:
-    """Bind each interface of a migrated node to a topic of its new container.
+def _bind_moved(
+    interfaces: list[Any], flows: list[tuple[Any, Any]], trace: Trace, causes: Causes
+) -> None:
+    """Bind each interface of a migrated node (or one connected to a topic of another
+    container) to a topic of its own container.
 
     Interfaces that now share a container and were linked by a template flow must share
     one topic there, or the flow would need a bridge inside the container. Such a group
@@ -187,7 +241,7 @@ def _bind_moved(interfaces: list[Any], flows: list[tuple[Any, Any]], trace: Trac
         fixed = list(dict.fromkeys(m.topic for m in members if id(m) not in moved_ids))
         container = _container(first)
         if id(container) not in indexes:
-            indexes[id(container)] = TopicIndex(container)
+            indexes[id(container)] = TopicIndex(container, causes)
         index = indexes[id(container)]
         if len(fixed) > 1:
             for member in members:
@@ -200,11 +254,13 @@ def _bind_moved(interfaces: list[Any], flows: list[tuple[Any, Any]], trace: Trac
             topic = first.topic = index.local_topic(first, trace)
         for member in members:
             if id(member) in moved_ids and member.topic is not topic:
-                trace.record(
+                causes.record(
+                    trace,
                     qualified(member),
                     "rewired",
                     f"to {qualified(topic)}, the topic of the interfaces it exchanged data "
                     f"with in the template, which now live in {container.name} too",
+                    member,
                 )
                 member.topic = topic
 
@@ -212,8 +268,9 @@ def _bind_moved(interfaces: list[Any], flows: list[tuple[Any, Any]], trace: Trac
 class TopicIndex:
     """The topics of one container by (ROS name, type) and by name, kept up to date."""
 
-    def __init__(self, container: Any) -> None:
+    def __init__(self, container: Any, causes: Causes) -> None:
         self.container = container
+        self.causes = causes
         self.by_ros_name = {(t.rosName, t.type): t for t in container.topics}
         self.names = {t.name for t in container.topics}
 
@@ -223,11 +280,13 @@ class TopicIndex:
         template = interface.topic
         topic = self.by_ros_name.get((template.rosName, template.type))
         if topic is not None:
-            trace.record(
+            self.causes.record(
+                trace,
                 qualified(interface),
                 "rewired",
                 f"to {qualified(topic)} (reused: same ROS name {topic.rosName} and type "
                 f"as {qualified(template)})",
+                interface,
             )
             return topic
         name, suffix = template.name, 1
@@ -243,10 +302,12 @@ class TopicIndex:
         self.container.topics.append(topic)
         self.by_ros_name[(topic.rosName, topic.type)] = topic
         self.names.add(name)
-        trace.record(
+        self.causes.record(
+            trace,
             qualified(topic),
             "created",
-            f"in {self.container.name} for the migrated {interface.eContainer().name}, "
-            f"mirroring {qualified(template)} (ROS name {template.rosName})",
+            f"in {self.container.name} for {qualified(interface)}, mirroring "
+            f"{qualified(template)} (ROS name {template.rosName})",
+            interface,
         )
         return topic

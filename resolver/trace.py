@@ -20,6 +20,8 @@ class TraceEntry:
 
     def __str__(self) -> str:
         where = f" ({self.location})" if self.location else ""
+        if self.reason.endswith(where):  # the reason names the element where it stands
+            where = ""
         return f"{self.subject}: {self.decision}: {self.reason}{where}"
 
 

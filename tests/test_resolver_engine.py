@@ -270,13 +270,21 @@ def test_explain_an_interface_says_what_it_is_bound_to_and_why_it_moved():
     lines = explain("MapOptimizer.keyframes")
     assert lines[0] == "MapOptimizer.keyframes: subscribes to topic Robot.Keyframes"
     assert lines[1].startswith("  MapOptimizer: migrated: from MappingCloud to Robot by")
-    assert len(lines) == 2  # the node's other decisions are not about its interfaces
-    assert explain("Robot.MapOptimizer.keyframes") == lines
-    assert explain("MapOptimizer.add_keyframe")[:2] == [
-        "MapOptimizer.add_keyframe: calls Robot.endpoint.srv_Database_add_keyframe",
-        "  MapOptimizer.add_keyframe: bridged: to Database.add_keyframe through an endpoint "
-        "stand-in in Robot",
+    # the node's other decisions are not about its interfaces; its flows are
+    assert lines[2:] == [
+        "  fed by MappingCloud.VisualOdometry.keyframes through MappingCloud -> Robot"
     ]
+    assert explain("Robot.MapOptimizer.keyframes") == lines
+    client = explain("MapOptimizer.add_keyframe")
+    assert client[:2] == [
+        "MapOptimizer.add_keyframe: calls Robot.endpoint.srv_Database_add_keyframe",
+        "  MapOptimizer.add_keyframe: bridged: to Database.add_keyframe in MappingCloud through "
+        "an endpoint stand-in in Robot, as MapOptimizer is migrated to Robot by 'when "
+        f"AdditionalPC selected' ({MAPPING / 'mapping.rm'}:44:1) ({MAPPING / 'mapping.rm'}:45:5)",
+    ]
+    assert client[-1] == (
+        "  answered by MappingCloud.Database.add_keyframe through Robot -> MappingCloud"
+    )
     assert explain("DepthCamera.rgb") == [
         "DepthCamera.rgb: not in this product",
         "  DepthCamera: removed: optional node that no active resolution element requires or "

@@ -20,7 +20,7 @@ from spl.dsl.rm_names import (
     same_container_bridge,
     same_topic,
 )
-from spl.resolver.context import ResolutionContext, qualified
+from spl.resolver.context import Cause, ResolutionContext, qualified
 
 
 def _here(interface: Any) -> Any:
@@ -41,6 +41,12 @@ def _connect_interface(interface: Any, topic: Any, ctx: ResolutionContext, where
     ctx.keep(topic, f"{interface.name} of {node.name} is connected to it by {ctx.by()}", where)
     if ctx.decide("topic", interface, qualified(topic), where):
         interface.topic = topic
+        if topic.eContainer() is not _here(interface):  # the endpoints will carry it
+            ctx.displaced[id(interface)] = Cause(
+                f"{qualified(interface)} is connected to {qualified(topic)} of container "
+                f"{topic.eContainer().name} by {ctx.by()}",
+                where,
+            )
         ctx.trace.record(
             qualified(interface), "connected", f"to topic {qualified(topic)} by {ctx.by()}", where
         )

@@ -13,7 +13,7 @@ from typing import Any
 
 from spl.diagnostics import location_of
 from spl.dsl.rm_names import name_taken
-from spl.resolver.context import ResolutionContext
+from spl.resolver.context import Cause, ResolutionContext
 from spl.resolver.product import NodeMigration
 
 
@@ -31,6 +31,8 @@ def apply(transformation: Any, ctx: ResolutionContext) -> None:
     source = node.eContainer()
     target.nodes.append(node)
     ctx.migrations.append(NodeMigration(node.name, source.name, target.name, where))
+    moved = f"{node.name} is migrated to {target.name} by {ctx.by()}"
+    ctx.displaced[id(node)] = Cause(moved, where)
     ctx.trace.record(
         node.name, "migrated", f"from {source.name} to {target.name} by {ctx.by()}", where
     )

@@ -33,7 +33,7 @@ def command(directory: Path, features, sharing, settings, capabilities, element:
         # the robot's capability that decided it, then the decisions about the feature
         lines += [f"  {c}" for c in resolution.capability_choices if c.feature == element]
         lines += [f"  {e}" for e in resolution.trace.entries if e.subject == element]
-    about = explanation(line.tsm, resolution.product.system, resolution.trace, element)
+    about = explanation(line.tsm, resolution.product, resolution.trace, element)
     if about is None and not lines:
         candidates = qualified_candidates(line.tsm, resolution.product.system, element)
         hint = f"; did you mean {', '.join(candidates)}?" if candidates else ""
