@@ -23,7 +23,9 @@ What cannot be carried is reported (:attr:`Routes.problems`), never emitted: a r
 no namespace gives, two places whose bridges would exchange data the architecture does
 not connect (one key produced or served in several places for consumers wired to only
 one of them), or a place where one bridge would route out what another bridge of the
-same place routes in (the second would forward the first's data).
+same place routes in (the second would forward the first's data). Each problem says
+what it would do to the flow table's flows: a subscriber that would get a publisher's
+data a second time, or data the architecture does not deliver to it.
 """
 
 from __future__ import annotations
@@ -32,6 +34,7 @@ import re
 from collections import defaultdict
 from dataclasses import dataclass, field
 
+from spl.resolver.flows import Flow
 from spl.resolver.placement import Place
 from spl.resolver.wiring import Wiring
 
@@ -66,6 +69,38 @@ class Routes:
     robot_namespaces: dict[str, str] = field(default_factory=dict)  # robotID -> namespace
     flows: set[tuple[str, str, Bridge, Bridge]] = field(default_factory=set)  # kind, key, ...
     problems: list[str] = field(default_factory=list)
+    # the table's flows behind each allow-list entry, by (bridge, list, ROS name)
+    carried: dict[tuple[Bridge, str, str], list[Flow]] = field(
+        default_factory=lambda: defaultdict(list)
+    )
+    delivered: set[tuple[int, int]] = field(default_factory=set)  # (source, target) ids
+
+    def effect(self, origin: tuple[Bridge, str, str], destination: tuple[Bridge, str, str]) -> str:
+        """What would happen if what the flows at allow-list entry ``origin`` carry went on
+        to the consumers of the flows at ``destination``, in the flow table's words: a
+        subscriber getting a publisher's data twice, or data (calls) the architecture
+        does not deliver there."""
+        pairs = [
+            (before.source, after.target, before.kind)
+            for before in self.carried.get(origin, ())
+            for after in self.carried.get(destination, ())
+        ]
+        phrases = []
+        for source, target, kind in dict.fromkeys(pairs):
+            again = (id(source), id(target)) in self.delivered
+            if kind == "service":
+                phrases.append(
+                    f"the calls of {_end(source)} could reach {_end(target)}"
+                    + ("" if again else ", which the architecture does not connect")
+                )
+            else:
+                phrases.append(
+                    f"{_end(target)} would get the data of {_end(source)} "
+                    + ("a second time" if again else "that the architecture does not deliver")
+                )
+        if len(phrases) > 3:
+            phrases = [*phrases[:3], f"and {len(phrases) - 3} more"]
+        return "; ".join(phrases) or "data the architecture does not deliver"
 
 
 def _prefix(key: str, name: str) -> str | None:
@@ -122,6 +157,7 @@ def routes(wirings: list[Wiring]) -> Routes:
     found = Routes()
     crossings, seen, robot_ids = [], set(), []
     for wiring in wirings:
+        found.delivered |= {(id(f.source), id(f.target)) for f in wiring.flows}
         for robot in wiring.placement.robots:
             robot_ids.append(wiring.placement.robot_ids[id(robot)])
             for c in wiring.crossings(robot):
@@ -135,7 +171,13 @@ def routes(wirings: list[Wiring]) -> Routes:
         if ends is None or (c.source.is_robot and c.target.is_robot):
             found.problems.append(
                 f"the {c.kind} {c.source_name} of {c.source.tag} arrives in {c.target.tag} "
-                f"as {c.target_name}, which no bridge namespace gives"
+                f"as {c.target_name} ({_end(c.flow.source)} -> {_end(c.flow.target)}), which "
+                "no bridge namespace gives"
+                + (
+                    ": each robot's bridge has its own"
+                    if c.source.is_robot and c.target.is_robot
+                    else ""
+                )
             )
             continue
         out_list, in_list = _LISTS[c.kind]
@@ -143,6 +185,8 @@ def routes(wirings: list[Wiring]) -> Routes:
         found.lists[source][out_list].add(c.source_name)
         found.lists[target][in_list].add(c.target_name)
         found.flows.add((c.kind, ends[2], source, target))
+        found.carried[(source, out_list, c.source_name)].append(c.flow)
+        found.carried[(target, in_list, c.target_name)].append(c.flow)
     if not found.problems:
         found.problems += _unconnected(found) + _echoes(found)
     found.problems = sorted(set(found.problems))
@@ -167,9 +211,12 @@ def _unconnected(found: Routes) -> list[str]:
                 for target in sorted(targets[key]):
                     wired = (kind, key, source, target) in found.flows
                     if source.place != target.place and not wired:
+                        out = (source, out_list, key.removeprefix(source.namespace))
+                        into = (target, in_list, key.removeprefix(target.namespace))
                         problems.append(
                             f"zenoh would carry the {kind} key {key} from {source.place} to "
-                            f"{target.place}, which the architecture does not connect"
+                            f"{target.place}, which the architecture does not connect: "
+                            + found.effect(out, into)
                         )
     return problems
 
@@ -190,7 +237,14 @@ def _echoes(found: Routes) -> list[str]:
                     for name in sorted(both):
                         problems.append(
                             f"in {place}, {name} comes in through the bridge of namespace "
-                            f"'{one.namespace or '/'}' and would leave through the one of "
-                            f"'{other.namespace or '/'}'"
+                            f"'{one.namespace or '/'}' and would leave again through the one "
+                            f"of '{other.namespace or '/'}': "
+                            + found.effect((one, in_list, name), (other, out_list, name))
                         )
     return problems
+
+
+def _end(interface) -> str:
+    """A node interface as ``Container.Node.interface``."""
+    node = interface.eContainer()
+    return f"{node.eContainer().name}.{node.name}.{interface.name}"

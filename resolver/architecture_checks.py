@@ -14,17 +14,18 @@ from typing import Any
 from spl.diagnostics import Diagnostic, location_of
 from spl.metamodels import tsm
 from spl.resolver.context import qualified
-from spl.resolver.flows import FlowTable
+from spl.resolver.flows import CutRoute, FlowTable
 from spl.resolver.product import topic_ros_name
 
 UNFED = "SPL045"
 UNSERVED = "SPL046"
+TWICE = "SPL051"
 
 
-def unfed_reason(interface: Any, flows: FlowTable) -> str:
+def unfed_reason(interface: Any, cut_routes: tuple[CutRoute, ...]) -> str:
     """Why no flow reaches a subscriber: nothing publishes, or only through a robot that
     passes on no data but its own."""
-    cut = next((c for c in flows.cut if c.subscriber is interface), None)
+    cut = next((c for c in cut_routes if c.subscriber is interface), None)
     if cut is None:
         return "which no node of the product publishes"
     return (
@@ -33,7 +34,11 @@ def unfed_reason(interface: Any, flows: FlowTable) -> str:
     )
 
 
-def check_architecture(system: Any, flows: FlowTable) -> list[Diagnostic]:
+def check_architecture(
+    system: Any, flows: FlowTable, cut: tuple[CutRoute, ...] = ()
+) -> list[Diagnostic]:
+    """The problems of a resolved architecture; ``cut`` are the template's routes that a
+    robot relay would have needed (what the endpoint rewiring left out, and why)."""
     T = tsm()
     problems: list[Diagnostic] = []
 
@@ -82,7 +87,7 @@ def check_architecture(system: Any, flows: FlowTable) -> list[Diagnostic]:
                     report(
                         interface,
                         f"{qualified(interface)} subscribes {qualified(topic)}, "
-                        + unfed_reason(interface, flows),
+                        + unfed_reason(interface, flows.cut + cut),
                         "warning",
                         UNFED,
                     )
@@ -116,6 +121,16 @@ def check_architecture(system: Any, flows: FlowTable) -> list[Diagnostic]:
                     "error",
                     "SPL044",
                 )
+    for flow in flows.twice():
+        report(
+            flow.target,
+            f"{qualified(flow.target)} gets the data of {qualified(flow.source)} along two "
+            f"chains of bridges or more (the first: {flow.describe()}): the architecture "
+            "delivers each message twice; the deployments and the rehearsal carry it once, "
+            "along the first; remove the bridges of the others",
+            "warning",
+            TWICE,
+        )
     for connection in system.connections:
         source, target = connection.source, connection.target
         if source.type != target.type:

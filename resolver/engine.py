@@ -30,6 +30,7 @@ from spl.resolver.product_selection import CommandLineValue, ProductSelection, t
 from spl.resolver.selection import SelectionCheck, check_selection
 from spl.resolver.trace import Trace
 from spl.resolver.transformations import APPLY
+from spl.resolver.wiring import cross_robot_flows
 
 
 @dataclass
@@ -91,12 +92,13 @@ def _resolve(line: ProductLine, selection: ProductSelection) -> Resolution:
     before = node_keys(system)  # pruning removes nodes: named as the template names them
     pruning.prune_unkept(system, ctx.kept, trace)  # step 7
     implement_data_clients(system)
-    warnings = rewiring.rewire(system, trace, ctx.displaced)
+    warnings, cut = rewiring.rewire(system, trace, ctx.displaced)
     left_out = pruning.prune_unused(system, trace)
 
     flows = FlowTable.of(system)  # who talks to whom, for the checks and every output
-    problems = check_architecture(system, flows) + warnings  # step 8
+    problems = check_architecture(system, flows, cut) + warnings  # step 8
     problems += shared_across_users(system) + unlinked_clouds(system)
+    problems += cross_robot_flows(system, flows, trace)
     errors = [p for p in problems if p.severity == "error"]
     if errors:
         raise ModelError(errors)

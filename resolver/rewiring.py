@@ -34,7 +34,7 @@ from spl.diagnostics import Diagnostic, location_of
 from spl.metamodels import tsm
 from spl.resolver import endpoints
 from spl.resolver.context import Cause, qualified
-from spl.resolver.flows import SERVICE, TOPIC, FlowTable
+from spl.resolver.flows import SERVICE, TOPIC, CutRoute, FlowTable
 from spl.resolver.product import NodeInterfaces
 from spl.resolver.trace import Trace
 
@@ -67,9 +67,13 @@ class Causes:
             trace.record(subject, decision, f"{text}, as {cause.text}", cause.location)
 
 
-def rewire(system: Any, trace: Trace, displaced: dict[int, Cause]) -> list[Diagnostic]:
+def rewire(
+    system: Any, trace: Trace, displaced: dict[int, Cause]
+) -> tuple[list[Diagnostic], tuple[CutRoute, ...]]:
     """Rebuild the cross-container wiring; ``displaced`` says why interfaces left the
-    container of their template flows (ResolutionContext.displaced)."""
+    container of their template flows (ResolutionContext.displaced). Returns the
+    warnings, and the template's routes a robot relay would have needed (the bridges of
+    which it drops), for the architecture checks to say why a subscriber is unfed."""
     causes = Causes(displaced)
     template = FlowTable.of(system)  # interfaces still point at their template topics
     local_before = {
@@ -155,7 +159,7 @@ def rewire(system: Any, trace: Trace, displaced: dict[int, Cause]) -> list[Diagn
                     client,
                     server,
                 )
-    return warnings
+    return warnings, template.cut
 
 
 def _container(interface: Any) -> Any:

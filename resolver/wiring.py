@@ -20,14 +20,18 @@ Every deployment target that carries data between places takes its wiring from h
 
 from __future__ import annotations
 
-from collections.abc import Iterator
-from dataclasses import dataclass
+from collections import defaultdict
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass, field
 from typing import Any
 
 from spl.diagnostics import Diagnostic, location_of
+from spl.metamodels import tsm
+from spl.resolver.context import qualified
 from spl.resolver.flows import TOPIC, Flow, FlowTable, container_of
-from spl.resolver.placement import Place, Placement
+from spl.resolver.placement import Place, Placement, sharing_mode
 from spl.resolver.ros_names import resolved_service_name, resolved_topic_name
+from spl.resolver.trace import Trace
 
 
 @dataclass(frozen=True)
@@ -43,6 +47,7 @@ class Crossing:
     target_element: Any  # topic: the Topic subscribed to; service: the real ServiceServer
     source_name: str  # the ROS name at the source, in its container's namespace
     target_name: str  # the ROS name at the target, in its container's namespace
+    flow: Flow = field(compare=False)  # the flow table's row it carries
 
 
 class Wiring:
@@ -116,7 +121,7 @@ class Wiring:
                     continue
                 yield Crossing(
                     "topic", producer, consumer, source_topic, target_topic,
-                    source_name, target_name,
+                    source_name, target_name, flow,
                 )  # fmt: skip
             elif producer != consumer:
                 client, server = flow.source, flow.target
@@ -128,6 +133,7 @@ class Wiring:
                     server,
                     resolved_service_name(client.server, container_of(client), system),
                     resolved_service_name(server, container_of(server), system),
+                    flow,
                 )
 
 
@@ -139,3 +145,95 @@ class Delivery:
     source: Place
     target: Place
     withheld: bool  # a private partition and another robot: not delivered in this view
+
+
+CROSS_ROBOT = "SPL050"
+
+
+@dataclass(frozen=True)
+class CutOff:
+    """A robot interface (``taker``) fed by ``giver`` of a private cloud node whose
+    instance for that robot takes nothing from it, while other robots' data reaches the
+    node: ``feeders`` are those robots, each with the flow its data takes in."""
+
+    taker: Any
+    giver: Any
+    robot: Any
+    feeders: tuple[tuple[Any, Flow], ...]
+
+
+def cut_off(flows: FlowTable, private: Callable[[Any], bool]) -> list[CutOff]:
+    """Every :class:`CutOff` of a flow table, ``private`` saying which cloud nodes are
+    private (one instance per robot), in table order, once per taker and node."""
+    T = tsm()
+
+    def on_robot(interface: Any) -> Any:
+        owner = container_of(interface)
+        return owner if isinstance(owner, T.RobotContainer) else None
+
+    def alone(interface: Any) -> bool:
+        return on_robot(interface) is None and private(interface.eContainer())
+
+    # who gives data to whom: a publisher to a subscriber, a server's answers to its client
+    given = [(f, f.source, f.target) if f.kind == TOPIC else (f, f.target, f.source) for f in flows]
+    feeders: dict[int, dict[int, tuple[Any, Flow]]] = defaultdict(dict)  # node -> robot -> why
+    for flow, giver, taker in given:
+        robot = on_robot(giver)
+        if robot is not None and alone(taker):
+            feeders[id(taker.eContainer())].setdefault(id(robot), (robot, flow))
+    changed = True
+    while changed:  # through chains of private nodes: one robot's instances feed each other
+        changed = False
+        for _, giver, taker in given:
+            if alone(giver) and alone(taker):
+                into = feeders[id(taker.eContainer())]
+                before = len(into)
+                for robot, why in list(feeders[id(giver.eContainer())].items()):
+                    into.setdefault(robot, why)
+                changed |= len(into) != before
+    found: dict[tuple[int, int], CutOff] = {}
+    for _, giver, taker in given:
+        robot, others = on_robot(taker), feeders.get(id(giver.eContainer()), {})
+        if robot is not None and alone(giver) and others and id(robot) not in others:
+            key = (id(taker), id(giver.eContainer()))
+            found.setdefault(key, CutOff(taker, giver, robot, tuple(others.values())))
+    return list(found.values())
+
+
+def cross_robot_flows(system: Any, flows: FlowTable, trace: Trace) -> list[Diagnostic]:
+    """A warning (SPL050) at each robot interface that a private cloud node feeds from an
+    instance nothing of that robot feeds, while another robot's data reaches the node
+    (directly or through other private nodes): one instance per robot, so that data
+    never crosses to this robot, though the template draws the flow (docs/semantics.md
+    F4)."""
+    if sum(c.eClass.name == "RobotContainer" for c in system.containers) < 2:
+        return []
+    return [
+        cross_robot_warning(cut, _private_because(cut.giver.eContainer(), trace))
+        for cut in cut_off(flows, lambda node: sharing_mode(node) == "private")
+    ]
+
+
+def cross_robot_warning(cut: CutOff, why_private: str) -> Diagnostic:
+    node, robot = cut.giver.eContainer(), cut.robot
+    fed_by = "; ".join(f"{other.name} ({why.describe()})" for other, why in cut.feeders)
+    return Diagnostic(
+        location_of(cut.taker),
+        f"{qualified(cut.taker)} on robot container {robot.name} is fed by "
+        f"{qualified(cut.giver)} of its own instance of {node.name}, which {why_private}: "
+        f"one instance per robot, and the data {node.name} takes from robot container "
+        f"{fed_by} reaches only that robot's instance, never {robot.name}; share "
+        f"{node.name} (protected or public) or feed it from {robot.name} too",
+        "warning",
+        CROSS_ROBOT,
+    )
+
+
+def _private_because(node: Any, trace: Trace) -> str:
+    """Why a node is private in this product: the feature's sharing mode, or the .tsm."""
+    decision = next(
+        (e for e in trace.entries if e.subject == node.name and e.decision == "sharing"), None
+    )
+    if decision is not None:
+        return f"is {decision.reason}"
+    return f"is private as the .tsm gives it (declared, or the default; {location_of(node)})"

@@ -57,6 +57,7 @@ class Node:
     container: str
     optional: bool
     interfaces: list[Interface] = field(default_factory=list)
+    sharing: str | None = None  # a cloud node's sharing mode, when the spec gives one
 
 
 @dataclass
@@ -190,6 +191,84 @@ def line_specs(draw) -> LineSpec:
     return LineSpec(containers, topics, nodes, topic_bridges, service_bridges, elements)
 
 
+@st.composite
+def fleet_specs(draw) -> LineSpec:
+    """A line of 2-3 robots and 1-3 clouds that exchange data: every container has topics
+    of some shared ROS names, robot and cloud topics of one ROS name are bridged up, down
+    or not at all (and clouds among themselves now and then), cloud nodes get a sharing
+    mode, robot clients call cloud servers through service bridges, and a few elements
+    migrate nodes or require optional ones. Fan-out, fan-in, private partitions used by
+    several robots and flows between robots through the cloud are common."""
+    robots = draw(st.integers(2, 3))
+    clouds = draw(st.integers(1, 3))
+    containers = {f"Robot{i}": "robot" for i in range(robots)}
+    containers |= {f"Cloud{i}": "cloud" for i in range(robots, robots + clouds)}
+    ros_names = sorted(ROS_TOPICS)[:3]
+    topics = []
+    for container in containers:
+        chosen = draw(st.lists(st.sampled_from(ros_names), min_size=1, max_size=3, unique=True))
+        topics += [Topic(container, TOPIC_NAMES[ros_names.index(r)], r) for r in sorted(chosen)]
+    nodes: list[Node] = []
+    for container, kind in containers.items():
+        local = [t for t in topics if t.container == container]
+        for _ in range(draw(st.integers(1, 2))):
+            node = Node(f"N{len(nodes)}", container, draw(st.booleans()) and bool(nodes))
+            if kind == "cloud":
+                node.sharing = draw(st.sampled_from(["private", "protected", "public"]))
+            kinds = ["publishes", "subscribes"] + (["provides"] if kind == "cloud" else ["calls"])
+            for k in range(draw(st.integers(1, 3))):
+                what = draw(st.sampled_from(kinds))
+                name = f"{what[0]}{k}"
+                if what in ("publishes", "subscribes"):
+                    topic = draw(st.sampled_from(local))
+                    node.interfaces.append(Interface(what, name, topic.type, topic=topic.name))
+                else:
+                    node.interfaces.append(Interface(what, name, SERVICE_TYPES[0]))
+            nodes.append(node)
+    bridges: list = []
+    for a in topics:
+        for b in topics:
+            if a.ros != b.ros or containers[a.container] == containers[b.container] == "robot":
+                continue
+            if a.container == b.container:
+                continue
+            if (
+                draw(
+                    st.integers(
+                        0,
+                        3
+                        if "cloud" in (containers[a.container], containers[b.container])
+                        and containers[a.container] != containers[b.container]
+                        else 9,
+                    )
+                )
+                == 0
+            ):
+                bridge = ((a.container, a.name), (b.container, b.name))
+                if not _returns_to_a_container(_bridge_graph([*bridges, bridge])):
+                    bridges.append(bridge)
+    servers = [
+        (n.container, n.name, i.name) for n in nodes for i in n.interfaces if i.kind == "provides"
+    ]
+    service_bridges = []
+    for node in nodes:
+        for client in (i for i in node.interfaces if i.kind == "calls"):
+            if servers and draw(st.booleans()):
+                server = draw(st.sampled_from(servers))
+                service_bridges.append(((node.container, node.name, client.name), server))
+    elements: list[Element] = []
+    for node in draw(st.lists(st.sampled_from(nodes), max_size=2, unique_by=lambda n: n.name)):
+        targets = [c for c in containers if c != node.container]
+        migration = (node.name, draw(st.sampled_from(targets)))
+        elements.append(Element(f"M{len(elements)}", draw(st.booleans()), [], [migration]))
+    optional = [n.name for n in nodes if n.optional]
+    if optional:
+        required = draw(st.lists(st.sampled_from(optional), max_size=len(optional), unique=True))
+        if required:
+            elements.append(Element(f"K{len(elements)}", False, required))
+    return LineSpec(containers, topics, nodes, bridges, service_bridges, elements)
+
+
 # -- writing the line ------------------------------------------------------------------
 def tsm_text(spec: LineSpec) -> str:
     lines = ["system Random", ""]
@@ -205,7 +284,8 @@ def tsm_text(spec: LineSpec) -> str:
         for topic in (t for t in spec.topics if t.container == container):
             lines.append(f'    topic {topic.name} : {topic.type} name "{topic.ros}"')
         for node in (n for n in spec.nodes if n.container == container):
-            lines.append(f"    {'optional ' if node.optional else ''}node {node.name} {{")
+            sharing = f" sharing {node.sharing}" if node.sharing else ""
+            lines.append(f"    {'optional ' if node.optional else ''}node {node.name}{sharing} {{")
             lines.append(f"        implementation pkg/{node.name.lower()}")
             for i in node.interfaces:
                 if i.kind == "publishes":

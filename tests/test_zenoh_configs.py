@@ -304,7 +304,8 @@ def test_a_product_zenoh_cannot_carry_is_skipped_with_the_reason(tmp_path):
     reason = files["zenoh/"].reason
     assert reason == (
         "Zenoh cannot carry this product: the topic /scan of rover_1 arrives in "
-        "Cloud_rover_1 as /laser, which no bridge namespace gives"
+        "Cloud_rover_1 as /laser (Rover.Lidar.scan -> Cloud.Mapper.scan), which no bridge "
+        "namespace gives"
     )
     readme = kubernetes.generate(product)["kubernetes/README.md"].decode()
     assert "NOT carried" in readme

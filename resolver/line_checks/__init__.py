@@ -36,6 +36,9 @@ SPL018    error     a robot container whose endpoint has no user or password env
                     product must set it in its deployment)
 SPL019    warning   two instances of the template (robots, cloud partitions) that would
                     get one Rapyuta tag, or tags differing only in case
+SPL050    warning   a flow the template draws from one robot through a private cloud
+                    node to another robot, which the per-robot instances never deliver
+                    (:mod:`.cross_robot`); the message names a witness product
 ========  ========  ==================================================================
 
 One module a check family; this package runs them all. :class:`ActivationSolver`
@@ -47,6 +50,7 @@ from __future__ import annotations
 from spl.diagnostics import Diagnostic, Location
 from spl.resolver.line_checks.activation import ActivationSolver
 from spl.resolver.line_checks.conflicts import reachable_conflicts
+from spl.resolver.line_checks.cross_robot import cross_robot_flows_in_line
 from spl.resolver.line_checks.dead_elements import never_active_elements
 from spl.resolver.line_checks.endpoints import incomplete_endpoints
 from spl.resolver.line_checks.instance_tags import clashing_instance_tags
@@ -60,15 +64,16 @@ from spl.resolver.product_line import ProductLine
 
 def check_product_line(line: ProductLine, products: bool = True) -> list[Diagnostic]:
     """Every line check, sorted by location; ``products`` includes the listed products."""
+    listed = read_listed(line)
     with ActivationSolver(line) as solver:
         found = never_active_elements(line, solver)
         found += unreachable_optional_elements(line, solver)
         found += reachable_conflicts(line, solver)
         found += product_dependent_statements(line, solver)
+        found += cross_robot_flows_in_line(line, solver, listed)
     found += features_without_effect(line)
     found += shared_robot_ids(line)
     found += incomplete_endpoints(line)
-    listed = read_listed(line)
     found += clashing_instance_tags(line, listed)
     if products:
         found += unresolvable_products(line, listed)

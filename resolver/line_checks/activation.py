@@ -112,15 +112,19 @@ class ActivationSolver:
         self._top += 1
         return self._top
 
-    def witness_where(self, element: Any, clauses: list[list[int]]) -> tuple[str, ...] | None:
-        """A product activating ``element`` in which ``clauses`` (over activation literals
-        and :meth:`fresh` variables) hold, or None. The clauses are asked about once: a
-        selector variable switches them on for this question and off for good after it."""
+    def witness_where(
+        self, element: Any | None, clauses: list[list[int]]
+    ) -> tuple[str, ...] | None:
+        """A product activating ``element`` (if one is given) in which ``clauses`` (over
+        activation literals and :meth:`fresh` variables) hold, or None. The clauses are
+        asked about once: a selector variable switches them on for this question and off
+        for good after it."""
         selector = self.fresh()
         for clause in clauses:
             self.solver.add_clause([-selector, *clause])
         self.solver.set_phases(self._phases)
-        found = self.solver.solve(assumptions=[self.literal(element), selector])
+        active = [] if element is None else [self.literal(element)]
+        found = self.solver.solve(assumptions=[*active, selector])
         model = self.solver.get_model()[: self.cnf.num_features] if found else None
         self.solver.add_clause([-selector])
         if model is None:

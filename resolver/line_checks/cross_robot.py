@@ -1,0 +1,126 @@
+"""SPL050 before any product is chosen: a flow the template draws from one robot, through
+a private cloud node, to another robot, which the per-robot instances never deliver.
+
+A private node runs once per robot, and each instance exchanges data with its own robot
+only (docs/semantics.md F4). So when the data of robot A reaches a private node and the
+node feeds robot B, B gets the output of its own instance, which A's data never reaches.
+``spl resolve`` warns in each product where that happens; this check finds the products
+from the template: the flows of the .tsm as written (:class:`FlowTable` of the
+template), the nodes that can be private (private in the .tsm and given no other mode by
+a feature, or given ``private`` by a feature's sharing default), and one SAT question
+per candidate: a product keeping the node, the robot side at both ends, and none of
+B's nodes that would feed the node itself. The witness is resolved, and the warning is
+reported as that product's resolution gives it, naming the product; a candidate whose
+witness resolves without it (a migration or a connection changed the flows) is not
+reported. A listed product (``products/*.yaml``) that makes a feature's nodes private
+with its ``sharing:`` choice is resolved too, and its warnings are reported naming it.
+Flows that only a resolution element's ``connect`` or migration draws in an unlisted
+product are found by ``spl resolve`` in the product that has them.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from spl.diagnostics import Diagnostic, ModelError, location_of
+from spl.resolver.flows import FlowTable
+from spl.resolver.line_checks.activation import ActivationSolver
+from spl.resolver.line_checks.listed_products import Listed
+from spl.resolver.line_checks.unreachable_optionals import touched_elements
+from spl.resolver.placement import sharing_mode, sharing_targets
+from spl.resolver.product_line import ProductLine
+from spl.resolver.product_selection import ProductSelection, selection_from_list
+from spl.resolver.wiring import CROSS_ROBOT, cut_off
+
+
+def cross_robot_flows_in_line(
+    line: ProductLine, solver: ActivationSolver, listed: Listed
+) -> list[Diagnostic]:
+    robots = [c for c in line.tsm.containers if c.eClass.name == "RobotContainer"]
+    if len(robots) < 2:
+        return []
+    found = [
+        Diagnostic(w.location, f"{w.message}, in the listed product {path.stem}", w.severity,
+                   w.code)
+        for path, selection in listed
+        if not isinstance(selection, ModelError) and "private" in selection.sharing.values()
+        for w in _warnings(line, selection)
+    ]  # fmt: skip
+    keeping: dict[int, list[int]] = {}  # optional node -> literals of elements keeping it
+    for element in line.rm.elements:
+        for node in touched_elements(element):
+            keeping.setdefault(id(node), []).append(solver.literal(element))
+    mode_by: dict[int, list[tuple[int, str]]] = {}  # node -> (literal, mode) of sharing elements
+    for element in line.rm.elements:
+        if element.feature.sharing is not None:
+            for node in sharing_targets(element):
+                mode = element.feature.sharing.mode.name
+                mode_by.setdefault(id(node), []).append((solver.literal(element), mode))
+
+    def can_be_private(node: Any) -> bool:
+        modes = {mode for _, mode in mode_by.get(id(node), ())}
+        return "private" in modes or sharing_mode(node) == "private"
+
+    def present(node: Any) -> list[list[int]] | None:
+        """Clauses keeping ``node`` in a product; None when no product can."""
+        if not node.optional:
+            return []
+        literals = keeping.get(id(node))
+        return [literals] if literals else None
+
+    def absent(node: Any) -> list[list[int]] | None:
+        if not node.optional:
+            return None
+        return [[-literal] for literal in keeping.get(id(node), [])]
+
+    def private(node: Any) -> list[list[int]]:
+        others = [[-lit] for lit, mode in mode_by.get(id(node), ()) if mode != "private"]
+        if sharing_mode(node) == "private":
+            return others
+        return [*others, [lit for lit, mode in mode_by.get(id(node), ()) if mode == "private"]]
+
+    template = FlowTable.of(line.tsm)
+    for cut in cut_off(template, can_be_private):
+        node = cut.giver.eContainer()
+        feeder = cut.feeders[0][1].source if cut.feeders[0][1].kind == "topic" else None
+        ends = [node, cut.taker.eContainer()] + ([feeder.eContainer()] if feeder else [])
+        clauses: list[list[int]] | None = private(node)
+        for end in ends:
+            keep = present(end)
+            clauses = None if keep is None or clauses is None else clauses + keep
+        for flow in template.flows:  # none of the taker's robot may feed the node itself
+            giver = flow.source if flow.kind == "topic" else flow.target
+            taker = flow.target if flow.kind == "topic" else flow.source
+            mine = taker.eContainer() is node and giver.eContainer().eContainer() is cut.robot
+            if clauses is not None and mine:
+                drop = absent(giver.eContainer())
+                clauses = None if drop is None else clauses + drop
+        if clauses is None:
+            continue
+        witness = solver.witness_where(None, clauses)
+        if witness is not None:
+            found += _confirmed(line, witness, cut.taker)
+    return found
+
+
+def _warnings(line: ProductLine, selection: ProductSelection) -> list[Diagnostic]:
+    """The SPL050 warnings of one product (none when it fails for other reasons, which
+    resolve and validate report)."""
+    from spl.resolver.engine import resolve  # the engine checks products; checks import it late
+
+    try:
+        product = resolve(line, selection).product
+    except ModelError:
+        return []
+    return [w for w in product.warnings if w.code == CROSS_ROBOT]
+
+
+def _confirmed(line: ProductLine, witness: tuple[str, ...], taker: Any) -> list[Diagnostic]:
+    """The witness product's own SPL050 at ``taker``, naming the product."""
+    where = location_of(taker)
+    named = f", in the product {', '.join(witness)}"
+    return [
+        Diagnostic(w.location, w.message + named, w.severity, w.code)
+        for w in _warnings(line, selection_from_list(",".join(witness)))
+        if w.location == where
+    ]
