@@ -6,6 +6,10 @@ cyan subscribers, green service servers, red service clients), so a resolved pro
 can be compared with the paper's template at a glance. Labels, ids and rendering
 follow :mod:`spl.generators.graphviz_output`, so no model text can change the
 diagram's structure and the same model gives the same bytes.
+
+Endpoint connections are drawn with what the flow table says they carry: labelled with
+the number of flows, the flows in the tooltip, and a connection that carries no flow
+drawn dotted grey (a bridge nothing uses).
 """
 
 from __future__ import annotations
@@ -26,6 +30,7 @@ from spl.generators.graphviz_output import (
     render_bytes,
 )
 from spl.metamodels import tsm
+from spl.resolver.flows import FlowTable
 from spl.resolver.product import ResolvedProduct, topic_ros_name
 from spl.resolver.ros_names import server_ros_name
 
@@ -269,13 +274,21 @@ def architecture_graph(system: Any, product: ResolvedProduct | None = None) -> g
         _add_container(graph, container, product)
     for container in system.containers:
         _data_flow_edges(graph, container)
+    flows = product.flows if product is not None else FlowTable.of(system)
     for connection in system.connections:
+        carried = flows.through(connection)
+        style = (
+            {"style": "dashed", "color": "#d9730d", "penwidth": "1.5"}
+            if carried
+            else {"style": "dotted", "color": "#999999", "penwidth": "1.0"}
+        )
         graph.edge(
             _interface_ref(connection.source),
             _interface_ref(connection.target),
-            style="dashed",
-            color="#d9730d",
-            penwidth="1.5",
+            label=plain_label(f"{len(carried)} flow{'s' if len(carried) != 1 else ''}"),
+            tooltip=plain_label("; ".join(f.describe() for f in carried) or "carries no flow"),
+            fontsize="8",
+            **style,
         )
     _store_edges(graph, system)
     _legend(graph)

@@ -92,10 +92,17 @@ def test_edges_for_data_flow_services_and_bridges(product, svg):
         "Robot.endpoint:i_srv_Database_update_poses->Robot.node.MapOptimizer:i_update_poses"
     ]
     assert stand_in.findtext("s:text", namespaces=SVG) == "update_poses"
-    # one dashed edge per endpoint connection
-    dashed = [t for t, g in edges.items() if g.find("s:path", SVG).get("stroke-dasharray")]
+    # one dashed edge per endpoint connection, labelled and titled with the flows it
+    # carries (the flow table's rows)
+    dashed = {t: g for t, g in edges.items() if g.find(".//s:path", SVG).get("stroke-dasharray")}
     assert len(dashed) == len(product.system.connections) == 7
-    assert "Robot.endpoint:i_sub_PoseUpdated->MappingCloud.endpoint:i_pub_PoseUpdated" in dashed
+    pose = dashed["Robot.endpoint:i_sub_PoseUpdated->MappingCloud.endpoint:i_pub_PoseUpdated"]
+    assert pose.findtext(".//s:text", namespaces=SVG) == "1 flow"
+    title = pose.find(".//s:a", SVG).get("{http://www.w3.org/1999/xlink}title")
+    assert title == (
+        "Robot.MapOptimizer.pose_updated -> MappingCloud.StrategyPlanner.pose_updated via "
+        "Robot.PoseUpdated -> MappingCloud.PoseUpdated"
+    )
 
 
 def test_migration_and_sharing_are_marked(svg):
