@@ -182,9 +182,9 @@ def zenoh_deliveries(files: dict[str, Any]) -> set[Delivery]:
     for kind, out, into in ((TOPIC, "publishers", "subscribers"),
                             (SERVICE, "service_clients", "service_servers")):  # fmt: skip
         for source, a, key in lists[out]:
-            for target, b, other in lists[into]:
-                if key == other and source != target:
-                    found.add((kind, source, a, target, b))
+            for place, b, other in lists[into]:
+                if key == other and source != place:
+                    found.add((kind, source, a, place, b))
     return found
 
 
