@@ -20,7 +20,15 @@ from spl.generators.jinja_templates import render
 from spl.generators.store_contract import store_context
 from spl.resolver.generated_names import IDENTIFIER, snake_case
 from spl.resolver.product import ResolvedProduct
-from spl.resolver.stores import cloud_stores, store_errors, store_tables, table_indexes
+from spl.resolver.stores import (
+    cloud_stores,
+    relation_name,
+    store_errors,
+    store_names,
+    store_relations,
+    store_tables,
+    table_indexes,
+)
 
 # the types of a posted record's fields (model.py.j2 defines Int64 and StoredText: what the
 # columns and PostgreSQL can hold, so a record that could never be stored is a 400)
@@ -32,6 +40,8 @@ COLUMN_TYPES = {
     "bool": "Boolean()",
 }
 DEFAULT_PERIOD = 5.0
+# Sub-resources of a store next to its refined collections (``/<Store>/<RefinedType>``)
+COLLECTION_NAMES = ("records", "errors", "subscriptions", "blueprint", "properties", "actions")
 
 PACKAGE_FILES = (
     "__init__.py",
@@ -42,6 +52,9 @@ PACKAGE_FILES = (
     "transformer.py",
     "ingest.py",
     "access.py",
+    "linked.py",
+    "subscriptions.py",
+    "contract.py",
     "app.py",
 )
 TOP_FILES = ("README.md", "pyproject.toml", "requirements.txt")
@@ -50,6 +63,11 @@ TOP_FILES = ("README.md", "pyproject.toml", "requirements.txt")
 def _check_names(system: Any) -> None:
     """Every name that reaches generated code must be an identifier (hostile input)."""
     problems = []
+    system_name = getattr(system, "name", None)  # None: a .tsm without a system line
+    if system_name is not None and (
+        not isinstance(system_name, str) or not IDENTIFIER.match(system_name)
+    ):
+        problems.append(Diagnostic(location_of(system), f"invalid system name {system_name!r}"))
 
     def need(element: Any, name: Any, what: str) -> None:
         if not isinstance(name, str) or not IDENTIFIER.match(name):
@@ -66,6 +84,41 @@ def _check_names(system: Any) -> None:
                 need(field, field.name, "field")
     if problems:
         raise ModelError(problems)
+
+
+def _service_errors(system: Any) -> list[Diagnostic]:
+    """Names the service itself takes: a refined collection named like one of the store's
+    own sub-resources, a table or index of the service named like one the store uses."""
+    problems = []
+    names = store_names(system)
+    for store in cloud_stores(system):
+        slug = names[id(store)].slug
+        for refinement in store.refinements:
+            if refinement.output is not None and refinement.output.name in COLLECTION_NAMES:
+                problems.append(
+                    Diagnostic(
+                        location_of(refinement) or location_of(store),
+                        f"store {store.name}: refined type {refinement.output.name} would be "
+                        f"served at /{store.name}/{refinement.output.name}, a resource of the "
+                        "store itself; rename the refined type",
+                    )
+                )
+        tables = store_tables(slug, store)
+        taken = {name: element for name, element in store_relations(slug, store)}
+        for own in (
+            relation_name(f"{tables.raw}_robot_key"),
+            relation_name(f"{slug}_subscriptions"),
+        ):
+            if own in taken:
+                element = taken[own]
+                problems.append(
+                    Diagnostic(
+                        location_of(element) or location_of(store),
+                        f"store {store.name}: the database name {own} is the service's own; "
+                        "rename the refined type",
+                    )
+                )
+    return problems
 
 
 def _fields(data_type: Any) -> list[dict[str, str]]:
@@ -104,6 +157,7 @@ def generate_store(store: Any, product: ResolvedProduct) -> dict[str, bytes]:
     names = store_context(store, product)
     context = {
         "product": product.name,
+        "system_repr": repr(product.system.name),
         "store": names,
         "raw": {
             "name": store.raw.name,
@@ -128,7 +182,7 @@ def generate(product: ResolvedProduct) -> dict[str, bytes]:
     (``services/<Container>_<Store>/`` where two containers hold stores of one name)."""
     system = product.system
     _check_names(system)
-    problems = store_errors(system)
+    problems = store_errors(system) or _service_errors(system)
     if problems:
         raise ModelError(problems)
     files = BundleFiles()

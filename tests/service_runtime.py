@@ -11,6 +11,7 @@ import os
 import shutil
 import signal
 import socket
+import ssl
 import subprocess
 import sys
 import threading
@@ -39,10 +40,18 @@ def free_port() -> int:
 
 
 class RunningService:
-    """One generated service process; ``kill()`` is kill -9, ``start()`` starts it again."""
+    """One generated service process; ``kill()`` is kill -9, ``start()`` starts it again.
+    With an SSL ``context`` it is reached by HTTPS (the service's TLS variables set)."""
 
-    def __init__(self, directory: Path, package: str, env: dict[str, str]) -> None:
+    def __init__(
+        self,
+        directory: Path,
+        package: str,
+        env: dict[str, str],
+        context: ssl.SSLContext | None = None,
+    ) -> None:
         self.directory = directory
+        self.context = context
         self.package = package
         self.port = free_port()
         self.env = {**os.environ, "HOST": "127.0.0.1", "PORT": str(self.port), **env}
@@ -51,7 +60,8 @@ class RunningService:
 
     @property
     def url(self) -> str:
-        return f"http://127.0.0.1:{self.port}"
+        scheme = "https" if self.context is not None else "http"
+        return f"{scheme}://127.0.0.1:{self.port}"
 
     def start(self) -> RunningService:
         log = self.log.open("ab")
@@ -67,7 +77,7 @@ class RunningService:
             if self.process.poll() is not None:
                 raise RuntimeError(f"service exited: {self.log.read_text()[-3000:]}")
             try:
-                with urllib.request.urlopen(self.url + "/", timeout=1):
+                with urllib.request.urlopen(self.url + "/", timeout=1, context=self.context):
                     return self
             except urllib.error.HTTPError:  # it answers (reads may need the token)
                 return self
@@ -97,8 +107,10 @@ def request(
     headers: dict[str, str] | None = None,
     raw: bytes | None = None,
 ) -> tuple[int, dict[str, str], Any]:
-    """(status, headers lower-cased, parsed JSON body or None) without raising on 4xx/5xx."""
-    all_headers = dict(headers or {})
+    """(status, headers lower-cased, parsed JSON body or None) without raising on 4xx/5xx.
+    Asks for JSON (``Accept: application/json``) as the generated clients do, unless
+    ``headers`` name another Accept."""
+    all_headers = {"Accept": "application/json", **(headers or {})}
     data = raw
     if body is not None:
         data = json.dumps(body).encode()

@@ -74,18 +74,35 @@ def test_kubernetes_manifests_are_consistent(generated) -> None:
         assert docs["Service"]["spec"]["selector"] == labels
         container = deployment["spec"]["template"]["spec"]["containers"][0]
         assert container["image"] == compose["services"][name]["image"]
-        assert container["ports"][0] == {"name": "http", "containerPort": 8000}
-        assert docs["Service"]["spec"]["ports"][0]["targetPort"] == "http"
+        assert container["ports"][0] == {"name": "https", "containerPort": 8000}
+        assert docs["Service"]["spec"]["ports"][0] == {
+            "name": "https",
+            "port": 443,
+            "targetPort": "https",
+        }
         env = {e["name"]: e for e in container["env"]}
+        # HTTPS from the TLS secret, mounted as files (read only), never a value here
+        upper = name.replace("-", "_").upper()
+        assert env[f"{upper}_TLS_CERT"]["value"] == "/etc/tls/tls.crt"
+        assert env[f"{upper}_TLS_KEY"]["value"] == "/etc/tls/tls.key"
+        assert {"name": "tls", "mountPath": "/etc/tls", "readOnly": True} in container[
+            "volumeMounts"
+        ]
+        volumes = {v["name"]: v for v in deployment["spec"]["template"]["spec"]["volumes"]}
+        assert volumes["tls"] == {"name": "tls", "secret": {"secretName": f"{name}-tls"}}
+        for probe in ("readinessProbe", "livenessProbe"):
+            assert container[probe]["httpGet"]["scheme"] == "HTTPS"
         assert env["PORT"]["value"] == "8000"
         token = env[token_env]["valueFrom"]["secretKeyRef"]
         assert token == {"name": "data-acquisition-secrets", "key": f"{name}-token"}
         if postgres:
             assert env["DATABASE_URL"]["valueFrom"]["secretKeyRef"]["key"] == "database-url"
         else:
-            claim = deployment["spec"]["template"]["spec"]["volumes"][0]
-            assert docs["PersistentVolumeClaim"]["metadata"]["name"] == (
-                claim["persistentVolumeClaim"]["claimName"])
+            claim = volumes["data"]
+            assert (
+                docs["PersistentVolumeClaim"]["metadata"]["name"]
+                == (claim["persistentVolumeClaim"]["claimName"])
+            )
     if postgres:
         docs = {d["kind"]: d for d in documents(files, "deploy/kubernetes/postgres.yaml")}
         stateful = docs["StatefulSet"]

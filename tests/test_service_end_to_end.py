@@ -54,7 +54,7 @@ def follow(bundle: Path):  # type: ignore[no-untyped-def]
 
 
 def client_module(bundle: Path, package: str):  # type: ignore[no-untyped-def]
-    path = bundle / "clients" / package / package / "store_client.py"
+    path = bundle / "clients" / "ros2" / package / package / "store_client.py"
     return load_module(path, f"client_{package}")
 
 
@@ -148,7 +148,11 @@ def test_rest_contract(positions) -> None:
     assert headers["link"] == (
         '</PositionStore/records>; rel="related", '
         '</PositionStore/PositionInDEG>; rel="related", '
-        '</PositionStore/errors>; rel="related"'
+        '</PositionStore/errors>; rel="related", '
+        '</PositionStore/subscriptions>; rel="related", '
+        '</PositionStore/blueprint>; rel="related", '
+        '</PositionStore/properties>; rel="related", '
+        '</PositionStore/actions>; rel="related"'
     )
     assert 'rel="related"' in request("GET", positions.url + "/")[1]["link"]
     for path, allow in [

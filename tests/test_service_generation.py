@@ -80,6 +80,7 @@ def test_model_text_reaches_code_only_as_literals(files) -> None:
         ("store", "Store'); import os; ('"),
         ("field", "lat\nimport os"),
         ("datatype", "Position In"),
+        ("system", "Acquisition> . <urn:x"),  # the Turtle vocabulary is named after it
     ],
 )
 def test_hostile_names_are_refused(where: str, name: str) -> None:
@@ -87,6 +88,8 @@ def test_hostile_names_are_refused(where: str, name: str) -> None:
     store = next(s for c in resolved.system.containers for s in c.stores)
     if where == "store":
         store.name = name
+    elif where == "system":
+        resolved.system.name = name
     elif where == "field":
         store.raw.fields[0].name = name
     else:
@@ -114,3 +117,26 @@ def test_database_default_follows_the_storage_feature() -> None:
     path = "services/PositionStore/position_store_service/settings.py"
     assert b"sqlite:///./position_store.db" in embedded[path]
     assert b"postgresql://spl@localhost:5432/spl" in postgres[path]
+
+
+@pytest.mark.parametrize(
+    "name",
+    ["subscriptions", "blueprint", "properties", "actions", "records", "errors", "Subscriptions"],
+)
+def test_refined_types_named_like_the_store_s_own_resources_are_refused(name: str) -> None:
+    """``/<Store>/subscriptions`` and the rest are the service's own resources; a refined
+    type of that name would be served there too (``Subscriptions`` would also take the
+    table of the callback subscriptions)."""
+    resolved = product()
+    store = next(s for c in resolved.system.containers for s in c.stores if s.refinements)
+    store.refinements[0].output.name = name
+    with pytest.raises(ModelError, match="rename the refined type"):
+        service.generate(resolved)
+
+
+def test_a_model_without_a_system_name_gets_the_plain_vocabulary() -> None:
+    resolved = product()
+    resolved.system.name = None
+    files = service.generate(resolved)
+    model = files["services/PositionStore/position_store_service/model.py"].decode()
+    assert "SYSTEM = None" in model

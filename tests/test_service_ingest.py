@@ -6,6 +6,7 @@ the body, and the write endpoints documented in OpenAPI as before."""
 from __future__ import annotations
 
 import asyncio
+import http.client
 import json
 import sqlite3
 import sys
@@ -95,7 +96,8 @@ def test_a_body_that_is_not_json_is_refused_with_the_reason(positions) -> None:
 
 
 def test_the_write_endpoints_are_documented_as_before(positions) -> None:
-    paths = request("GET", positions.url + "/openapi.json")[2]["paths"]
+    openapi = request("GET", positions.url + "/openapi.json")[2]
+    paths = openapi["paths"]
     for path, model in [
         ("/PositionStore/records", "RawRecordIn"),
         ("/PositionStore/records/batch", "RawBatchIn"),
@@ -104,8 +106,11 @@ def test_the_write_endpoints_are_documented_as_before(positions) -> None:
         schema = post["requestBody"]["content"]["application/json"]["schema"]
         assert schema == {"$ref": f"#/components/schemas/{model}"}
         assert post["requestBody"]["required"] is True
-        assert [(p["name"], p["in"]) for p in post["parameters"]] == [("authorization", "header")]
-        assert "201" in post["responses"] and "422" in post["responses"]
+        assert post["security"] == [{"bearer": []}]  # the token, as a security scheme
+        assert "parameters" not in post
+        assert openapi["components"]["securitySchemes"]["bearer"]["scheme"] == "bearer"
+        # the service answers 400 with the reasons, never FastAPI's 422
+        assert set(post["responses"]) == {"201", "400", "401", "406", "413", "500"}
 
 
 def test_a_record_answered_201_is_stored_also_after_kill_9(tmp_path: Path) -> None:
@@ -341,3 +346,40 @@ def test_the_transformer_writes_only_in_its_turn(ingest) -> None:
 
     (waited, early, done), _, _ = asyncio.run(_with_writer(ingest, url, work))
     assert waited and early == 0 and done == 1200
+
+
+def test_a_body_over_max_body_is_refused_with_413(tmp_path: Path) -> None:
+    write_files(service.generate(product()), tmp_path)
+    directory = tmp_path / "services" / "PositionStore"
+    running = RunningService(
+        directory, PACKAGE, {"POSITION_STORE_TOKEN": TOKEN, "TRANSFORMER": "off", "MAX_BODY": "300"}
+    ).start()
+    try:
+        url = f"{running.url}/PositionStore/records/batch"
+        small = {"records": [{"robot": "r", "timestamp": 1.0, "data": {"lat": 1.0, "lon": 2.0}}]}
+        assert request("POST", url, small)[0] == 201
+        large = {"records": small["records"] * 10}
+        status, _, answer = request("POST", url, large)
+        assert status == 413 and "at most 300" in answer["detail"]
+        # without a Content-Length (chunked), counted as it arrives
+        body = json.dumps(large).encode()
+        connection = http.client.HTTPConnection("127.0.0.1", running.port, timeout=10)
+        connection.request(
+            "POST",
+            "/PositionStore/records/batch",
+            iter([body[:200], body[200:]]),
+            {
+                "Authorization": f"Bearer {TOKEN}",
+                "Content-Type": "application/json",
+                "Accept": "application/json",
+                "Transfer-Encoding": "chunked",
+            },
+            encode_chunked=True,
+        )
+        answer = connection.getresponse()
+        assert answer.status == 413 and b"more than 300" in answer.read()
+        connection.close()
+        # the token is checked first
+        assert request("POST", url, large, token=None)[0] == 401
+    finally:
+        running.stop()

@@ -1,5 +1,7 @@
 """The generated services on a real PostgreSQL server (a throw-away cluster made with
-Debian's initdb): both case studies end to end and the kill -9 crash test."""
+Debian's initdb): both case studies end to end, the kill -9 crash test, and replicas
+sharing one database: each keyed record stored once, each raw and refined record
+transformed once and pushed once, in id order, to a WebSocket subscriber."""
 
 from __future__ import annotations
 
@@ -7,6 +9,7 @@ import math
 import os
 import shutil
 import tempfile
+import threading
 from pathlib import Path
 
 import psycopg
@@ -25,6 +28,7 @@ from service_runtime import (
     wait_for,
     write_files,
 )
+from subscription_clients import Frames, websocket_url
 
 from spl.dsl import tsm as tsm_language
 from spl.generators import clients, service
@@ -77,7 +81,7 @@ def test_both_case_studies_on_postgres(bundle: Path, cluster: PostgresCluster) -
     follow = _service(bundle, cluster, "FollowStore", "follow_store").start()
     try:
         writer = load_module(
-            bundle / "clients/position_writer/position_writer/store_client.py", "pg_pw"
+            bundle / "clients/ros2/position_writer/position_writer/store_client.py", "pg_pw"
         )
         writer.StoreClient(positions.url, token=TOKEN).post(
             [
@@ -86,7 +90,7 @@ def test_both_case_studies_on_postgres(bundle: Path, cluster: PostgresCluster) -
             ]
         )
         reader = load_module(
-            bundle / "clients/position_reader/position_reader/store_client.py", "pg_pr"
+            bundle / "clients/ros2/position_reader/position_reader/store_client.py", "pg_pr"
         )
         poller = reader.PollingReader(reader.StoreClient(positions.url))
         degrees: list[dict] = []
@@ -94,7 +98,7 @@ def test_both_case_studies_on_postgres(bundle: Path, cluster: PostgresCluster) -
         assert [(d["lat"], d["lon"]) for d in degrees] == [(float(i), 0.5) for i in range(5)]
 
         velocity = load_module(
-            bundle / "clients/velocity_writer/velocity_writer/store_client.py", "pg_vw"
+            bundle / "clients/ros2/velocity_writer/velocity_writer/store_client.py", "pg_vw"
         )
         velocity.StoreClient(follow.url, token=TOKEN).post(
             [
@@ -103,7 +107,7 @@ def test_both_case_studies_on_postgres(bundle: Path, cluster: PostgresCluster) -
             ]
         )
         commands_http = load_module(
-            bundle / "clients/command_reader/command_reader/store_client.py", "pg_cr"
+            bundle / "clients/ros2/command_reader/command_reader/store_client.py", "pg_cr"
         )
         commands = commands_http.PollingReader(commands_http.StoreClient(follow.url))
         received: list[dict] = []
@@ -174,6 +178,92 @@ def test_concurrent_posts_get_their_own_ids_on_postgres(
         stored[i] == (record["robot"], record["timestamp"], record["data"])
         for i, record in answered.items()
     )
+
+
+def test_replicas_store_each_key_once_and_push_each_record_once_in_order(
+    bundle: Path, cluster: PostgresCluster
+) -> None:
+    """Three replicas, each with its own transformer, on one database. Six writers send
+    every keyed batch twice, to two replicas (a retry after a lost answer): both answers
+    name the same records, each stored once; one subscriber of the raw records and one
+    of the refined ones (on other replicas) get each record exactly once, in id order."""
+    with psycopg.connect(cluster.dsn()) as conn:
+        conn.execute("SELECT 1")
+    replicas = [_service(bundle, cluster, "PositionStore", "position_store").start()]
+    replicas += [
+        _service(bundle, cluster, "PositionStore", "position_store").start() for _ in range(2)
+    ]
+    with psycopg.connect(cluster.dsn()) as conn:
+        raw_after = conn.execute("SELECT coalesce(max(id), 0) FROM position_store_raw").fetchone()[
+            0
+        ]
+        refined_after = conn.execute(
+            "SELECT coalesce(max(id), 0) FROM position_store_position_in_deg"
+        ).fetchone()[0]
+    raw_frames = Frames(
+        websocket_url(replicas[1].url, "/PositionStore/records", after_id=raw_after),
+        {"Accept": "application/json"},
+    )
+    refined_frames = Frames(
+        websocket_url(replicas[2].url, "/PositionStore/PositionInDEG", after_id=refined_after),
+        {"Accept": "application/json"},
+    )
+    answers: dict[str, set[int]] = {}
+    failures: list = []
+
+    def write(n: int) -> None:
+        for i in range(10):
+            records = [
+                {
+                    "robot": f"replica_{n}",
+                    "timestamp": 1e7 + i * 3 + j,
+                    "data": {"lat": 3600.0 * j, "lon": 0.0},
+                    "key": f"b{i}.{j}",
+                }
+                for j in range(3)
+            ]
+            for target in (i % 3, (i + n) % 3 if (i + n) % 3 != i % 3 else (i + 1) % 3):
+                status, _, body = request(
+                    "POST",
+                    f"{replicas[target].url}/PositionStore/records/batch",
+                    {"records": records},
+                )
+                if status != 201:
+                    failures.append(body)
+                    return
+                for record, record_id in zip(records, body["ids"], strict=True):
+                    answers.setdefault(f"{n}:{record['key']}", set()).add(record_id)
+
+    writers = [threading.Thread(target=write, args=(n,)) for n in range(6)]
+    try:
+        for writer in writers:
+            writer.start()
+        for writer in writers:
+            writer.join()
+        assert not failures, failures[:2]
+        assert len(answers) == 180 and all(len(ids) == 1 for ids in answers.values())
+        expected = sorted(next(iter(ids)) for ids in answers.values())
+        raw = [frame["id"] for frame in raw_frames.json(180, timeout=60)]
+        refined = refined_frames.json(180, timeout=60)
+        assert raw_frames.nothing_more(0.5) and refined_frames.nothing_more(0.1)
+    finally:
+        raw_frames.close()
+        refined_frames.close()
+        for replica in replicas:
+            replica.stop()
+    assert raw == expected  # each record once, in id order
+    refined_ids = [frame["id"] for frame in refined]
+    assert refined_ids == sorted(set(refined_ids))
+    assert sorted(frame["raw_id"] for frame in refined) == expected
+    with psycopg.connect(cluster.dsn()) as conn:
+        count, keys = conn.execute(
+            "SELECT count(*), count(DISTINCT (robot, key)) FROM position_store_raw "
+            "WHERE robot LIKE 'replica_%'"
+        ).fetchone()
+        transformed = conn.execute(
+            "SELECT count(*) FROM position_store_position_in_deg WHERE robot LIKE 'replica_%'"
+        ).fetchone()[0]
+    assert count == keys == transformed == 180
 
 
 LONG_STORE = "Readings" + "x" * 64  # its table and index names pass PostgreSQL's 63 bytes

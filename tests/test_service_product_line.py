@@ -44,23 +44,40 @@ def bundle(line, features: str) -> dict[str, bytes]:  # type: ignore[no-untyped-
 
 
 def folders(files: dict[str, bytes]) -> set[str]:
-    return {"/".join(path.split("/")[:2]) for path in files if path.count("/") >= 2}
+    """A file's folder below the bundle (``clients/<flavour>/<package>`` for clients)."""
+    return {
+        "/".join(path.split("/")[: 3 if path.startswith("clients/") else 2])
+        for path in files
+        if path.count("/") >= 2
+    }
 
 
 def test_positions_on_sqlite(line) -> None:
     files = bundle(line, "Positions,Embedded")
-    assert folders(files) == {"services/PositionStore", "clients/position_writer",
-                              "clients/position_reader", "deploy/PositionStore",
-                              "deploy/kubernetes"}
+    assert folders(files) == {
+        "services/PositionStore",
+        "clients/ros1/position_writer",
+        "clients/ros2/position_writer",
+        "clients/ros1/position_reader",
+        "clients/ros2/position_reader",
+        "deploy/PositionStore",
+        "deploy/kubernetes",
+    }
     compose = yaml.safe_load(files["deploy/docker-compose.yml"])
     assert set(compose["services"]) == {"position-store"}
 
 
 def test_follow_on_postgres(line) -> None:
     files = bundle(line, "Follow,Postgres")
-    assert folders(files) == {"services/FollowStore", "clients/velocity_writer",
-                              "clients/command_reader", "deploy/FollowStore",
-                              "deploy/kubernetes"}
+    assert folders(files) == {
+        "services/FollowStore",
+        "clients/ros1/velocity_writer",
+        "clients/ros2/velocity_writer",
+        "clients/ros1/command_reader",
+        "clients/ros2/command_reader",
+        "deploy/FollowStore",
+        "deploy/kubernetes",
+    }
     assert "deploy/kubernetes/postgres.yaml" in files
     settings = files["services/FollowStore/follow_store_service/settings.py"]
     assert b"postgresql://spl@localhost:5432/spl" in settings
@@ -69,7 +86,7 @@ def test_follow_on_postgres(line) -> None:
 def test_both_case_studies_in_one_product(line) -> None:
     files = bundle(line, "Positions,Follow,Embedded")
     assert {"services/PositionStore", "services/FollowStore"} <= folders(files)
-    setup = files["clients/command_reader/setup.py"].decode()
+    setup = files["clients/ros2/command_reader/setup.py"].decode()
     assert "'command_reader = command_reader.reader_node:main'" in setup
 
 
@@ -79,4 +96,4 @@ def test_resolver_and_client_generator_agree_on_package_names(line) -> None:
         for node in container.nodes:
             if node.eClass.name in ("Writer", "Reader"):
                 assert node.package == client_package_name(node.name)
-                assert f"clients/{node.package}/package.xml" in clients.generate(product)
+                assert f"clients/ros2/{node.package}/package.xml" in clients.generate(product)
