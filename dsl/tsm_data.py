@@ -89,9 +89,11 @@ def writer(names: Names, tree: Any) -> Any:
 
 
 def reader(names: Names, tree: Any) -> Any:
-    """The Reader of a ``reader`` statement: what a store keeps, published periodically."""
+    """The Reader of a ``reader`` statement: what a store keeps, published as it is
+    pushed (``subscribe``) or polled every ``period``."""
     reader = _data_node(names, names.T.Reader(name=tree.name.name), tree, "Publisher")
     reader.period = _period(names, tree.period)
+    reader.subscribe = bool(tree.subscribe)
     return reader
 
 

@@ -246,7 +246,7 @@ def _data_node(node: Any) -> list[str]:
     else:
         text = (
             f"{optional}reader {node.name} : {node.dataType.name} from {store} -> {topic} "
-            f"every {_number(node.period)} s"
+            f"{'subscribe ' if node.subscribe else ''}every {_number(node.period)} s"
         )
     body = _implementation(node) + [_INDENT + _parameter(p) for p in node.parameters]
     return [f"{text} {{", *body, "}"] if body else [text]

@@ -342,8 +342,11 @@ class _Reader(ExpressionReader):
         store = self.qref()
         self.punct(arrow)
         topic = self.ref()
-        period = None
+        period, subscribe = None, False
         if keyword == "reader":
+            subscribe = self.word()[1] == "subscribe"
+            if subscribe:
+                self.keyword("subscribe")
             self.keyword("every")
             period = self.period()
         implementation = args = None
@@ -356,7 +359,7 @@ class _Reader(ExpressionReader):
             self.punct("}")
         head = (start, optional, name, data_type, store, topic)
         if keyword == "reader":
-            return Reader(*head, period, implementation, args, parameters)
+            return Reader(*head, subscribe, period, implementation, args, parameters)
         return Writer(*head, implementation, args, parameters)
 
 

@@ -53,7 +53,9 @@ Store = _rule("Store", "optional name raw refinements")
 Refinement = _rule("Refinement", "output transform period")
 Period = _rule("Period", "value")
 Writer = _rule("Writer", "optional name dataType store topic implementation args parameters")
-Reader = _rule("Reader", "optional name dataType store topic period implementation args parameters")
+Reader = _rule(
+    "Reader", "optional name dataType store topic subscribe period implementation args parameters"
+)
 OrExpr = _rule("OrExpr", "operands")
 AndExpr = _rule("AndExpr", "operands")
 NotOp = _rule("NotOp", "operand")

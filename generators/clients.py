@@ -1,9 +1,12 @@
 """Generator of the robot-side writer and reader nodes (seeds/000's WriteRTC/ReadRTC).
 
-Each ``writer``/``reader`` of a robot container becomes ``clients/<package>/``, a ROS 2
-ament_python package: an rclpy node wrapping a plain-HTTP module (``store_client``)
-that the tests run against the real generated service. The message class comes from
-the topic the node's ``records`` interface is connected to.
+Each ``writer``/``reader`` of a robot container becomes two packages of one node, one
+per ROS flavour, both wrapping one plain-HTTP module (``store_client``: batching,
+retries with back-off, idempotent writes) that the tests run against the real
+generated service: ``clients/ros1/<package>/``, a catkin package with a rospy node
+(the ROS 1 launch files start it, and ``spl smoke`` runs it), and
+``clients/ros2/<package>/``, an ament_python package with an rclpy node. The message
+class comes from the topic the node's ``records`` interface is connected to.
 """
 
 from __future__ import annotations
@@ -14,14 +17,15 @@ from typing import Any
 from spl.diagnostics import Diagnostic, ModelError, location_of
 from spl.generators.bundle_paths import BundleFiles
 from spl.generators.jinja_templates import render
-from spl.generators.store_contract import store_context
+from spl.generators.store_contract import client_settings, store_context
 from spl.resolver.data_clients import client_package_name, client_packages
-from spl.resolver.generated_names import IDENTIFIER, snake_case
+from spl.resolver.generated_names import IDENTIFIER
 from spl.resolver.product import ResolvedProduct
 
 ROS_PACKAGE = re.compile(r"[a-z][a-z0-9_]*\Z")
 MESSAGE_TYPE = re.compile(r"([A-Za-z][A-Za-z0-9_]*)/(?:msg/)?([A-Za-z][A-Za-z0-9_]*)\Z")
-DEFAULT_STORE_URL = "http://localhost:8000"
+ROS2_TOP = ("package.xml", "setup.py", "setup.cfg", "README.md")
+ROS1_TOP = ("package.xml", "CMakeLists.txt", "setup.py", "README.md")
 KINDS = {
     "Writer": ("writer", "Subscriber", "writer_node"),
     "Reader": ("reader", "Publisher", "reader_node"),
@@ -109,39 +113,46 @@ def generate_client(
     for name in fields:
         if not IDENTIFIER.match(name):
             raise ModelError([Diagnostic(location_of(node), f"invalid field name {name!r}")])
-    robot_id = (container.endpoint.robotId if container.endpoint is not None else None) or ""
-    if not re.fullmatch(r"[A-Za-z0-9_.\-]{1,64}", robot_id):
-        robot_id = snake_case(container.name)
+    settings = client_settings(container, node, product)
+    names = store_context(store, product)
     context = {
         "node": {"name": node.name, "kind": kind, "class_name": f"{node.name}Node"},
-        "store": store_context(store, product),
+        "store": names,
+        "ca_env": f"{names['slug'].upper()}_CA_FILE",
+        "subscribe": bool(getattr(node, "subscribe", False)),
         "msg": {"type": msg_type, "package": msg_package, "name": msg_name},
         "package": package,
         "executable": executable,
         "module": module,
         "collection": node.dataType.name if kind == "reader" else "records",
         "fields": fields,
-        "robot_id": robot_id,
-        "default_url": DEFAULT_STORE_URL,
-        "period": float(node.period) if kind == "reader" and node.period else 1.0,
+        "robot_id": settings["robot_id"],
+        "default_url": settings["default_url"],
+        "period": settings["period"],
     }
-    root = f"clients/{package}"
-    return {
-        f"{root}/package.xml": render("clients/package.xml.j2", **context),
-        f"{root}/setup.py": render("clients/setup.py.j2", **context),
-        f"{root}/setup.cfg": render("clients/setup.cfg.j2", **context),
-        f"{root}/README.md": render("clients/README.md.j2", **context),
-        f"{root}/resource/{package}": b"",
-        f"{root}/{package}/__init__.py": render("clients/package/__init__.py.j2", **context),
-        f"{root}/{package}/store_client.py": render(
-            "clients/package/store_client.py.j2", **context
-        ),
-        f"{root}/{package}/{module}.py": render(f"clients/package/{module}.py.j2", **context),
+    shared = {
+        "__init__.py": render("clients/__init__.py.j2", **context),
+        "store_client.py": render("clients/store_client.py.j2", **context),
     }
+    ros2, ros1 = f"clients/ros2/{package}", f"clients/ros1/{package}"
+    files = {f"{ros2}/{name}": render(f"clients/ros2/{name}.j2", **context) for name in ROS2_TOP}
+    files[f"{ros2}/resource/{package}"] = b""
+    files |= {f"{ros2}/{package}/{name}": text for name, text in shared.items()}
+    files[f"{ros2}/{package}/{module}.py"] = render(
+        f"clients/ros2/package/{module}.py.j2", **context
+    )
+    files |= {f"{ros1}/{name}": render(f"clients/ros1/{name}.j2", **context) for name in ROS1_TOP}
+    files[f"{ros1}/scripts/{executable}"] = render("clients/ros1/script.j2", **context)
+    files |= {f"{ros1}/src/{package}/{name}": text for name, text in shared.items()}
+    files[f"{ros1}/src/{package}/{module}.py"] = render(
+        f"clients/ros1/package/{module}.py.j2", **context
+    )
+    return files
 
 
 def generate(product: ResolvedProduct) -> dict[str, bytes]:
-    """``clients/<package>/...`` for every writer and reader of the product; two that
+    """``clients/ros1/<package>/`` and ``clients/ros2/<package>/`` for every writer and
+    reader of the product; two that
     the model gives one package are refused (located), never folded into one folder."""
     files = BundleFiles()
     generated = client_packages(product.system)

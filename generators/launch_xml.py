@@ -10,12 +10,15 @@ from __future__ import annotations
 
 import math
 import re
+from collections.abc import Iterable
+from dataclasses import dataclass
 from typing import Any
 
 import yaml
 from lxml import etree
 
 from spl import __version__
+from spl.generators.store_contract import client_settings
 from spl.resolver.product import ResolvedProduct
 
 BOOL_TEXT = {"true", "false"}
@@ -68,3 +71,38 @@ def serialize(root: etree._Element) -> bytes:
     etree.indent(root, space="  ")
     data = etree.tostring(root, xml_declaration=True, encoding="UTF-8", pretty_print=True)
     return data if data.endswith(b"\n") else data + b"\n"
+
+
+@dataclass(frozen=True)
+class DataClientLaunch:
+    """How both launch flavours start a generated writer or reader: the launch argument
+    naming its store's URL (one per store, set on the command line:
+    ``store_url:=https://...``) with its default, and the node's other parameters as
+    ``(name, value text, type)`` (types as the .tsm writes them)."""
+
+    argument: str
+    default_url: str
+    parameters: tuple[tuple[str, str, str], ...]
+
+
+def data_client_launch(product: ResolvedProduct, node: Any) -> DataClientLaunch | None:
+    """The launch settings of a writer or reader (None for any other node). The bearer
+    token is never a parameter: the node reads it from the environment."""
+    if node.eClass.name not in ("Writer", "Reader"):
+        return None
+    settings = client_settings(node.eContainer(), node, product)
+    if node.eClass.name == "Writer":
+        parameters = (("robot_id", settings["robot_id"], "string"), ("batch_size", "100", "int"))
+    else:
+        parameters = (("period", repr(settings["period"]), "double"),)
+    return DataClientLaunch(settings["url_argument"], settings["default_url"], parameters)
+
+
+def data_client_arguments(product: ResolvedProduct, nodes: Iterable[Any]) -> dict[str, str]:
+    """The store URL launch arguments of ``nodes``' writers and readers, with defaults."""
+    found = {}
+    for node in nodes:
+        launch = data_client_launch(product, node)
+        if launch is not None:
+            found.setdefault(launch.argument, launch.default_url)
+    return dict(sorted(found.items()))

@@ -21,7 +21,14 @@ from typing import Any
 
 from lxml import etree
 
-from spl.generators.launch_xml import checked_value, header_text, require_implementation, serialize
+from spl.generators.launch_xml import (
+    checked_value,
+    data_client_arguments,
+    data_client_launch,
+    header_text,
+    require_implementation,
+    serialize,
+)
 from spl.resolver.product import ResolvedProduct
 from spl.resolver.ros_names import remappings
 
@@ -64,11 +71,10 @@ def launch_document(
     root = etree.Element("launch")
     root.append(etree.Comment(header or header_text(product, container)))
     system = product.system
-    for node in container.nodes if nodes is None else nodes:
-        if node.eClass.name in ("Writer", "Reader"):
-            # generated data clients are rclpy (ROS 2) packages: roslaunch cannot start them
-            root.append(etree.Comment(f" {node.name}: ROS 2 data client, see ros2/ "))
-            continue
+    chosen = list(container.nodes if nodes is None else nodes)
+    for argument, default in data_client_arguments(product, chosen).items():
+        etree.SubElement(root, "arg", name=argument, default=_plain(default, "store URL"))
+    for node in chosen:
         package, executable = require_implementation(node)
         element = etree.SubElement(root, "node")
         element.set("pkg", _plain(package, "package"))
@@ -80,6 +86,13 @@ def launch_document(
             element.set("args", _plain(node.args, "node arguments"))
         for parameter in node.parameters:
             _parameter_element(element, parameter)
+        client = data_client_launch(product, node)
+        if client is not None:  # a generated writer or reader (clients/ros1/<package>)
+            etree.SubElement(element, "param", name="store_url", value=f"$(arg {client.argument})")
+            for name, value, kind in client.parameters:
+                etree.SubElement(
+                    element, "param", name=name, value=_plain(value, name), type=ROS1_TYPES[kind]
+                )
         for source, target in remappings(node, system):
             etree.SubElement(
                 element,

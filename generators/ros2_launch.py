@@ -24,7 +24,14 @@ from typing import Any
 import yaml
 from lxml import etree
 
-from spl.generators.launch_xml import checked_value, header_text, require_implementation, serialize
+from spl.generators.launch_xml import (
+    checked_value,
+    data_client_arguments,
+    data_client_launch,
+    header_text,
+    require_implementation,
+    serialize,
+)
 from spl.resolver.product import ResolvedProduct
 from spl.resolver.ros_names import remappings
 
@@ -76,7 +83,12 @@ def launch_document(
     fleet runs one sharing partition of a container), never its endpoint."""
     root = etree.Element("launch")
     root.append(etree.Comment(header or header_text(product, container)))
-    for node in container.nodes if nodes is None else nodes:
+    chosen = list(container.nodes if nodes is None else nodes)
+    for argument, default in data_client_arguments(product, chosen).items():
+        arg = etree.SubElement(root, "arg")
+        _set(arg, "name", argument)
+        _set(arg, "default", default)
+    for node in chosen:
         package, executable = require_implementation(node)
         element = etree.SubElement(root, "node")
         _set(element, "pkg", package)
@@ -100,6 +112,15 @@ def launch_document(
             _set(param, "name", parameter.name)
             _set(param, "value", text)
             param.set("type", ROS2_TYPES[parameter.type.name])
+        client = data_client_launch(product, node)
+        if client is not None:  # a generated writer or reader (clients/ros2/<package>)
+            param = etree.SubElement(element, "param", name="store_url")
+            param.set("value", f"$(var {client.argument})")
+            for name, value, kind in client.parameters:
+                param = etree.SubElement(element, "param")
+                _set(param, "name", name)
+                _set(param, "value", value)
+                param.set("type", ROS2_TYPES[kind])
         for source, target in remappings(node, product.system):
             remap = etree.SubElement(element, "remap")
             _set(remap, "from", source)

@@ -8,10 +8,18 @@ database URL must be the same in all of them, so they are derived here once.
 
 from __future__ import annotations
 
+import re
 from typing import Any
 
+from spl.resolver.generated_names import snake_case
 from spl.resolver.product import ResolvedProduct
-from spl.resolver.stores import database_kind, store_names, store_tables, table_indexes
+from spl.resolver.stores import (
+    database_kind,
+    relation_name,
+    store_names,
+    store_tables,
+    table_indexes,
+)
 
 POSTGRES_DEFAULT_URL = "postgresql://spl@localhost:5432/spl"
 
@@ -36,6 +44,11 @@ def store_context(store: Any, product: ResolvedProduct) -> dict[str, Any]:
         "token_env": f"{upper}_TOKEN",
         "protect_reads_env": f"{upper}_PROTECT_READS",
         "period_env": f"{upper}_TRANSFORM_PERIOD",
+        # HTTPS: the certificate chain and private key files (PEM) uvicorn serves with
+        "tls_cert_env": f"{upper}_TLS_CERT",
+        "tls_key_env": f"{upper}_TLS_KEY",
+        # the hosts callback subscriptions may post to (comma-separated; unset: any)
+        "callback_hosts_env": f"{upper}_CALLBACK_HOSTS",
         "default_database_url": default_url,
         "raw_table": tables.raw,
         "raw_table_repr": repr(tables.raw),
@@ -43,4 +56,25 @@ def store_context(store: Any, product: ResolvedProduct) -> dict[str, Any]:
         "watermark_table_repr": repr(tables.watermarks),
         "error_table": tables.errors,
         "error_table_repr": repr(tables.errors),
+        # the service's own relations beyond spl.resolver.stores.store_relations
+        "key_index": relation_name(f"{tables.raw}_robot_key"),
+        "subscription_table": relation_name(f"{slug}_subscriptions"),
+    }
+
+
+DEFAULT_STORE_URL = "http://localhost:8000"
+ROBOT_ID = re.compile(r"[A-Za-z0-9_.\-]{1,64}\Z")
+
+
+def client_settings(container: Any, node: Any, product: ResolvedProduct) -> dict[str, Any]:
+    """What a writer's or reader's packages and the launch files starting it agree on:
+    the launch argument naming its store's URL, the default URL, the robot id a writer
+    stamps its records with, and a reader's poll period."""
+    slug = store_context(node.store, product)["slug"]
+    robot_id = (container.endpoint.robotId if container.endpoint is not None else None) or ""
+    return {
+        "url_argument": f"{slug}_url",
+        "default_url": DEFAULT_STORE_URL,
+        "robot_id": robot_id if ROBOT_ID.match(robot_id) else snake_case(container.name),
+        "period": float(node.period) if getattr(node, "period", None) else 1.0,
     }

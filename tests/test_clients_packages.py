@@ -44,7 +44,7 @@ def test_a_keyword_named_client_is_a_package_python_imports(tmp_path: Path) -> N
     nodes = (n for c in resolved.system.containers for n in c.nodes)
     reader = next(n for n in nodes if n.eClass.name == "Reader")
     reader.name = "Import"
-    root = write_files(clients.generate(resolved), tmp_path) / "clients" / "import_client"
+    root = write_files(clients.generate(resolved), tmp_path) / "clients" / "ros2" / "import_client"
     setup = (root / "setup.py").read_text()
     assert "import_client.reader_node:main" in setup
     ast.parse("from import_client.reader_node import main")
@@ -64,7 +64,7 @@ def test_a_message_named_like_a_name_of_the_node_module_does_not_replace_it(
                 if getattr(interface, "topic", None) is not None:
                     interface.topic.type = "rover_msgs/Node"
                 interface.type = "rover_msgs/Node"
-    root = write_files(clients.generate(resolved), tmp_path) / "clients"
+    root = write_files(clients.generate(resolved), tmp_path) / "clients" / "ros2"
     for module in root.glob("*/*/*_node.py"):
         tree = ast.parse(module.read_text())
         bound = {
@@ -79,9 +79,9 @@ def test_a_message_named_like_a_name_of_the_node_module_does_not_replace_it(
 
 def test_one_ament_python_package_per_writer_and_reader(files, tmp_path: Path) -> None:
     root = write_files(files, tmp_path)
-    assert sorted(p.name for p in (root / "clients").iterdir()) == sorted(EXPECTED)
+    assert sorted(p.name for p in (root / "clients" / "ros2").iterdir()) == sorted(EXPECTED)
     for package, (module, msg_package, msg_name) in EXPECTED.items():
-        base = root / "clients" / package
+        base = root / "clients" / "ros2" / package
         manifest = etree.parse(str(base / "package.xml")).getroot()
         assert manifest.get("format") == "3"
         assert manifest.findtext("name") == package
@@ -95,8 +95,12 @@ def test_one_ament_python_package_per_writer_and_reader(files, tmp_path: Path) -
         for source in (base / package).glob("*.py"):
             py_compile.compile(str(source), doraise=True)
         node = ast.parse((base / package / f"{module}.py").read_text())
-        imports = {(n.module, a.name) for n in ast.walk(node) if isinstance(n, ast.ImportFrom)
-                   for a in n.names}
+        imports = {
+            (n.module, a.name)
+            for n in ast.walk(node)
+            if isinstance(n, ast.ImportFrom)
+            for a in n.names
+        }
         assert (f"{msg_package}.msg", msg_name) in imports
         assert ("rclpy.node", "Node") in imports
         calls = {ast.unparse(n.func) for n in ast.walk(node) if isinstance(n, ast.Call)}
@@ -111,20 +115,22 @@ def test_clients_carry_no_secret(files) -> None:
 
 
 def test_the_writer_robot_id_defaults_to_the_container_endpoint(files) -> None:
-    node = files["clients/velocity_writer/velocity_writer/writer_node.py"].decode()
-    assert 'declare_parameter("robot_id", \'ev3_a\')' in node
+    node = files["clients/ros2/velocity_writer/velocity_writer/writer_node.py"].decode()
+    assert "declare_parameter(\"robot_id\", 'ev3_a')" in node
 
 
 def test_invalid_message_types_and_mismatched_stores_are_refused() -> None:
     resolved = product()
-    writer = next(n for c in resolved.system.containers for n in c.nodes
-                  if n.name == "PositionWriter")
+    writer = next(
+        n for c in resolved.system.containers for n in c.nodes if n.name == "PositionWriter"
+    )
     writer.interfaces[0].topic.type = "rover_msgs/Position; import os"
     with pytest.raises(ModelError, match="invalid message type"):
         clients.generate(resolved)
     resolved = product()
-    reader = next(n for c in resolved.system.containers for n in c.nodes
-                  if n.name == "CommandReader")
+    reader = next(
+        n for c in resolved.system.containers for n in c.nodes if n.name == "CommandReader"
+    )
     reader.dataType = reader.store.raw
     with pytest.raises(ModelError, match="CommandReader reads Velocity, which store FollowStore"):
         clients.generate(resolved)

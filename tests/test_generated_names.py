@@ -93,7 +93,9 @@ def two_clouds(tmp_path_factory: pytest.TempPathFactory) -> dict[str, bytes]:
 
 
 def folders(files: dict[str, bytes], top: str) -> list[str]:
-    return sorted({path.split("/")[1] for path in files if path.startswith(f"{top}/")})
+    """The folders right below ``top`` (``services``, ``clients/ros1``, ...)."""
+    depth = top.count("/") + 1
+    return sorted({path.split("/")[depth] for path in files if path.startswith(f"{top}/")})
 
 
 def test_stores_of_one_name_in_two_containers_get_a_service_each(two_clouds) -> None:
@@ -146,14 +148,18 @@ def test_each_store_is_deployed_on_its_own(two_clouds) -> None:
 
 
 def test_writers_of_one_name_in_two_robots_get_a_package_each(two_clouds) -> None:
-    assert folders(two_clouds, "clients") == ["rover_position_writer", "tester_position_writer"]
+    assert folders(two_clouds, "clients/ros1") == [
+        "rover_position_writer",
+        "tester_position_writer",
+    ]
+    assert folders(two_clouds, "clients/ros2") == folders(two_clouds, "clients/ros1")
     for container, package, store in (
         ("Rover", "rover_position_writer", "FieldCloud_PositionStore"),
         ("Tester", "tester_position_writer", "LabCloud_PositionStore"),
     ):
         launch = two_clouds[f"ros2/{container}.launch.xml"].decode()
         assert f'pkg="{package}" exec="{package}" name="PositionWriter"' in launch
-        module = two_clouds[f"clients/{package}/{package}/store_client.py"].decode()
+        module = two_clouds[f"clients/ros2/{package}/{package}/store_client.py"].decode()
         assert f"STORE = {store!r}" in module
     manifest = yaml.safe_load(two_clouds["manifest.json"])
     assert len(manifest["files"]) == len(two_clouds) - 1
@@ -171,7 +177,7 @@ def test_the_two_services_keep_their_records_apart(two_clouds, tmp_path: Path) -
             running.append(RunningService(root / "services" / key, f"{slug}_service", env).start())
         field, lab = running
         writer = load_module(
-            root / "clients/rover_position_writer/rover_position_writer/store_client.py",
+            root / "clients/ros2/rover_position_writer/rover_position_writer/store_client.py",
             "rover_position_writer_client",
         )
         writer.StoreClient(field.url, token=TOKEN).post(
@@ -205,7 +211,7 @@ def test_a_store_alone_keeps_its_plain_names(tmp_path: Path) -> None:
     )
     assert folders(files, "services") == ["PositionStore"]
     assert "deploy/kubernetes/position-store.yaml" in files
-    assert folders(files, "clients") == ["position_writer"]
+    assert folders(files, "clients/ros1") == folders(files, "clients/ros2") == ["position_writer"]
 
 
 def test_names_that_meet_in_one_container_are_told_apart(tmp_path: Path) -> None:

@@ -120,3 +120,12 @@ def test_installed_wheel_runs_outside_the_source_tree(wheel, tmp_path):
         )
         assert resolved.returncode == 0, resolved.stderr
         assert (out / "manifest.json").is_file() and (out / "architecture.svg").is_file()
+
+
+def test_the_services_extra_is_what_the_generated_services_require():
+    """`pip install 'spl-robotics[services]'` lets spl smoke run a bundle's services with
+    spl's own Python: the extra lists exactly the generated requirements.txt."""
+    extras = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]
+    template = ROOT / "generators" / "templates" / "service" / "requirements.txt.j2"
+    required = [line for line in template.read_text().splitlines() if line.strip()]
+    assert extras["optional-dependencies"]["services"] == required

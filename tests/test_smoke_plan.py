@@ -82,8 +82,18 @@ def test_namespaces_and_data_clients(tmp_path):
     assert lidar["filters"] == {"median": {"window": 5}, "range": [0.1, 30.0]}
     data = load_plan(write_product(ROOT / "product_lines" / "data_acquisition",
                                    "Positions,Follow,Embedded", tmp_path / "data"))  # fmt: skip
+    # writers and readers are launched by the ROS 1 launch files: stand-ins by default,
+    # the generated nodes themselves when the rehearsal runs the data path
     reader = {n.name: n for c in data.containers for n in c.nodes}["CommandReader"]
-    assert reader.role == "data client" and reader.remaps == [("records", "/ev3/command")]
+    assert reader.role == "launched" and reader.interfaces[0].ros_name == "/ev3/command"
+    bundle = tmp_path / "data"
+    generated = {n.name: n for c in load_plan(bundle, generated=True).containers
+                 for n in c.nodes}  # fmt: skip
+    assert generated["CommandReader"].role == "generated"
+    assert load_plan(bundle).messages["ev3_msgs/Command"] == (
+        "string TYPE=ev3_msgs/Command\nfloat64 duration\nfloat64 vx\nfloat64 vy\nfloat64 va\n"
+        "string source\nstring route\nuint32 seq\n"
+    )
     assert join("/scout", "map") == "/scout/map" and join("/scout", "/map") == "/map"
 
 

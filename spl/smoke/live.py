@@ -128,6 +128,13 @@ def compare(
     rows: list[Row] = []
     for node in plan.nodes:
         status = statuses.get(node.ros_name)
+        if node.role == "generated":  # the bundle's own node: no status, its graph entry
+            if node.ros_name not in graph.nodes():
+                rows.append(Row(plan.name, node.name, "(node)", node.ros_name, "running",
+                                "not registered with the master", False))  # fmt: skip
+            for interface in node.interfaces:
+                rows.append(_generated_row(plan, node, interface, graph))
+            continue
         if status is None or status.get("error"):
             seen = status["error"] if status else "not running"
             rows.append(Row(plan.name, node.name, "(node)", node.ros_name, "running", seen, False))
@@ -208,6 +215,20 @@ def _interface_row(
                 seen = "no calls forwarded"
     seen = "; ".join([s for s in (seen, *notes) if s])
     return Row(plan.name, node.name, interface.name, topic, expected, seen, ok)
+
+
+def _generated_row(plan: ContainerPlan, node: NodePlan, interface: Interface,
+                   graph: LiveGraph) -> Row:  # fmt: skip
+    """A generated writer's or reader's interface: registered where the model binds it,
+    with the model's type (the data it moves is checked by the data path's rows)."""
+    registry = graph.publishers if interface.kind == "publisher" else graph.subscribers
+    registered = node.ros_name in registry.get(interface.ros_name, ())
+    live_type = graph.types.get(interface.ros_name)
+    ok = registered and live_type == interface.type
+    verb = "publishes" if interface.kind == "publisher" else "subscribes"
+    seen = f"{verb} {live_type}" if registered else f"not registered on {interface.ros_name}"
+    return Row(plan.name, node.name, interface.name, interface.ros_name,
+               f"{verb} {interface.type} (generated node)", seen, ok)  # fmt: skip
 
 
 def _sources_text(interface: Interface, container: str) -> str:

@@ -1,10 +1,13 @@
 """What a smoke rehearsal expects: the live graph the resolved model describes.
 
 The plan is read from the bundle alone: ``resolved.tsm`` (parsed with spl's own .tsm
-language) says which nodes, interfaces, types, topics, services and endpoint
-connections the product has; ``ros2/<container>.launch.xml`` says how the ROS 2 data
-clients (writers and readers, not in the ROS 1 launch files) are named and remapped.
-From the model every interface gets the ROS name it must have in its container, and
+language) says which nodes, interfaces, types, topics, services, stores and endpoint
+connections the product has. Writers and readers are started by the bundle's ROS 1
+launch files like every node: the generated nodes themselves when the rehearsal runs the
+data path (``generated``), stand-ins otherwise. The topics they write from and read to
+carry messages with the fields of their data type (``messages``: one ROS message
+definition per type, which the stand-ins and the generated nodes share). From the
+model every interface gets the ROS name it must have in its container, and
 from its flow table (:mod:`spl.resolver.flows`, the one Rapyuta, Kubernetes and Zenoh
 are generated from):
 
@@ -27,9 +30,7 @@ from pathlib import Path
 from typing import Any
 
 import yaml
-from lxml import etree
 
-from spl.diagnostics import Diagnostic, Location, ModelError
 from spl.metamodels import tsm
 from spl.resolver.flows import SERVICE, FlowTable, container_of
 from spl.resolver.product import topic_ros_name
@@ -56,6 +57,9 @@ class Interface:
     server: str | None = None  # clients: id of the node server that must answer
     forward: tuple[str, str] | None = None  # endpoint server: (peer container, peer client)
     relays: tuple[Relay, ...] = ()  # endpoint subscriber: where it passes which messages
+    # a stand-in publisher on a data-typed topic: the fields it fills and how many
+    # messages it sends (after as many subscribers as ``wait_for`` connected)
+    values: dict[str, Any] | None = None
     required: bool = True  # must see traffic (endpoint interfaces only when on a path)
     endpoint: bool = False  # an interface of the container's endpoint, not of a node
 
@@ -96,10 +100,11 @@ class NodePlan:
     container: str
     name: str  # model name, or the endpoint's (see endpoint_name)
     ros_name: str  # the node's full ROS name
-    role: str  # launched | data client | endpoint
+    # launched (a stand-in roslaunch starts) | generated (the bundle's own node) |
+    # endpoint | probe (the rehearsal's own subscriber to a generated reader's topic)
+    role: str
     interfaces: list[Interface] = field(default_factory=list)
     parameters: list[Parameter] = field(default_factory=list)
-    remaps: list[tuple[str, str]] = field(default_factory=list)  # data clients only
 
 
 @dataclass
@@ -117,6 +122,14 @@ class ContainerPlan:
 class SmokePlan:
     product: str
     containers: list[ContainerPlan]
+    # ROS type -> message definition, for the types of writers' and readers' topics: the
+    # data type's fields, and the stand-ins' tracking fields
+    messages: dict[str, str] = field(default_factory=dict)
+
+    @property
+    def runs_data(self) -> bool:
+        """Whether the bundle's own writers and readers run (the data path)."""
+        return any(n.role == "generated" for c in self.containers for n in c.nodes)
 
     def interfaces(self) -> list[Interface]:
         return [i for c in self.containers for n in c.nodes for i in n.interfaces]
@@ -139,6 +152,7 @@ class SmokePlan:
                             "ros_name": i.ros_name,
                             "forward": list(i.forward) if i.forward else None,
                             "relays": [relay.as_json() for relay in i.relays],
+                            "values": i.values,
                         }
                         for i in node.interfaces
                     ],
@@ -148,7 +162,8 @@ class SmokePlan:
                 else:
                     nodes[node.ros_name] = entry
             containers[container.name] = {"nodes": nodes, "endpoint": endpoint}
-        return {"status_dir": str(status_dir), "containers": containers}
+        return {"status_dir": str(status_dir), "containers": containers,
+                "messages": self.messages}  # fmt: skip
 
 
 def join(namespace: str, name: str) -> str:
@@ -165,37 +180,110 @@ def _namespace(container: Any) -> str:
     return "/" + container.namespace.strip("/") if container.namespace else ""
 
 
-def load_plan(bundle: Path) -> SmokePlan:
-    """The plan of the bundle in folder ``bundle``; a ModelError when it is not one."""
+DATA_MESSAGES = 12  # messages a stand-in publisher sends on a writer's topic
+ROS_FIELD_TYPES = {"double": "float64", "int": "int64", "string": "string", "bool": "bool"}
+TRACKING = "string source\nstring route\nuint32 seq\n"
+
+
+def load_plan(bundle: Path, generated: bool = False) -> SmokePlan:
+    """The plan of the bundle in folder ``bundle``; a ModelError when it is not one.
+    ``generated``: the bundle's own writers and readers run (the data path), not
+    stand-ins."""
     from spl.pipeline import read_bundle
 
     system, product = read_bundle(bundle)
-    return SmokePlan(product, _containers(system, bundle))
+    fields = data_fields(system)
+    messages = {
+        kind: f"string TYPE={kind}\n"
+        + "".join(f"{ROS_FIELD_TYPES[t]} {name}\n" for name, t in names)
+        + TRACKING
+        for kind, names in fields.items()
+    }
+    containers = _containers(system, generated)
+    _expect_values(containers, fields)
+    _probe_readers(containers)
+    return SmokePlan(product, containers, messages)
 
 
-def _containers(system: Any, bundle: Path) -> list[ContainerPlan]:
+def data_fields(system: Any) -> dict[str, list[tuple[str, str]]]:
+    """The topic types writers and readers use, each with its data type's fields (which
+    the generated nodes read and set by name): the messages of those topics carry them,
+    then the stand-ins' tracking fields (the constant keeps two types' definitions and
+    md5sums apart)."""
+    T = tsm()
+    found: dict[str, list[tuple[str, str]]] = {}
+    for container in system.containers:
+        for node in container.nodes:
+            if not isinstance(node, T.Writer | T.Reader) or node.dataType is None:
+                continue
+            for interface in node.interfaces:
+                found.setdefault(
+                    _type(interface), [(f.name, f.type.name) for f in node.dataType.fields]
+                )
+    return found
+
+
+def _expect_values(plans: list[ContainerPlan], fields: dict[str, list[tuple[str, str]]]) -> None:
+    """A stand-in publisher on a data-typed topic sends a known run of values, once the
+    subscribers its data must reach in its container are connected (none lost to ROS
+    connecting late)."""
+    for container in plans:
+        interfaces = [i for n in container.nodes for i in n.interfaces]
+        for publisher in interfaces:
+            if publisher.kind != "publisher" or publisher.endpoint or publisher.type not in fields:
+                continue
+            waiting = [
+                i for i in interfaces
+                if i.kind == "subscriber" and i.ros_name == publisher.ros_name
+                and publisher.id in i.sources
+            ]  # fmt: skip
+            publisher.values = {
+                "fields": [list(pair) for pair in fields[publisher.type]],
+                "count": DATA_MESSAGES,
+                "wait_for": len(waiting),
+            }
+
+
+PROBE = "spl_probe"
+
+
+def _probe_readers(plans: list[ContainerPlan]) -> None:
+    """A subscriber of the rehearsal's own on the topic of each generated reader that no
+    node of its container subscribes to: what the reader publishes is checked too."""
+    for container in plans:
+        interfaces = [i for n in container.nodes for i in n.interfaces]
+        for node in [n for n in container.nodes if n.role == "generated"]:
+            for publisher in (i for i in node.interfaces if i.kind == "publisher"):
+                if any(publisher.id in i.sources for i in interfaces):
+                    continue
+                taken = {n.name for n in container.nodes} | {n.ros_name for n in container.nodes}
+                name = endpoint_name(taken, container.namespace, f"{PROBE}_{node.name}")
+                probe = NodePlan(container.name, name,
+                                 node_ros_name(container.namespace, name), "probe")  # fmt: skip
+                probe.interfaces.append(
+                    Interface(container.name, name, publisher.name, "subscriber",
+                              publisher.type, publisher.ros_name, sources=(publisher.id,))
+                )  # fmt: skip
+                container.nodes.append(probe)
+
+
+def _containers(system: Any, generated: bool) -> list[ContainerPlan]:
     T = tsm()
     plans = []
     for container in system.containers:
         namespace = _namespace(container)
         plan = ContainerPlan(container.name, namespace)
-        clients = _ros2_data_clients(bundle / "ros2" / f"{container.name}.launch.xml")
         for node in container.nodes:
             data_client = isinstance(node, T.Writer | T.Reader)
-            ros_namespace = namespace
-            remaps = []
-            if data_client:
-                ros_namespace, remaps = clients.get(node.name, (namespace, []))
             bound = dict(remappings(node, system))
             node_plan = NodePlan(
                 container.name,
                 node.name,
-                node_ros_name(ros_namespace, node.name),
-                "data client" if data_client else "launched",
-                remaps=remaps,
+                node_ros_name(namespace, node.name),
+                "generated" if data_client and generated else "launched",
             )
             for interface in node.interfaces:
-                ros_name = join(ros_namespace, bound.get(interface.name, interface.name))
+                ros_name = join(namespace, bound.get(interface.name, interface.name))
                 node_plan.interfaces.append(
                     Interface(
                         container.name,
@@ -246,16 +334,16 @@ def _typed(kind: str, text: str) -> Any:
     return text
 
 
-def endpoint_name(taken: set[str], namespace: str) -> str:
+def endpoint_name(taken: set[str], namespace: str, base: str = ENDPOINT) -> str:
     """The node name of a container's endpoint stand-in: ``endpoint``, or ``endpoint_2``,
     ``endpoint_3``... when a node of the container already has that name or ROS name
     (``taken`` holds both). The stand-in is a node of the container's ROS graph: one
     sharing a node's name would make the master shut the other down, and its interfaces'
     ids would meet that node's."""
-    candidate, number = ENDPOINT, 1
+    candidate, number = base, 1
     while candidate in taken or node_ros_name(namespace, candidate) in taken:
         number += 1
-        candidate = f"{ENDPOINT}_{number}"
+        candidate = f"{base}_{number}"
     return candidate
 
 
@@ -288,24 +376,6 @@ def _endpoint(container: Any, namespace: str, system: Any, name: str) -> NodePla
             )
         )
     return node
-
-
-def _ros2_data_clients(path: Path) -> dict[str, tuple[str, list[tuple[str, str]]]]:
-    """Node name -> (namespace, remaps) of every node of a ROS 2 launch file: how the
-    bundle deploys its data clients."""
-    if not path.is_file():
-        return {}
-    try:
-        root = etree.parse(str(path), etree.XMLParser(resolve_entities=False)).getroot()
-    except etree.XMLSyntaxError as exc:
-        raise ModelError([Diagnostic(Location(str(path), exc.lineno or 0), str(exc))]) from None
-    clients = {}
-    for element in root.iter("node"):
-        namespace = element.get("namespace") or ""
-        namespace = "/" + namespace.strip("/") if namespace.strip("/") else ""
-        remaps = [(r.get("from"), r.get("to")) for r in element.iter("remap")]
-        clients[element.get("name")] = (namespace, remaps)
-    return clients
 
 
 def _expect_flows(system: Any, plans: list[ContainerPlan]) -> None:

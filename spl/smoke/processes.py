@@ -95,9 +95,21 @@ def free_port() -> int:
         return probe.getsockname()[1]
 
 
-def write_sandbox(root: Path, executables: Iterable[tuple[str, str]], python: str) -> None:
+def standin_command(python: str) -> str:
+    """The wrapper line that runs a stand-in node with the Python that has rospy."""
+    return f'exec {shlex.quote(python)} -I {shlex.quote(str(STANDIN))} node "$@"'
+
+
+def script_command(python: str, script: Path, paths: list[Path]) -> str:
+    """The wrapper line that runs a node's own script with ``paths`` importable."""
+    pythonpath = shlex.quote(":".join(str(p) for p in paths))
+    return f'PYTHONPATH={pythonpath} exec {shlex.quote(python)} {shlex.quote(str(script))} "$@"'
+
+
+def write_sandbox(root: Path, executables: Iterable[tuple[str, str, str]]) -> None:
     """A catkin workspace in which roslaunch finds every ``(package, type)`` as a
-    wrapper that runs the stand-in.
+    wrapper running the given shell ``command`` (the stand-in, or a generated node's own
+    script).
 
     roslaunch resolves ``<node pkg type>`` with ``roslib.packages.find_node``: the first
     catkin workspace of ``CMAKE_PREFIX_PATH`` (a folder with a ``.catkin`` file) that
@@ -115,8 +127,7 @@ def write_sandbox(root: Path, executables: Iterable[tuple[str, str]], python: st
     """
     root.mkdir(parents=True, exist_ok=True)
     (root / ".catkin").write_text("", encoding="utf-8")
-    command = f'exec {shlex.quote(python)} -I {shlex.quote(str(STANDIN))} node "$@"\n'
-    for package, executable in sorted(set(executables)):
+    for package, executable, command in sorted(set(executables)):
         if not SAFE_FILE_NAME.match(package) or not SAFE_FILE_NAME.match(executable):
             continue  # roslaunch will report the node it cannot find
         share = root / "share" / package
@@ -130,7 +141,7 @@ def write_sandbox(root: Path, executables: Iterable[tuple[str, str]], python: st
         )
         wrapper = root / "lib" / package / executable
         wrapper.parent.mkdir(parents=True, exist_ok=True)
-        wrapper.write_text("#!/bin/sh\n" + command, encoding="utf-8")
+        wrapper.write_text(f"#!/bin/sh\n{command}\n", encoding="utf-8")
         wrapper.chmod(0o755)
 
 
@@ -254,3 +265,26 @@ def tail(path: Path, lines: int = 5) -> str:
         return ""
     text = ANSI_ESCAPE.sub("", text)  # roslaunch colours its output
     return "\n".join(line for line in text.strip().splitlines()[-lines:] if line.strip())
+
+
+def write_messages(root: Path, messages: dict[str, str]) -> None:
+    """Python message packages for the generated nodes (``from rover_msgs.msg import
+    PositionInSecond``): each class is made at import by genpy from the plan's
+    definition, as the stand-ins make theirs, so both sides agree on the md5sum."""
+    packages: dict[str, dict[str, str]] = {}
+    for type_name, definition in messages.items():
+        package, _, name = type_name.partition("/")
+        if SAFE_FILE_NAME.match(package) and name.isidentifier():
+            packages.setdefault(package, {})[name] = definition
+    for package, definitions in packages.items():
+        folder = root / package / "msg"
+        folder.mkdir(parents=True, exist_ok=True)
+        (root / package / "__init__.py").write_text("", encoding="utf-8")
+        (folder / "__init__.py").write_text(
+            "import genpy.dynamic\n\n"
+            f"DEFINITIONS = {definitions!r}\n"
+            "for _name, _text in DEFINITIONS.items():\n"
+            f"    _type = {package!r} + '/' + _name\n"
+            "    globals()[_name] = genpy.dynamic.generate_dynamic(_type, _text)[_type]\n",
+            encoding="utf-8",
+        )

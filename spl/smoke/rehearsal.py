@@ -2,10 +2,11 @@
 
 For every container of the bundle: a private ``roscore`` on a free port; the bundle's
 own ``ros1/<container>.launch`` started by the real ``roslaunch`` with stand-ins in
-place of the executables (:func:`spl.smoke.processes.write_sandbox`); the data clients
-(ROS 2 packages, not in the ROS 1 files) as stand-ins named and remapped as the
-bundle's ROS 2 launch file says; and the container's endpoint relaying along the
-resolved architecture's endpoint connections. Then the graph is read from each
+place of the executables (:func:`spl.smoke.processes.write_sandbox`), except the
+generated writers and readers, which run as they are when the bundle's services can
+run (:mod:`spl.smoke.data_path`: the services are started first, and the data they
+move is checked end to end); and the container's endpoint relaying along the resolved
+architecture's flow table. Then the graph is read from each
 master and from the stand-ins until every expectation of the plan holds, until
 every stand-in is up and no check has changed for ``settle`` seconds (or half the
 time the stand-ins took to come up, when that is longer), or until ``timeout``. All
@@ -28,6 +29,8 @@ from typing import Any
 from lxml import etree
 
 from spl.lifetime import raise_if_signalled
+from spl.pipeline import read_bundle
+from spl.smoke.data_path import DATA_ROWS, DataPath, cloud_stores, missing
 from spl.smoke.live import NOT_MODELLED, Master, Row, compare, read_statuses
 from spl.smoke.plan import ContainerPlan, SmokePlan, load_plan
 from spl.smoke.processes import (
@@ -37,6 +40,9 @@ from spl.smoke.processes import (
     find_ros,
     free_port,
     marked_processes,
+    script_command,
+    standin_command,
+    write_messages,
     write_sandbox,
 )
 
@@ -72,6 +78,7 @@ class SmokeResult:
     seconds: float
     rows: dict[str, list[Row]]  # container -> rows, in model order
     problems: list[str] = field(default_factory=list)  # what failed outside the rows
+    skipped: str | None = None  # why the data path was not rehearsed, when it was not
 
     @property
     def passed(self) -> bool:
@@ -101,6 +108,7 @@ class SmokeResult:
                 for name, rows in self.rows.items()
             ],
             "failures": self.failures(),
+            "skipped": self.skipped,
         }
 
 
@@ -114,17 +122,23 @@ def run_smoke(
     """Rehearse the bundle in folder ``bundle``. Raises RosMissing without ROS 1 and
     ModelError when the bundle's model does not parse."""
     start = time.monotonic()
-    plan = load_plan(bundle)
+    system, _ = read_bundle(bundle)
     ros = ros or find_ros()
+    stores = bool(cloud_stores(system))
+    skipped = missing(bundle, system) if stores else None
+    plan = load_plan(bundle, generated=stores and skipped is None)
     run_dir = Path(tempfile.mkdtemp(prefix="spl-smoke-"))
     try:
         with Processes(run_dir) as processes:
-            rehearsal = _Rehearsal(bundle, plan, ros, processes, run_dir)
+            data = DataPath(bundle, system, processes, run_dir) if plan.runs_data else None
+            rehearsal = _Rehearsal(bundle, plan, ros, processes, run_dir, data)
             rehearsal.start()
             rows, problems = rehearsal.watch(start + timeout, settle, start, progress)
     finally:
         shutil.rmtree(run_dir, ignore_errors=True)
-    return SmokeResult(plan.product, str(bundle), time.monotonic() - start, rows, problems)
+    result = SmokeResult(plan.product, str(bundle), time.monotonic() - start, rows, problems)
+    result.skipped = skipped
+    return result
 
 
 def rehearse_files(
@@ -147,9 +161,15 @@ def rehearse_files(
 
 class _Rehearsal:
     def __init__(
-        self, bundle: Path, plan: SmokePlan, ros: RosInstall, processes: Processes, run_dir: Path
+        self,
+        bundle: Path,
+        plan: SmokePlan,
+        ros: RosInstall,
+        processes: Processes,
+        run_dir: Path,
+        data: DataPath | None,
     ) -> None:
-        self.bundle, self.plan, self.ros = bundle, plan, ros
+        self.bundle, self.plan, self.ros, self.data = bundle, plan, ros, data
         self.processes, self.run_dir = processes, run_dir
         self.status_dir = run_dir / "status"
         self.plan_file = run_dir / "plan.json"
@@ -165,11 +185,25 @@ class _Rehearsal:
         data clients and roslaunch."""
         description = self.plan.stand_in_description(self.status_dir)
         self.plan_file.write_text(json.dumps(description, indent=1), encoding="utf-8")
+        messages = self.run_dir / "messages"
+        write_messages(messages, self.plan.messages)
+        generated = {(n.container, n.name) for c in self.plan.containers for n in c.nodes
+                     if n.role == "generated"}  # fmt: skip
+        stand_in = standin_command(self.ros.python)
         executables = []
         for container in self.plan.containers:
-            executables += _launch_executables(self.bundle / "ros1" / f"{container.name}.launch")
-        write_sandbox(self.run_dir / "sandbox", executables, self.ros.python)
+            launch = self.bundle / "ros1" / f"{container.name}.launch"
+            for package, executable, name in _launch_executables(launch):
+                command = stand_in
+                if (container.name, name) in generated:
+                    root = self.bundle / "clients" / "ros1" / package
+                    command = script_command(self.ros.python, root / "scripts" / executable,
+                                             [messages, root / "src"])  # fmt: skip
+                executables.append((package, executable, command))
+        write_sandbox(self.run_dir / "sandbox", executables)
         (self.run_dir / "tmp").mkdir()
+        if self.data is not None:
+            self.data.start()
         for container in self.plan.containers:
             self._start_master(container)
 
@@ -197,9 +231,9 @@ class _Rehearsal:
             if node.role == "endpoint":
                 label = f"endpoint-{container.name}"
                 self.processes.start(label, [*python, "endpoint"], {**env, **namespace})
-            elif node.role == "data client":
-                label = f"client-{container.name}-{node.name}"
-                remaps = [f"{source}:={target}" for source, target in node.remaps]
+            elif node.role == "probe":
+                label = f"probe-{container.name}-{node.name}"
+                remaps = [f"{i.name}:={i.ros_name}" for i in node.interfaces]
                 argv = [*python, "node", f"__name:={node.name}", *remaps]
                 self.processes.start(label, argv, {**env, **namespace})
             else:
@@ -212,6 +246,9 @@ class _Rehearsal:
         label = f"roslaunch-{container.name}"
         self.labels[label] = (container.name, None)
         launch_env = {**env, "ROS_PACKAGE_PATH": f"{sandbox}/share", "CMAKE_PREFIX_PATH": sandbox}
+        if self.data is not None:  # the stores' addresses and tokens, for the generated nodes
+            argv += self.data.launch_arguments()
+            launch_env |= self.data.environment()
         self.processes.start(label, argv, launch_env)
         self.launched.add(container.name)
 
@@ -241,9 +278,15 @@ class _Rehearsal:
                     self.core_starts += 1
                     self.processes.retire(self.cores[name])
                     self._start_master(container)
+            if self.data is not None:
+                self.data.step(self.data.expected_raw(self.plan))
             rows, ready, stand_ins, given_up = self._snapshot()
             problems = self._process_problems()
-            state = (ready, [r.ok for rs in rows.values() for r in rs])
+            if self.data is not None:
+                problems += self.data.problems
+            # the data path's counts grow until it is done: a quiet spell waits for them
+            state = (ready, [(r.ok, r.seen if r.interface.startswith(DATA_ROWS) else "")
+                             for rs in rows.values() for r in rs])  # fmt: skip
             if state != before:  # settling waits for a quiet spell, not a fixed time
                 before, last_change = state, now
             if progress:
@@ -273,8 +316,11 @@ class _Rehearsal:
         rows, ready, stand_ins, given_up = {}, 0, 0, 0
         dead = {self.labels[label] for label, _, _ in self.processes.exited()}
         dead |= {(container, node) for container, node, _ in self._died_in_roslaunch()}
+        every_status = {
+            c.name: read_statuses(self.status_dir / c.name) for c in self.plan.containers
+        }
         for container in self.plan.containers:
-            statuses = read_statuses(self.status_dir / container.name)
+            statuses = every_status[container.name]
             master = self.masters[container.name]
             graph, params = None, {}
             if container.name in self.launched:
@@ -287,12 +333,18 @@ class _Rehearsal:
             rows[container.name] = compare(container, graph, statuses, params)
             for node in container.nodes:
                 stand_ins += 1
-                if statuses.get(node.ros_name, {}).get("ready"):
+                registered = graph is not None and node.ros_name in graph.nodes()
+                if statuses.get(node.ros_name, {}).get("ready") or (
+                    node.role == "generated" and registered
+                ):
                     ready += 1
                 elif (container.name, node.ros_name) in dead or (
-                    node.role == "launched" and (container.name, None) in dead
+                    node.role in ("launched", "generated") and (container.name, None) in dead
                 ):
                     given_up += 1  # its process (or its roslaunch) ended: it never will be
+        if self.data is not None:
+            for container, extra in self.data.rows(self.plan, every_status).items():
+                rows[container] = rows.get(container, []) + extra
         return rows, ready, stand_ins, given_up
 
     def _died_in_roslaunch(self) -> list[tuple[str, str, str]]:
@@ -312,7 +364,7 @@ class _Rehearsal:
         except a roslaunch with no node to run (it exits 0 at once)."""
         idle = {
             (c.name, None) for c in self.plan.containers if not any(
-                n.role == "launched" for n in c.nodes)
+                n.role in ("launched", "generated") for n in c.nodes)
         }  # fmt: skip
         ended = [
             f"{label} exited with status {status}: {output}".strip()
@@ -322,15 +374,15 @@ class _Rehearsal:
         return ended + [f"roslaunch-{c}: {line}" for c, _, line in self._died_in_roslaunch()]
 
 
-def _launch_executables(launch: Path) -> list[tuple[str, str]]:
-    """``(pkg, type)`` of every ``<node>`` of a roslaunch file (roslaunch itself reports
-    a file it cannot read)."""
+def _launch_executables(launch: Path) -> list[tuple[str, str, str]]:
+    """``(pkg, type, name)`` of every ``<node>`` of a roslaunch file (roslaunch itself
+    reports a file it cannot read)."""
     try:
         root = etree.parse(str(launch), etree.XMLParser(resolve_entities=False)).getroot()
     except (OSError, etree.XMLSyntaxError):
         return []
     return [
-        (node.get("pkg", ""), node.get("type", ""))
+        (node.get("pkg", ""), node.get("type", ""), node.get("name", ""))
         for node in root.iter("node")
         if node.get("pkg") and node.get("type")
     ]

@@ -26,7 +26,12 @@ Message and service classes are generated at run time with genpy from a syntheti
 definition registered under the model's type name, so the master shows the model's
 types and no message package needs to be installed. Every message carries the id of
 the publisher that produced it and the endpoint connections it crossed; every answer
-the id of the server that gave it.
+the id of the server that gave it. The topics of writers and readers carry their data
+type's fields too (the plan's ``messages``, which the generated nodes import under the
+same definitions): a stand-in publisher there sends a known run of values, and a
+stand-in subscriber records the values it receives. A message a generated node
+publishes carries no source: it is known by the publishing node's name (its
+connection header's ``callerid``).
 """
 
 from __future__ import annotations
@@ -56,6 +61,9 @@ CALL_PERIOD = 0.3  # seconds between two calls of a client
 
 _messages: dict[str, object] = {}
 _services: dict[str, object] = {}
+DEFINITIONS: dict[str, str] = {}  # the plan's data-typed messages, by type
+TRACKING = ("source", "route", "seq")
+VALUES_KEPT = 2000  # values a subscriber records, at most
 
 
 def _generated(type_name: str, definition: str):
@@ -65,8 +73,40 @@ def _generated(type_name: str, definition: str):
 def message_class(type_name: str):
     """The class of messages of ``type_name``, generated once per process."""
     if type_name not in _messages:
-        _messages[type_name] = _generated(type_name, MESSAGE.format(type_name))
+        definition = DEFINITIONS.get(type_name) or MESSAGE.format(type_name)
+        _messages[type_name] = _generated(type_name, definition)
     return _messages[type_name]
+
+
+def data_fields(message) -> list[str]:
+    """The data type's fields of a message (none for a synthetic one)."""
+    return [name for name in message.__slots__ if name not in TRACKING]
+
+
+def value_of(kind: str, seq: int, index: int):
+    """The value a stand-in publisher sends in field ``index`` of message ``seq``:
+    distinct per message and field, exact in JSON and in every ROS type."""
+    if kind == "double":
+        return seq * 3.25 + index * 0.5
+    if kind == "int":
+        return seq * 10 + index
+    if kind == "bool":
+        return (seq + index) % 2 == 0
+    return f"v{seq}-{index}"
+
+
+def source_of(message, topic: str, nodes: dict) -> str:
+    """Who published ``message`` on ``topic``: its own tracking field, or (a generated
+    node sets none) the publisher interface on that topic of the node its connection
+    header names."""
+    if message.source:
+        return message.source
+    caller = (getattr(message, "_connection_header", None) or {}).get("callerid", "")
+    node = nodes.get(caller)
+    for interface in (node or {}).get("interfaces", ()):
+        if interface["kind"] == "publisher" and interface["ros_name"] == topic:
+            return f"{node['id']}.{interface['name']}"
+    return caller or "?"
 
 
 def service_class(type_name: str):
@@ -157,6 +197,7 @@ class Status:
 def load_plan() -> tuple[dict, str, dict]:
     with open(os.environ["SPL_SMOKE_PLAN"], encoding="utf-8") as stream:
         plan = json.load(stream)
+    DEFINITIONS.update(plan.get("messages") or {})
     container = os.environ["SPL_SMOKE_CONTAINER"]
     return plan, container, plan["containers"][container]
 
@@ -185,26 +226,36 @@ def run_node() -> None:
         return
     keep = []  # rospy objects must stay referenced for the life of the process
     for interface in node["interfaces"]:
-        keep.append(_node_interface(interface, node["id"], container, status))
+        keep.append(_node_interface(interface, node["id"], description["nodes"], status))
     status.data["ready"] = True
     rospy.spin()
 
 
-def _node_interface(interface: dict, node_id: str, container: str, status: Status):
+def _node_interface(interface: dict, node_id: str, nodes: dict, status: Status):
     name, kind, type_name = interface["name"], interface["kind"], interface["type"]
     own_id = f"{node_id}.{name}"
     if kind == "publisher":
-        publisher = rospy.Publisher(name, message_class(type_name), queue_size=10)
+        publisher = rospy.Publisher(name, message_class(type_name), queue_size=100)
         entry = status.interface(name, publisher.resolved_name)
-        _publish_forever(publisher, own_id, container, status, entry)
+        if interface.get("values"):
+            _publish_values(publisher, own_id, interface["values"], status, entry)
+        else:
+            _publish_forever(publisher, own_id, status, entry)
         return publisher
     if kind == "subscriber":
-        entry = status.interface(name, rospy.resolve_name(name))
+        topic = rospy.resolve_name(name)
+        entry = status.interface(name, topic)
+        entry["values"] = []
 
         def received(message) -> None:
-            status.count(entry, "received", message.source)
+            source = source_of(message, topic, nodes)
+            status.count(entry, "received", source)
+            fields = data_fields(message)
+            if fields and len(entry["values"]) < VALUES_KEPT:
+                with status.lock:
+                    entry["values"].append([source, [getattr(message, f) for f in fields]])
 
-        return rospy.Subscriber(name, message_class(type_name), received)
+        return rospy.Subscriber(name, message_class(type_name), received, queue_size=1000)
     if kind == "server":
         cls = service_class(type_name)
         entry = status.interface(name, rospy.resolve_name(name))
@@ -219,7 +270,36 @@ def _node_interface(interface: dict, node_id: str, container: str, status: Statu
     return None
 
 
-def _publish_forever(publisher, own_id: str, container: str, status: Status, entry) -> None:
+def _publish_values(publisher, own_id: str, plan: dict, status: Status, entry) -> None:
+    """Once ``wait_for`` subscribers are connected (at most 20 s), ``count`` messages of
+    known values, recorded in the status as sent."""
+    entry["values"] = []
+
+    def loop() -> None:
+        deadline = time.monotonic() + 20.0
+        while publisher.get_num_connections() < plan["wait_for"] and time.monotonic() < deadline:
+            if rospy.is_shutdown():
+                return
+            time.sleep(0.05)
+        time.sleep(0.2)  # the last subscriber's connection settles on its side too
+        for seq in range(1, plan["count"] + 1):
+            values = [value_of(kind, seq, i) for i, (_, kind) in enumerate(plan["fields"])]
+            message = publisher.data_class(source=own_id, route="", seq=seq)
+            for (field, _), value in zip(plan["fields"], values, strict=True):
+                setattr(message, field, value)
+            try:
+                publisher.publish(message)
+            except rospy.ROSException:
+                return  # shutting down
+            with status.lock:
+                entry["values"].append(values)
+            status.count(entry, "sent")
+            time.sleep(PUBLISH_PERIOD)
+
+    threading.Thread(target=loop, daemon=True).start()
+
+
+def _publish_forever(publisher, own_id: str, status: Status, entry) -> None:
     def loop() -> None:
         seq = 0
         while not rospy.is_shutdown():
@@ -285,6 +365,7 @@ class _Relay:
 
     def __init__(self, plan: dict, container: str, status: Status) -> None:
         self.plan, self.container, self.status = plan, container, status
+        self.nodes = plan["containers"][container]["nodes"]
         self.publishers: dict[str, object] = {}
         self.proxies: dict[str, object] = {}
         self.entries: dict[str, dict] = {}
@@ -301,11 +382,13 @@ class _Relay:
             )
         elif kind == "subscriber":
 
-            def received(message, entry=entry, relays=relays) -> None:
-                self.status.count(entry, "received", message.source)
+            def received(message, entry=entry, relays=relays, topic=ros_name) -> None:
+                source = source_of(message, rospy.resolve_name(topic), self.nodes)
+                self.status.count(entry, "received", source)
+                message.source = source  # a generated node's data is known by its node
                 crossed = message.route
                 for relay in relays:
-                    if f"{message.source}|{crossed}" not in relay["passes"]:
+                    if f"{source}|{crossed}" not in relay["passes"]:
                         continue  # no flow of this publisher takes this connection here
                     message.route = f"{crossed},{relay['connection']}".lstrip(",")
                     try:
