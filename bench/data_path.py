@@ -4,7 +4,7 @@ delay its readers add.
     .venv/bin/python bench/data_path.py [--writers 10] [--rate 100] [--seconds 60]
 
 A product line written here has one store (positions in arc-seconds refined to degrees,
-``lat / 3600`` every second, SQLite) and, in one robot container, a writer and two
+``lat / 3600`` every ``--period`` seconds, SQLite) and, in one robot container, a writer and two
 readers of the refined records: one polling every second, one subscribed over the
 store's WebSocket. The bench resolves it with spl, starts one roscore, the generated
 service (uvicorn, its own process) and ``--writers`` copies of the generated ROS 1
@@ -16,7 +16,9 @@ Printed: records published, stored (and lost or duplicated: must be 0), refined;
 for each reader the delay it adds, from the commit of a refined row (an SQLite trigger
 stamps the insert, inside the transformer's transaction) to the reader's subscriber
 receiving it, p50 and p99 over every record. Goals: polling at most the poll period
-plus 50 ms; subscribed at most 50 ms at p99.
+plus 50 ms; subscribed at most 50 ms at p99. Each commit refines what arrived in one
+period (``--writers * --rate * --period`` rows), and a subscriber gets them one after
+the other: the last row of a commit waits for the others.
 """
 
 from __future__ import annotations
@@ -57,7 +59,7 @@ transform ToDegrees : Seconds -> Degrees {
 cloud container Cloud {
     store Positions {
         raw Seconds
-        refined Degrees by ToDegrees every 1 s
+        refined Degrees by ToDegrees every PERIOD s
     }
 }
 robot container Robot {
@@ -112,6 +114,10 @@ def main() -> None:
     parser.add_argument("--writers", type=int, default=10)
     parser.add_argument("--rate", type=float, default=100.0)
     parser.add_argument("--seconds", type=float, default=60.0)
+    parser.add_argument(
+        "--period", type=float, default=1.0,
+        help="the transformer's period in the model (s): each commit refines what came since",
+    )  # fmt: skip
     args = parser.parse_args()
     ros = find_ros()
     with tempfile.TemporaryDirectory(prefix="spl-bench-data-") as scratch:
@@ -121,7 +127,7 @@ def main() -> None:
 def run(scratch: Path, ros, args) -> None:  # type: ignore[no-untyped-def]
     line = scratch / "line"
     line.mkdir()
-    (line / "b.tsm").write_text(TSM)
+    (line / "b.tsm").write_text(TSM.replace("PERIOD", repr(args.period)))
     (line / "b.fm").write_text("feature model Bench\nroot Bench\n")
     (line / "b.rm").write_text('resolution model Bench\ntsm "b.tsm"\nfm "b.fm"\n')
     product = resolve(load_product_line(line), selection_from_list("Bench")).product
