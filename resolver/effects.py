@@ -21,7 +21,7 @@ server of C         ``connect NODE.C to server S`` and service   the .tsm bindin
 ==================  ===========================================  =======================
 
 A node is present when it is stable, or when an active element requires or transforms
-it (:func:`spl.resolver.line_checks.unreachable_optionals.touched_elements`, the
+it (:func:`spl.resolver.transformations.touched_elements`, the
 engine's ``keep``). Within one product two active elements never give one aspect two
 values (the engine refuses that, SPL020), so an aspect's value is that of *the* active
 effect, or the template's. Values are those the resolved model shows, so a prediction
@@ -38,13 +38,12 @@ from typing import Any
 from spl.diagnostics import Location, location_of
 from spl.metamodels import tsm
 from spl.resolver.data_clients import client_packages
-from spl.resolver.line_checks.unreachable_optionals import touched_elements
-from spl.resolver.placement import sharing_mode, sharing_targets
+from spl.resolver.placement import sharing_mode
 from spl.resolver.product import topic_ros_name
-from spl.resolver.transformations.parameter import canonical_text
+from spl.resolver.transformations import kind_of, sharing_targets, touched_elements
+from spl.resolver.transformations.migration import PLACEMENT
 
 Active = Callable[[Any], bool]  # is this resolution element active?
-PLACEMENT = "placement"
 SHARING = "sharing mode"
 
 
@@ -159,26 +158,7 @@ class LineEffects:
             if id(touched) in self.by_node:
                 self.by_node[id(touched)].keepers.append(element)
         for t in element.transformations:
-            where = location_of(t)
-            kind = t.eClass.name
-            if kind == "Implementation":
-                value = f"{t.package}/{t.executable}"
-                self._effect(t.node, "implementation", element, value, where)
-            elif kind == "NodeMigration":
-                self._effect(t.node, PLACEMENT, element, t.target.name, where)
-            elif kind == "ParameterValue" and t.parameter is not None:
-                value = t.value if t.attribute is None else _attribute_value(t)
-                self._effect(
-                    t.parameter.eContainer(), f"parameter {t.parameter.name}", element, value, where
-                )
-            elif kind in ("ConnectToTopic", "ConnectToNewTopic"):
-                name = f"topic of {t.interface.name}"
-                value = self._topic_value(t)
-                self._effect(t.interface.eContainer(), name, element, value, where)
-            elif kind == "ConnectService" or (kind == "ConnectBridge" and t.client is not None):
-                node = self.by_node.get(id(t.client.eContainer()))
-                if node is not None:
-                    node.servers[t.client.name].effects.append(Effect(element, t.server, where))
+            kind_of(t).predict(t, element, self)
         sharing = element.feature.sharing
         if sharing is not None:
             feature, default = element.feature.name, sharing.mode.name
@@ -187,33 +167,41 @@ class LineEffects:
                 return dict(settings.sharing).get(feature, default)
 
             for node in dict.fromkeys(sharing_targets(element)):
-                self._effect(node, SHARING, element, mode, location_of(element))
+                self.effect(node, SHARING, element, mode, location_of(element))
 
-    def _topic_value(self, connect: Any) -> str:
+    # -- what a statement does (TransformationKind.predict) ----------------------------
+    def topic_value(self, connect: Any) -> str:
         """The ROS name a connect statement binds its interface to. A `to topic` names the
         topic by (container, name) and is looked up when it runs (docs/semantics.md); the
         prediction reads it in the named container, else the node's own, else any topic of
         that name the template or an earlier `new topic` declares."""
         ref = connect.topic
-        if ref.eClass.name != "TopicReference":  # ConnectToNewTopic holds the topic itself
+        if ref.eClass.name != "TopicReference":  # a `new topic` holds the topic itself
             return topic_ros_name(ref)
         home = ref.container or connect.interface.eContainer().eContainer()
         topics = [*home.topics, *(t for c in self._system.containers for t in c.topics)]
         created = (
-            t.topic
+            topic
             for e in self._elements
             for t in e.transformations
-            if t.eClass.name == "ConnectToNewTopic"
+            if (topic := kind_of(t).created_topic(t)) is not None
         )
         for topic in [*topics, *created]:
             if topic.name == ref.name:
                 return topic_ros_name(topic)
         return f"/{ref.name}"
 
-    def _effect(self, node: Any, aspect: str, element: Any, value: Any, where: Any) -> None:
+    def effect(self, node: Any, aspect: str, element: Any, value: Any, where: Any) -> None:
+        """``element``, when active, sets ``aspect`` of ``node`` to ``value``."""
         effects = self.by_node.get(id(node))
         if effects is not None and aspect in effects.aspects:
             effects.aspects[aspect].effects.append(Effect(element, value, where))
+
+    def server(self, client: Any, element: Any, server: Any, where: Any) -> None:
+        """``element``, when active, binds ``client`` to ``server``."""
+        node = self.by_node.get(id(client.eContainer()))
+        if node is not None:
+            node.servers[client.name].effects.append(Effect(element, server, where))
 
     # -- prediction ------------------------------------------------------------------
     def server_value(
@@ -244,26 +232,6 @@ def server_id(container: str, node: str, server: str) -> str:
 def active_in(features: set[str] | frozenset[str]) -> Active:
     """The activation rule of the engine (SPEC 5.1 step 4) for a completed selection."""
     return lambda element: (element.feature.name in features) == element.activeIfSelected
-
-
-def _attribute_value(transformation: Any) -> Callable[[Settings], str]:
-    """A parameter set from a feature attribute: the robot's value, else the default,
-    written as the engine writes it."""
-    attribute = transformation.attribute
-    key = f"{attribute.eContainer().name}.{attribute.name}"
-    kind = transformation.parameter.type.name
-    default = attribute.value
-
-    def value(settings: Settings) -> str:
-        given = dict(settings.attributes)
-        if key in given:
-            return canonical_text(given[key], kind)
-        typed = {"int": int, "double": float, "bool": lambda t: t == "true"}.get(
-            attribute.type.name, str
-        )(default)
-        return canonical_text(typed, kind)
-
-    return value
 
 
 def observed(node: Any, product: Any) -> dict[str, Any]:

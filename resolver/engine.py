@@ -23,13 +23,13 @@ from spl.resolver.capabilities import CapabilityChoice, choose_features, merge_c
 from spl.resolver.context import ResolutionContext, describe
 from spl.resolver.data_clients import implement_data_clients
 from spl.resolver.flows import FlowTable
-from spl.resolver.placement import shared_across_users, sharing_targets, unlinked_clouds
+from spl.resolver.placement import shared_across_users, unlinked_clouds
 from spl.resolver.product import ResolvedProduct, node_keys
 from spl.resolver.product_line import ProductLine
 from spl.resolver.product_selection import CommandLineValue, ProductSelection, typed_text
 from spl.resolver.selection import SelectionCheck, check_selection
 from spl.resolver.trace import Trace
-from spl.resolver.transformations import APPLY
+from spl.resolver.transformations import kind_of, sharing_targets
 from spl.resolver.wiring import cross_robot_flows
 
 
@@ -83,7 +83,7 @@ def _resolve(line: ProductLine, selection: ProductSelection) -> Resolution:
         for required in element.required:
             ctx.keep(copies[id(required)], f"required by {describe(element)}", location_of(element))
         for transformation in element.transformations:
-            APPLY[transformation.eClass.name](transformation, ctx)
+            kind_of(transformation).apply(transformation, ctx)
     sink.raise_if_errors()  # step 5: conflicts found while applying
 
     _apply_sharing(ctx, active, selection)  # step 6

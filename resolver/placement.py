@@ -74,17 +74,6 @@ def sharing_mode(node: Any) -> str:
     return node.sharing.name if node.sharing is not None else "private"
 
 
-def sharing_targets(element: Any) -> list[Any]:
-    """The template elements a resolution element's feature gives its sharing mode to: the
-    ones it requires and the nodes it implements or migrates (stores among them too; the
-    callers keep what they need)."""
-    return list(element.required) + [
-        t.node
-        for t in element.transformations
-        if t.eClass.name in ("Implementation", "NodeMigration")
-    ]
-
-
 def container_of(interface: Any) -> Any:
     """The container of an endpoint interface or of a node interface."""
     owner = interface.eContainer() if interface is not None else None

@@ -26,10 +26,10 @@ from spl.diagnostics import Diagnostic, ModelError, location_of
 from spl.resolver.flows import FlowTable
 from spl.resolver.line_checks.activation import ActivationSolver
 from spl.resolver.line_checks.listed_products import Listed
-from spl.resolver.line_checks.unreachable_optionals import touched_elements
-from spl.resolver.placement import sharing_mode, sharing_targets
+from spl.resolver.placement import sharing_mode
 from spl.resolver.product_line import ProductLine
 from spl.resolver.product_selection import ProductSelection, selection_from_list
+from spl.resolver.transformations import sharing_targets, touched_elements
 from spl.resolver.wiring import CROSS_ROBOT, cut_off
 
 

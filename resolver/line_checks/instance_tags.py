@@ -22,8 +22,9 @@ from collections import defaultdict
 from spl.diagnostics import Diagnostic, ModelError
 from spl.metamodels import tsm
 from spl.resolver.line_checks.listed_products import Listed
-from spl.resolver.placement import MODES, Placement, sharing_mode, sharing_targets
+from spl.resolver.placement import MODES, Placement, sharing_mode
 from spl.resolver.product_line import ProductLine
+from spl.resolver.transformations import moves, sharing_targets
 
 CLASHING_TAGS = "SPL019"
 
@@ -63,9 +64,9 @@ def _possible_modes(line: ProductLine, listed: Listed) -> dict[int, set[str]]:
         for node in container.nodes:
             modes[id(container)].add(sharing_mode(node))
     for element in line.rm.elements:
-        moves = [t for t in element.transformations if t.eClass.name == "NodeMigration"]
-        for move in moves:
-            modes[id(move.target)].add(sharing_mode(move.node))
+        moved = moves(element)
+        for node, target in moved:
+            modes[id(target)].add(sharing_mode(node))
         config = element.feature.sharing
         if config is None:
             continue
@@ -73,6 +74,6 @@ def _possible_modes(line: ProductLine, listed: Listed) -> dict[int, set[str]]:
         for node in sharing_targets(element):
             if isinstance(node, Node):  # not a store
                 modes[id(node.eContainer())] |= feature_modes
-        for move in moves:
-            modes[id(move.target)] |= feature_modes
+        for _, target in moved:
+            modes[id(target)] |= feature_modes
     return modes

@@ -17,7 +17,6 @@ report is never made for a product in which the statement would succeed.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator
 from functools import partial
 from typing import Any, NamedTuple
 
@@ -31,6 +30,7 @@ from spl.dsl.rm_names import (
 )
 from spl.resolver.line_checks.activation import ActivationSolver
 from spl.resolver.product_line import ProductLine
+from spl.resolver.transformations import kind_of
 
 PRODUCT_DEPENDENT = "SPL016"
 
@@ -134,6 +134,19 @@ class _Statement:
     def witness(self) -> tuple[str, ...] | None:
         return self.solver.witness_where(self.element, self.clauses)
 
+    # the questions a statement's kind asks (TransformationKind.questions)
+    def topic_lookup(self, node: Any, reference: Any) -> str | None:
+        return _topic_lookup(self, node, reference)
+
+    def apart(self, client: Any, server: Any) -> str | None:
+        return _apart(self, client, server)
+
+    def together(self, client: Any, server: Any) -> str | None:
+        return _together(self, client, server)
+
+    def onto_a_name(self, node: Any, target: Any) -> str | None:
+        return _onto_a_name(self, node, target)
+
     def witness_of_any(self, options: list[int]) -> tuple[str, ...] | None:
         """A product where one of ``options`` holds (with the questions asked so far), or
         None when there is none or no option at all."""
@@ -150,32 +163,15 @@ def product_dependent_statements(line: ProductLine, solver: ActivationSolver) ->
     for element in line.rm.elements:
         names.begin_element(element)
         for transformation in element.transformations:
+            # one question object per question: each asks the solver once
             asked = partial(_Statement, solver, names, element)
-            for problem in _failing(transformation, asked):
-                found.append(
-                    Diagnostic(location_of(transformation), problem, "error", PRODUCT_DEPENDENT)
-                )
+            for problem in kind_of(transformation).questions(transformation, asked):
+                if problem is not None:
+                    found.append(
+                        Diagnostic(location_of(transformation), problem, "error", PRODUCT_DEPENDENT)
+                    )
             names.apply(transformation)
     return found
-
-
-def _failing(t: Any, statement: Callable[[], _Statement]) -> Iterator[str]:
-    """The message for a product in which transformation ``t`` fails, one per question
-    (a topic bridge asks about each of its two ends)."""
-    kind = t.eClass.name
-    if kind == "ConnectToTopic":
-        found = [_topic_lookup(statement(), t.interface.eContainer(), t.topic)]
-    elif kind == "ConnectBridge" and t.sourceTopic is not None:
-        found = [_topic_lookup(statement(), None, end) for end in (t.sourceTopic, t.targetTopic)]
-    elif kind == "ConnectService":
-        found = [_apart(statement(), t.client, t.server)]
-    elif kind == "ConnectBridge":
-        found = [_together(statement(), t.client, t.server)]
-    elif kind == "NodeMigration":
-        found = [_onto_a_name(statement(), t.node, t.target)]
-    else:
-        found = []
-    yield from (problem for problem in found if problem is not None)
 
 
 def _topic_lookup(statement: _Statement, node: Any, reference: Any) -> str | None:

@@ -12,6 +12,7 @@ from spl.diagnostics import Diagnostic, location_of
 from spl.dsl.fm import all_features
 from spl.resolver.formula_trees import formula_features, formula_tree
 from spl.resolver.product_line import ProductLine
+from spl.resolver.transformations import kind_of
 
 NO_EFFECT = "SPL014"
 
@@ -26,8 +27,9 @@ def features_without_effect(line: ProductLine) -> list[Diagnostic]:
         if not element.activeIfSelected:
             not_selected.add(element.feature.name)
         for t in element.transformations:
-            if t.eClass.name == "ParameterValue" and t.attribute is not None:
-                mentioned.add(t.attribute.eContainer().name)
+            attribute = kind_of(t).attribute(t)
+            if attribute is not None:
+                mentioned.add(attribute.eContainer().name)
     for constraint in line.fm.constraints:
         mentioned.update(formula_features(formula_tree(constraint.formula)))
     found = []

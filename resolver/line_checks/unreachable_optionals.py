@@ -1,38 +1,19 @@
 """SPL011: optional nodes and stores no product can contain.
 
 An optional node or store enters a product only through an active resolution element
-that requires or transforms it (:func:`touched_elements`, what the engine keeps); when
+that requires or transforms it (:func:`spl.resolver.transformations.touched_elements`, what
+the engine keeps); when
 no element that can be active touches it, it is in no product.
 """
 
 from __future__ import annotations
 
-from collections.abc import Iterator
-from typing import Any
-
 from spl.diagnostics import Diagnostic, location_of
 from spl.resolver.line_checks.activation import ActivationSolver
 from spl.resolver.product_line import ProductLine
+from spl.resolver.transformations import touched_elements
 
 UNREACHABLE_OPTIONAL = "SPL011"
-
-
-def touched_elements(element: Any) -> Iterator[Any]:
-    """The nodes and stores a resolution element keeps in a product when it is active
-    (what the engine's ``keep`` is called with)."""
-    yield from element.required
-    for t in element.transformations:
-        kind = t.eClass.name
-        if kind in ("Implementation", "NodeMigration"):
-            yield t.node
-        elif kind in ("ConnectToTopic", "ConnectToNewTopic"):
-            yield t.interface.eContainer()
-        elif kind == "ConnectService" or (kind == "ConnectBridge" and t.client is not None):
-            yield t.client.eContainer()
-            yield t.server.eContainer()
-        elif kind == "ParameterValue":
-            owner = t.refinement if t.refinement is not None else t.parameter
-            yield owner.eContainer()
 
 
 def unreachable_optional_elements(line: ProductLine, solver: ActivationSolver) -> list[Diagnostic]:

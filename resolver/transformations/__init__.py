@@ -1,22 +1,64 @@
-"""The four transformation kinds of seeds/003, one module each.
+"""The kinds of resolution statements (seeds/003's four transformation kinds, the
+connection kind split by what it connects), one class per module, and their registry.
 
-``APPLY`` maps a transformation's metaclass name to the function that applies it to
-the product being derived; the engine runs them in file order.
+Everything that acts on or reasons about a ``.rm`` statement asks its kind
+(:func:`kind_of`): the engine applies it, the product-line checks ask what it keeps,
+decides and may fail at, the fleet analysis what it does to nodes. Adding a kind is a
+new module with a :class:`~.kind.TransformationKind` subclass and its line in
+``KINDS`` (docs/architecture.md).
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Iterator
 from typing import Any
 
-from spl.resolver.transformations import connect, implementation, migration, parameter
+from spl.resolver.transformations.bridge import ConnectBridge
+from spl.resolver.transformations.implementation import Implementation
+from spl.resolver.transformations.kind import TransformationKind
+from spl.resolver.transformations.migration import NodeMigration
+from spl.resolver.transformations.new_topic import ConnectToNewTopic
+from spl.resolver.transformations.parameter import ParameterValue
+from spl.resolver.transformations.to_server import ConnectService
+from spl.resolver.transformations.to_topic import ConnectToTopic
 
-APPLY: dict[str, Callable[[Any, Any], None]] = {
-    "Implementation": implementation.apply,
-    "ConnectToTopic": connect.to_topic,
-    "ConnectToNewTopic": connect.to_new_topic,
-    "ConnectService": connect.to_server,
-    "ConnectBridge": connect.bridge,
-    "ParameterValue": parameter.apply,
-    "NodeMigration": migration.apply,
+KINDS: dict[str, TransformationKind] = {
+    kind.metaclass: kind
+    for kind in (
+        Implementation(),
+        ConnectToTopic(),
+        ConnectToNewTopic(),
+        ConnectService(),
+        ConnectBridge(),
+        ParameterValue(),
+        NodeMigration(),
+    )
 }
+
+
+def kind_of(transformation: Any) -> TransformationKind:
+    """The kind of a ``.rm`` statement (by its rm.ecore class)."""
+    return KINDS[transformation.eClass.name]
+
+
+def touched_elements(element: Any) -> Iterator[Any]:
+    """The nodes and stores a resolution element keeps in a product when it is active
+    (what the engine's ``keep`` is called with): its required ones, and those its
+    statements keep."""
+    yield from element.required
+    for t in element.transformations:
+        yield from kind_of(t).touched(t)
+
+
+def sharing_targets(element: Any) -> list[Any]:
+    """The template elements a resolution element's feature gives its sharing mode to: the
+    ones it requires and the nodes it implements or migrates (stores among them too; the
+    callers keep what they need)."""
+    return list(element.required) + [
+        node for t in element.transformations for node in kind_of(t).shares(t)
+    ]
+
+
+def moves(element: Any) -> list[tuple[Any, Any]]:
+    """(node, target container) of the element's migrations, in order."""
+    return [m for t in element.transformations if (m := kind_of(t).move(t)) is not None]

@@ -1,47 +1,45 @@
-"""Connection transformations: the four kinds of seeds/003.
+"""What the four connection kinds of seeds/003 share: interface to an existing topic
+(:mod:`.to_topic`), interface to a new topic (:mod:`.new_topic`), service client to
+server (:mod:`.to_server`), and a bridge between containers (:mod:`.bridge`).
 
-Interface to an existing topic, interface to a new topic, service client to server,
-and a bridge between containers. The .rm builder resolved nodes and interfaces against
-the template; topics and containers are looked up here, in the product as the
-statements before left it (docs/semantics.md): a node is where earlier migrations put
-it, and a topic an earlier `new topic` created exists.
+The .rm builder resolved nodes and interfaces against the template; topics and
+containers are looked up here, in the product as the statements before left it
+(docs/semantics.md): a node is where earlier migrations put it, and a topic an earlier
+`new topic` created exists.
 """
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from typing import Any
 
 from spl.diagnostics import location_of
-from spl.dsl.rm_names import (
-    agree,
-    missing_topic,
-    new_topic_clash,
-    not_served_here,
-    same_container_bridge,
-    same_topic,
-)
+from spl.dsl.rm_names import agree, missing_topic
 from spl.resolver.context import Cause, ResolutionContext, qualified
+from spl.resolver.transformations.kind import Decision, DecisionKey, Predictions
 
 
-def _here(interface: Any) -> Any:
+def here(interface: Any) -> Any:
     """The container an interface's node is in now (after the migrations so far)."""
     return interface.eContainer().eContainer()
 
 
-def _type_mismatch(ctx: ResolutionContext, a: Any, b: Any, where: Any) -> bool:
+def type_mismatch(ctx: ResolutionContext, a: Any, b: Any, where: Any) -> bool:
     if agree(a, b):
         return False
     ctx.sink.error(where, f"type mismatch: {a.name} is {a.type}, {b.name} is {b.type}")
     return True
 
 
-def _connect_interface(interface: Any, topic: Any, ctx: ResolutionContext, where: Any) -> None:
+def connect_interface(interface: Any, topic: Any, ctx: ResolutionContext, where: Any) -> None:
+    """Bind ``interface`` to ``topic``; one of another container is carried by the
+    endpoints, and the rewiring names this statement as the cause."""
     node = interface.eContainer()
     ctx.keep(node, f"its interface {interface.name} is connected by {ctx.by()}", where)
     ctx.keep(topic, f"{interface.name} of {node.name} is connected to it by {ctx.by()}", where)
     if ctx.decide("topic", interface, qualified(topic), where):
         interface.topic = topic
-        if topic.eContainer() is not _here(interface):  # the endpoints will carry it
+        if topic.eContainer() is not here(interface):  # the endpoints will carry it
             ctx.displaced[id(interface)] = Cause(
                 f"{qualified(interface)} is connected to {qualified(topic)} of container "
                 f"{topic.eContainer().name} by {ctx.by()}",
@@ -52,7 +50,7 @@ def _connect_interface(interface: Any, topic: Any, ctx: ResolutionContext, where
         )
 
 
-def _topic(ctx: ResolutionContext, reference: Any, node: Any, where: Any) -> Any:
+def topic_named(ctx: ResolutionContext, reference: Any, node: Any, where: Any) -> Any:
     """The topic a reference names now: in its container, else where ``node`` is."""
     if reference.container is not None:
         container = ctx.copy_of(reference.container)
@@ -67,74 +65,28 @@ def _topic(ctx: ResolutionContext, reference: Any, node: Any, where: Any) -> Any
     return topic
 
 
-def to_topic(transformation: Any, ctx: ResolutionContext) -> None:
-    where = location_of(transformation)
-    interface = ctx.copy_of(transformation.interface)
-    topic = _topic(ctx, transformation.topic, interface.eContainer(), where)
-    if topic is None or _type_mismatch(ctx, interface, topic, where):
-        return
-    _connect_interface(interface, topic, ctx, where)
+def topic_decision(t: Any, element: Any, names: Any) -> Iterator[tuple[DecisionKey, Decision]]:
+    """A `to topic` or `to new topic` decides its interface's topic, identified by its
+    container and name (a `new topic` declared by two elements is one topic)."""
+    container = getattr(t.topic, "container", None)
+    places = names.places(t.interface.eContainer())
+    if container is None and len(places) == 1:
+        container = places[0]
+    name = t.topic.name
+    value = f"{container.name}.{name}" if container is not None else name
+    topic = (container.name if container is not None else None, name)
+    decision = Decision("topic", qualified(t.interface), value, element, location_of(t), topic)
+    yield ("topic", id(t.interface)), decision
 
 
-def to_new_topic(transformation: Any, ctx: ResolutionContext) -> None:
-    """Creates the topic where the interface's node is now; a topic of that name already
-    there is only accepted when an earlier `new topic` made it alike."""
-    where = location_of(transformation)
-    interface = ctx.copy_of(transformation.interface)
-    declaration = transformation.topic
-    container = _here(interface)
-    topic = ctx.topic_named(container, declaration.name)
-    if topic is None:
-        topic = ctx.create_topic(container, declaration)
-    elif not (ctx.is_created(topic) and same_topic(topic, declaration)):
-        clash = new_topic_clash(declaration.name, container, topic, ctx.is_created(topic))
-        ctx.sink.error(where, clash)
-        return
-    _connect_interface(interface, topic, ctx, where)
+def predict_topic(t: Any, element: Any, effects: Predictions) -> None:
+    node, aspect = t.interface.eContainer(), f"topic of {t.interface.name}"
+    effects.effect(node, aspect, element, effects.topic_value(t), location_of(t))
 
 
-def to_server(transformation: Any, ctx: ResolutionContext) -> None:
-    client = ctx.copy_of(transformation.client)
-    server = ctx.copy_of(transformation.server)
-    where = location_of(transformation)
-    if _here(client) is not _here(server):
-        message = not_served_here(
-            transformation.client, transformation.server, [_here(server)], [_here(client)]
-        )
-        ctx.sink.error(where, f"{message} (containers at this point)")
-        return
-    ctx.keep(client.eContainer(), f"its client {client.name} is connected by {ctx.by()}", where)
-    ctx.keep(server.eContainer(), f"its server {server.name} is connected by {ctx.by()}", where)
-    if ctx.decide("server", client, qualified(server), where):
-        client.server = server
-        ctx.trace.record(
-            qualified(client), "connected", f"to server {qualified(server)} by {ctx.by()}", where
-        )
-
-
-def bridge(transformation: Any, ctx: ResolutionContext) -> None:
-    where = location_of(transformation)
-    if transformation.sourceTopic is not None:
-        source = _topic(ctx, transformation.sourceTopic, None, where)
-        target = _topic(ctx, transformation.targetTopic, None, where)
-        if source is None or target is None or _type_mismatch(ctx, source, target, where):
-            return
-        ctx.wiring.topic_bridge(source, target)
-        for topic in (source, target):
-            ctx.keep(topic, f"bridged by {ctx.by()}", where)
-        ctx.trace.record(
-            qualified(source), "bridged", f"to {qualified(target)} by {ctx.by()}", where
-        )
-        return
-    client = ctx.copy_of(transformation.client)
-    server = ctx.copy_of(transformation.server)
-    if _here(client) is _here(server):
-        ctx.sink.error(where, same_container_bridge(client, server, _here(client)))
-        return
-    ctx.keep(client.eContainer(), f"its client {client.name} is bridged by {ctx.by()}", where)
-    ctx.keep(server.eContainer(), f"its server {server.name} is bridged by {ctx.by()}", where)
-    if ctx.decide("server", client, qualified(server), where):
-        ctx.wiring.service_bridge(client, server)
-        ctx.trace.record(
-            qualified(client), "bridged", f"to server {qualified(server)} by {ctx.by()}", where
-        )
+def server_decision(t: Any, element: Any) -> Iterator[tuple[DecisionKey, Decision]]:
+    """A `to server` or service bridge decides its client's server."""
+    server = t.server
+    value = f"{server.eContainer().eContainer().name}.{qualified(server)}"
+    decision = Decision("server", qualified(t.client), value, element, location_of(t))
+    yield ("server", id(t.client)), decision

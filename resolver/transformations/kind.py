@@ -1,0 +1,120 @@
+"""One kind of resolution statement (a ``.rm`` transformation), and all spl knows of it.
+
+A kind is one class (one module of this package each): how it acts on the product being
+derived (:meth:`TransformationKind.apply`, with the words its trace entries say), which
+template elements an active statement keeps (:meth:`~TransformationKind.touched`) and
+gives its feature's sharing mode (:meth:`~TransformationKind.shares`), what it decides
+(:meth:`~TransformationKind.decisions`: two statements deciding one thing differently
+conflict, SPL012), what it does to each node for the fleet analysis
+(:meth:`~TransformationKind.predict`), and in which products it may fail
+(:meth:`~TransformationKind.questions`, SPL016). The engine, the product-line checks
+and the fleet analysis ask the kind of a statement (:func:`spl.resolver.transformations.
+kind_of`) and never compare kind names; a new kind is a new module and a line in the
+registry (docs/architecture.md).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any, ClassVar, Protocol
+
+from spl.diagnostics import Location
+
+if TYPE_CHECKING:
+    from spl.dsl.rm_names import Names
+    from spl.resolver.context import ResolutionContext
+
+DecisionKey = tuple[str, int]  # (what is decided, id of the template element decided on)
+
+
+@dataclass(frozen=True)
+class Decision:
+    """What one transformation (or a feature's sharing mode) decides about one thing."""
+
+    kind: str  # the engine's wording: implementation, value, period, migration target, ...
+    subject: str  # the thing decided, as messages name it
+    value: str
+    element: Any  # the resolution element deciding
+    location: Location | None
+    # a topic decision: (container name, topic name); the container is None when it is
+    # only known in a product (an unqualified name, a node some migration may move)
+    topic: tuple[str | None, str] | None = None
+
+    def differs(self, other: Decision) -> bool:
+        """Whether the two decide differently in every product where both are taken."""
+        if self.topic is None or other.topic is None:
+            return self.value != other.value
+        (container, name), (other_container, other_name) = self.topic, other.topic
+        if name != other_name:
+            return True
+        return None not in (container, other_container) and container != other_container
+
+
+class Predictions(Protocol):
+    """The fleet analysis' table of what elements do to nodes (resolver/effects.py)."""
+
+    def effect(self, node: Any, aspect: str, element: Any, value: Any, where: Any) -> None: ...
+
+    def server(self, client: Any, element: Any, server: Any, where: Any) -> None: ...
+
+    def topic_value(self, connect: Any) -> str: ...
+
+
+class Questions(Protocol):
+    """SAT questions about one statement: each answers with the message of a product in
+    which the statement fails, or None (resolver/line_checks/lookups.py)."""
+
+    def topic_lookup(self, node: Any, reference: Any) -> str | None: ...
+
+    def apart(self, client: Any, server: Any) -> str | None: ...
+
+    def together(self, client: Any, server: Any) -> str | None: ...
+
+    def onto_a_name(self, node: Any, target: Any) -> str | None: ...
+
+
+class TransformationKind:
+    """The behaviour of one ``.rm`` metaclass; subclasses override what applies to them."""
+
+    metaclass: ClassVar[str]  # the rm.ecore class of the statements of this kind
+
+    def apply(self, t: Any, ctx: ResolutionContext) -> None:
+        """Act on the product as the statements before it left it (docs/semantics.md)."""
+        raise NotImplementedError
+
+    def touched(self, t: Any) -> Iterator[Any]:
+        """The template nodes and stores an active statement keeps in the product."""
+        return iter(())
+
+    def shares(self, t: Any) -> Iterator[Any]:
+        """The template nodes the statement's feature gives its sharing mode to (besides
+        the element's required ones)."""
+        return iter(())
+
+    def decisions(
+        self, t: Any, element: Any, names: Names
+    ) -> Iterator[tuple[DecisionKey, Decision]]:
+        """What the statement decides when its element is active, keyed like the engine's
+        registry of decisions (``ResolutionContext.decide``)."""
+        return iter(())
+
+    def predict(self, t: Any, element: Any, effects: Predictions) -> None:
+        """Record in the fleet analysis' table what the statement does to nodes."""
+
+    def questions(self, t: Any, ask: Callable[[], Questions]) -> Iterator[str | None]:
+        """For each way the statement can fail in some product, the witness message (a
+        new question object per question: each asks the solver once)."""
+        return iter(())
+
+    def move(self, t: Any) -> tuple[Any, Any] | None:
+        """(node, target container) of a migration."""
+        return None
+
+    def attribute(self, t: Any) -> Any:
+        """The feature attribute whose value the statement uses, if any."""
+        return None
+
+    def created_topic(self, t: Any) -> Any:
+        """The topic a ``new topic`` statement declares."""
+        return None

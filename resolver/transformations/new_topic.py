@@ -1,0 +1,55 @@
+"""``connect NODE.i to new topic T : pkg/Type [name "/ros"]``: a topic created where the
+node is at that statement, the interface bound to it."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from typing import Any
+
+from spl.diagnostics import location_of
+from spl.dsl.rm_names import new_topic_clash, same_topic
+from spl.resolver.context import ResolutionContext
+from spl.resolver.transformations.connect import (
+    connect_interface,
+    here,
+    predict_topic,
+    topic_decision,
+)
+from spl.resolver.transformations.kind import (
+    Decision,
+    DecisionKey,
+    Predictions,
+    TransformationKind,
+)
+
+
+class ConnectToNewTopic(TransformationKind):
+    metaclass = "ConnectToNewTopic"
+
+    def apply(self, t: Any, ctx: ResolutionContext) -> None:
+        """Creates the topic where the interface's node is now; a topic of that name
+        already there is only accepted when an earlier `new topic` made it alike."""
+        where = location_of(t)
+        interface = ctx.copy_of(t.interface)
+        declaration = t.topic
+        container = here(interface)
+        topic = ctx.topic_named(container, declaration.name)
+        if topic is None:
+            topic = ctx.create_topic(container, declaration)
+        elif not (ctx.is_created(topic) and same_topic(topic, declaration)):
+            clash = new_topic_clash(declaration.name, container, topic, ctx.is_created(topic))
+            ctx.sink.error(where, clash)
+            return
+        connect_interface(interface, topic, ctx, where)
+
+    def touched(self, t: Any) -> Iterator[Any]:
+        yield t.interface.eContainer()
+
+    def decisions(self, t: Any, element: Any, names: Any) -> Iterator[tuple[DecisionKey, Decision]]:
+        return topic_decision(t, element, names)
+
+    def predict(self, t: Any, element: Any, effects: Predictions) -> None:
+        predict_topic(t, element, effects)
+
+    def created_topic(self, t: Any) -> Any:
+        return t.topic
