@@ -23,7 +23,7 @@ from typing import Any
 from lxml import etree
 
 from spl.diagnostics import Diagnostic, DiagnosticSink, Location, ModelError
-from spl.dsl.fm_formats import (
+from spl.dsl.fm_interchange import (
     CAPABILITY,
     ORIGINAL_NAME,
     FeatureNames,

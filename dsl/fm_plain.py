@@ -173,7 +173,7 @@ class _Converter:
             config.mode = F.SharingMode.getEEnumLiteral(plain.sharing.mode)
             feature.sharing = config
         if plain.capability is not None:
-            from spl.dsl.fm_formats import add_capabilities  # the .fm grammar: only if used
+            from spl.dsl.fm_interchange import add_capabilities  # the .fm grammar: only if used
 
             type_name, text, position = plain.capability
             add_capabilities(feature, type_name, text, self.source.location(position))

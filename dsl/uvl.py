@@ -15,7 +15,7 @@ from pathlib import Path
 from typing import Any
 
 from spl.diagnostics import Diagnostic, Location, ModelError, model_text
-from spl.dsl.fm_formats import CAPABILITY, exported_attributes, original_name
+from spl.dsl.fm_interchange import CAPABILITY, exported_attributes, original_name
 from spl.dsl.fm_plain import FeatureModel, to_ecore
 from spl.dsl.fm_printer import format_capabilities, format_formula
 from spl.dsl.fm_vocabulary import too_deep

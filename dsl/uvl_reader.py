@@ -24,7 +24,7 @@ from typing import NoReturn
 from spl.diagnostics import DiagnosticSink, ModelError
 from spl.dsl import literals
 from spl.dsl.cyclic_gc import without_cyclic_gc
-from spl.dsl.fm_formats import CAPABILITY, ORIGINAL_NAME, FeatureNames, model_name
+from spl.dsl.fm_interchange import CAPABILITY, ORIGINAL_NAME, FeatureNames, model_name
 from spl.dsl.fm_plain import (
     Attribute,
     Feature,

@@ -23,7 +23,7 @@ from pathlib import Path
 
 from spl import __version__
 from spl.dsl.tsm_printer import print_model
-from spl.generators.bundle_paths import BundleFiles, BundlePathClash, check_paths
+from spl.generators.bundle_paths import BundleFiles, BundlePathClash, Skipped, check_paths
 from spl.generators.json_text import indented
 from spl.generators.resolved_xmi import resolved_xmi
 from spl.generators.zenoh_bridge import transport_reused
@@ -55,13 +55,6 @@ def choose_targets(text: str | None) -> tuple[str, ...]:
         shown = ", ".join(unknown) if unknown else "none"
         raise ValueError(f"unknown target {shown}; targets: {', '.join(TARGETS)}")
     return tuple(name for name in TARGETS if name in wanted)
-
-
-@dataclass(frozen=True)
-class Skipped:
-    """A file a generator could not produce on this machine, and why (one line)."""
-
-    reason: str
 
 
 @dataclass(frozen=True)

@@ -13,7 +13,16 @@ bundle that is missing a file.
 from __future__ import annotations
 
 from collections.abc import Iterable, Mapping
+from dataclasses import dataclass
 from typing import Any
+
+
+@dataclass(frozen=True)
+class Skipped:
+    """A file a generator could not produce on this machine, and why (one line): the
+    bundle is written without it and its manifest says so."""
+
+    reason: str
 
 
 class BundlePathClash(RuntimeError):

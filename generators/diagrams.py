@@ -18,7 +18,7 @@ from typing import Any
 
 import graphviz
 
-from spl.generators.bundle import Skipped
+from spl.generators.bundle_paths import Skipped
 from spl.generators.graphviz_output import (
     DOT_MISSING,
     FONT,

@@ -14,8 +14,7 @@ which ``kubernetes/`` does not deploy either.
 from __future__ import annotations
 
 from spl import __version__
-from spl.generators.bundle import Skipped
-from spl.generators.bundle_paths import BundleFiles
+from spl.generators.bundle_paths import BundleFiles, Skipped
 from spl.generators.zenoh_bridge import ROUTER_FILE, USERS_FILE, ZENOH_PORT, Transport, transport
 from spl.resolver.product import ResolvedProduct
 

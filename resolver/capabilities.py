@@ -29,6 +29,7 @@ import yaml
 from spl.diagnostics import Diagnostic, DiagnosticSink, Location, ModelError, location_of
 from spl.dsl.fm import all_features
 from spl.dsl.fm_printer import format_capability
+from spl.resolver.located_yaml import read_yaml
 
 KEY = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 Scalar = str | int | float | bool
@@ -70,7 +71,6 @@ class CapabilityChoice:
 
 def load_capabilities(path: str | Path) -> RobotCapabilities:
     """Read a robot capability file; every problem is located in the YAML."""
-    from spl.resolver.product_selection import read_yaml
 
     path = Path(path)
     sink = DiagnosticSink()

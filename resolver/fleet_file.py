@@ -26,7 +26,8 @@ from pathlib import Path
 import yaml
 
 from spl.diagnostics import DiagnosticSink, Location
-from spl.resolver.product_selection import ProductSelection, read_selection, read_yaml
+from spl.resolver.located_yaml import read_yaml
+from spl.resolver.product_selection import ProductSelection, read_selection
 
 FLEET_KEYS = ("fleet", "product_line", "robots")
 NAME = re.compile(r"[A-Za-z][A-Za-z0-9_-]{0,63}")  # a Rapyuta tag and a robotID

@@ -30,10 +30,35 @@ from __future__ import annotations
 from collections import defaultdict
 from collections.abc import Iterator
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, NamedTuple
 
 from spl.metamodels import tsm
-from spl.resolver.product import NodeInterfaces
+
+
+class NodeInterfaces(NamedTuple):
+    """The wired interfaces of the nodes of some containers, by kind: the starting point
+    of every data-flow walk (rewiring, Rapyuta bridges). Endpoint interfaces are not
+    node interfaces and are not included."""
+
+    publishers: tuple[Any, ...]  # bound to a topic
+    subscribers: tuple[Any, ...]  # bound to a topic
+    clients: tuple[Any, ...]  # every service client, bound to a server or not
+
+    @classmethod
+    def of(cls, containers: Any) -> NodeInterfaces:
+        T = tsm()
+        publishers, subscribers, clients = [], [], []
+        for container in containers:
+            for node in container.nodes:
+                for interface in node.interfaces:
+                    if isinstance(interface, T.Publisher) and interface.topic is not None:
+                        publishers.append(interface)
+                    elif isinstance(interface, T.Subscriber) and interface.topic is not None:
+                        subscribers.append(interface)
+                    elif isinstance(interface, T.ServiceClient):
+                        clients.append(interface)
+        return cls(tuple(publishers), tuple(subscribers), tuple(clients))
+
 
 TOPIC = "topic"
 SERVICE = "service"

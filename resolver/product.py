@@ -11,13 +11,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from functools import cached_property
-from typing import TYPE_CHECKING, Any, NamedTuple
+from typing import Any
 
 from spl.diagnostics import Diagnostic, Location
-from spl.metamodels import tsm
-
-if TYPE_CHECKING:
-    from spl.resolver.flows import FlowTable
+from spl.resolver.flows import FlowTable
 
 
 @dataclass(frozen=True)
@@ -49,8 +46,6 @@ class ResolvedProduct:
     def flows(self) -> FlowTable:
         """Who talks to whom in the resolved architecture, computed once: every output
         that moves data reads it (docs/semantics.md, "Flows")."""
-        from spl.resolver.flows import FlowTable  # flows builds on this module
-
         return FlowTable.of(self.system)
 
 
@@ -71,28 +66,3 @@ def node_keys(system: Any) -> dict[int, str]:
 def topic_ros_name(topic: Any) -> str:
     """The ROS name a topic is published under; ``/Name`` when the model leaves it open."""
     return topic.rosName or f"/{topic.name}"
-
-
-class NodeInterfaces(NamedTuple):
-    """The wired interfaces of the nodes of some containers, by kind: the starting point
-    of every data-flow walk (rewiring, Rapyuta bridges). Endpoint interfaces are not
-    node interfaces and are not included."""
-
-    publishers: tuple[Any, ...]  # bound to a topic
-    subscribers: tuple[Any, ...]  # bound to a topic
-    clients: tuple[Any, ...]  # every service client, bound to a server or not
-
-    @classmethod
-    def of(cls, containers: Any) -> NodeInterfaces:
-        T = tsm()
-        publishers, subscribers, clients = [], [], []
-        for container in containers:
-            for node in container.nodes:
-                for interface in node.interfaces:
-                    if isinstance(interface, T.Publisher) and interface.topic is not None:
-                        publishers.append(interface)
-                    elif isinstance(interface, T.Subscriber) and interface.topic is not None:
-                        subscribers.append(interface)
-                    elif isinstance(interface, T.ServiceClient):
-                        clients.append(interface)
-        return cls(tuple(publishers), tuple(subscribers), tuple(clients))

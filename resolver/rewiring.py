@@ -34,8 +34,7 @@ from spl.diagnostics import Diagnostic, location_of
 from spl.metamodels import tsm
 from spl.resolver import endpoints
 from spl.resolver.context import Cause, qualified
-from spl.resolver.flows import SERVICE, TOPIC, CutRoute, FlowTable
-from spl.resolver.product import NodeInterfaces
+from spl.resolver.flows import SERVICE, TOPIC, CutRoute, FlowTable, NodeInterfaces
 from spl.resolver.trace import Trace
 
 

@@ -12,7 +12,7 @@ from real_models import REAL_MODELS
 from spl.diagnostics import ModelError
 from spl.dsl import fm
 from spl.dsl.featureide import parse_featureide, read_featureide, write_featureide
-from spl.dsl.fm_formats import original_name
+from spl.dsl.fm_interchange import original_name
 from spl.dsl.uvl import read_uvl, write_uvl
 from spl.emf import differences
 

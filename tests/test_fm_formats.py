@@ -8,13 +8,8 @@ import pytest
 
 from spl.diagnostics import ModelError
 from spl.dsl import fm
-from spl.dsl.fm_formats import (
-    FeatureNames,
-    load_feature_model,
-    render_feature_model,
-    sanitise,
-    save_feature_model,
-)
+from spl.dsl.fm_formats import load_feature_model, render_feature_model, save_feature_model
+from spl.dsl.fm_interchange import FeatureNames, sanitise
 from spl.emf import differences
 
 ROOT = Path(__file__).resolve().parents[1]

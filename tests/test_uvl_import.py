@@ -9,7 +9,7 @@ from real_models import REAL_MODELS
 
 from spl.diagnostics import ModelError
 from spl.dsl import fm
-from spl.dsl.fm_formats import ORIGINAL_NAME, original_name
+from spl.dsl.fm_interchange import ORIGINAL_NAME, original_name
 from spl.dsl.uvl import parse_uvl, read_uvl, write_uvl
 from spl.emf import differences
 

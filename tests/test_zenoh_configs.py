@@ -13,7 +13,7 @@ import yaml
 from spl.diagnostics import ModelError
 from spl.dsl import tsm as tsm_language
 from spl.generators import kubernetes, zenoh
-from spl.generators.bundle import Skipped
+from spl.generators.bundle_paths import Skipped
 from spl.metamodels import tsm
 from spl.resolver.analysis import enumerate_products
 from spl.resolver.engine import resolve

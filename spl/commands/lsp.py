@@ -13,6 +13,6 @@ import click
 )
 def command(stdio: bool) -> None:
     """Start the language server on stdin/stdout (for an editor to run)."""
-    from spl.lsp.server import serve
+    from spl.lsp.requests import serve
 
     serve()

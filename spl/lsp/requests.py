@@ -6,6 +6,8 @@ models and the current text."""
 from __future__ import annotations
 
 import asyncio
+import logging
+import sys
 from typing import Any
 
 from lsprotocol import types
@@ -145,3 +147,12 @@ def build_server() -> SplLanguageServer:
         ls.checker.shutdown(wait=False, cancel_futures=True)
 
     return server
+
+
+def serve() -> None:
+    """Serve one client over stdin and stdout until it says exit."""
+    logging.basicConfig(level=logging.WARNING, format="spl lsp: %(levelname)s: %(message)s")
+    server = build_server()
+    server.start_io()
+    if server.exit_code:  # pygls's own exit status is lost in an asyncio callback
+        sys.exit(server.exit_code)

@@ -15,7 +15,6 @@ import asyncio
 import contextlib
 import logging
 import os
-import sys
 import threading
 import traceback
 from collections.abc import Iterable
@@ -274,14 +273,3 @@ class SplLanguageServer(LanguageServer):
         start = lines.spl_offset(decl.line, decl.col)
         end = start if decl.kind == "file" else start + len(decl.name)
         return types.Location(uri=uri_of(decl.file), range=lines.range(start, end))
-
-
-def serve() -> None:
-    """Serve one client over stdin and stdout until it says exit."""
-    from spl.lsp.requests import build_server
-
-    logging.basicConfig(level=logging.WARNING, format="spl lsp: %(levelname)s: %(message)s")
-    server = build_server()
-    server.start_io()
-    if server.exit_code:  # pygls's own exit status is lost in an asyncio callback
-        sys.exit(server.exit_code)
