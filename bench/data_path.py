@@ -40,7 +40,7 @@ from spl.generators.bundle import bundle_files, write_bundle  # noqa: E402
 from spl.resolver.engine import resolve  # noqa: E402
 from spl.resolver.product_line import load_product_line  # noqa: E402
 from spl.resolver.product_selection import selection_from_list  # noqa: E402
-from spl.smoke.plan import data_fields  # noqa: E402
+from spl.smoke.planning import data_fields  # noqa: E402
 from spl.smoke.processes import Processes, find_ros, free_port, write_messages  # noqa: E402
 
 TSM = """system Bench

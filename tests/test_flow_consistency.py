@@ -35,7 +35,7 @@ from spl.resolver.product import ResolvedProduct
 from spl.resolver.product_line import load_product_line
 from spl.resolver.product_selection import selection_from_list
 from spl.resolver.ros_names import resolved_service_name, resolved_topic_name
-from spl.smoke.plan import load_plan
+from spl.smoke.planning import load_plan
 
 Delivery = tuple[str, str, str, str, str]  # kind, source place, name there, target place, name
 

@@ -16,7 +16,7 @@ from spl.generators.bundle import build_bundle, write_bundle
 from spl.resolver.engine import resolve
 from spl.resolver.product_line import load_product_line
 from spl.resolver.product_selection import selection_from_list
-from spl.smoke.plan import load_plan
+from spl.smoke.planning import load_plan
 
 ROOT = Path(__file__).resolve().parents[1]
 ENDPOINT = 'endpoint robot_id "{id}" url "wss://x.example.org:9000/" user "u" password env "P"'

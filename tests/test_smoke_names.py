@@ -27,7 +27,8 @@ from spl.generators.bundle import bundle_files
 from spl.resolver.engine import resolve
 from spl.resolver.product_line import load_product_line
 from spl.resolver.product_selection import selection_from_list
-from spl.smoke.plan import endpoint_name, load_plan
+from spl.smoke.plan import endpoint_name
+from spl.smoke.planning import load_plan
 
 TSM = """system Clash
 

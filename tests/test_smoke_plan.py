@@ -17,7 +17,8 @@ from smoke_runs import ROOT, write_product
 from spl.cli import main
 from spl.diagnostics import ModelError
 from spl.smoke.live import LiveGraph, Row, compare
-from spl.smoke.plan import join, load_plan
+from spl.smoke.plan import join
+from spl.smoke.planning import load_plan
 from spl.smoke.report import table
 
 

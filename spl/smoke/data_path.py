@@ -24,7 +24,6 @@ instead (:func:`missing`).
 from __future__ import annotations
 
 import json
-import math
 import os
 import secrets
 import signal
@@ -37,10 +36,18 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from spl.generators.expressions import function_name, neighbours_used, transforms_module
 from spl.generators.store_contract import client_settings, store_context
 from spl.metamodels import tsm
 from spl.resolver.product import ResolvedProduct
+from spl.smoke.data_checks import (
+    cloud_stores,
+    compiled_transforms,
+    difference,
+    planned_to,
+    refine,
+    same,
+    sent_to,
+)
 from spl.smoke.live import Row
 from spl.smoke.plan import SmokePlan
 from spl.smoke.processes import Processes, free_port
@@ -49,16 +56,6 @@ TRANSFORM_PERIOD = "0.3"  # seconds: the rehearsal need not wait the model's per
 START_TIMEOUT = 30.0
 FAULT_SHARE = 3  # the service is killed once a third of the values are stored
 DATA_ROWS = ("stored from ", "refined ", "fault round")  # the interface column of its rows
-
-
-def cloud_stores(system: Any) -> list[tuple[Any, Any]]:
-    """(container, store) of every store of a cloud container."""
-    return [
-        (container, store)
-        for container in system.containers
-        if container.eClass.name == "CloudContainer"
-        for store in container.stores
-    ]
 
 
 def missing(bundle: Path, system: Any) -> str | None:
@@ -137,7 +134,7 @@ class DataPath:
                     run_dir / "db" / f"{names['slug']}.db",
                 )
             )
-        self.transforms = _compiled(system)
+        self.transforms = compiled_transforms(system)
         self.fault: str | None = None  # what the fault round did, once done
         self.problems: list[str] = []
 
@@ -242,7 +239,7 @@ class DataPath:
                     )
                 )
                 continue
-            sent = {w.name: _sent_to(plan, statuses, w) for w in writers}
+            sent = {w.name: sent_to(plan, statuses, w) for w in writers}
             for writer in writers:
                 rows.append(self._stored_row(service, writer, sent[writer.name], raw))
             for refinement in service.store.refinements:
@@ -277,7 +274,7 @@ class DataPath:
             for n in c.nodes
             if isinstance(n, T.Writer) and n.store is self.services[0].store
         ]
-        return sum(_planned_to(plan, w) for w in writers)
+        return sum(planned_to(plan, w) for w in writers)
 
     def _stored_row(
         self, service: Service, writer: Any, sent: list[list[Any]], raw: list[dict[str, Any]]
@@ -285,8 +282,8 @@ class DataPath:
         robot = client_settings(writer.eContainer(), writer, self.product)["robot_id"]
         fields = [f.name for f in writer.dataType.fields]
         stored = [[r["data"][f] for f in fields] for r in raw if r["robot"] == robot]
-        ok = _same(stored, sent) and len(sent) > 0
-        seen = f"{len(stored)} stored" + ("" if ok else _difference(stored, sent))
+        ok = same(stored, sent) and len(sent) > 0
+        seen = f"{len(stored)} stored" + ("" if ok else difference(stored, sent))
         return Row(
             service.container,
             service.names["name"],
@@ -306,15 +303,15 @@ class DataPath:
     ) -> Row:
         name = refinement.output.name
         fields = [f.name for f in refinement.output.fields]
-        expected = _refine(self.transforms, refinement, raw)
+        expected = refine(self.transforms, refinement, raw)
         rows = refined[name]
         got = {r["raw_id"]: [r[f] for f in fields] for r in rows}
         want = {raw_id: [values[f] for f in fields] for raw_id, values in expected.items()}
-        ok = sorted(got) == sorted(want) and all(_same([got[k]], [want[k]]) for k in want)
+        ok = sorted(got) == sorted(want) and all(same([got[k]], [want[k]]) for k in want)
         ok = ok and len(rows) == len(got) and bool(want)  # once each, and something refined
         seen = f"{len(rows)} refined"
         if not ok:
-            wrong = [k for k in want if k in got and not _same([got[k]], [want[k]])]
+            wrong = [k for k in want if k in got and not same([got[k]], [want[k]])]
             seen += f"; raw ids expected {sorted(want)}, refined {sorted(got)}" + (
                 f"; raw {wrong[0]}: {got[wrong[0]]} not {want[wrong[0]]}" if wrong else ""
             )
@@ -354,8 +351,8 @@ class DataPath:
                         .get(interface.name, {})
                     )
                     got = [v for source, v in entry.get("values", []) if source == publisher]
-                    ok = _same(got, wanted) and bool(wanted)
-                    seen = f"{len(got)} received" + ("" if ok else _difference(got, wanted))
+                    ok = same(got, wanted) and bool(wanted)
+                    seen = f"{len(got)} received" + ("" if ok else difference(got, wanted))
                     rows.append(
                         Row(
                             container.name,
@@ -369,103 +366,3 @@ class DataPath:
                         )
                     )
         return rows
-
-
-def _compiled(system: Any) -> dict[str, Any]:
-    """The model's transforms compiled from ``resolved.tsm`` (spl's own compiler, not the
-    service's file), by transform name."""
-    transforms = {
-        id(r.transform): r.transform
-        for _, store in cloud_stores(system)
-        for r in store.refinements
-        if r.transform is not None
-    }
-    namespace: dict[str, Any] = {}
-    exec(compile(transforms_module(transforms.values()), "<transforms>", "exec"), namespace)  # nosec B102: spl's compiler output
-    return namespace
-
-
-def _refine(namespace: dict[str, Any], refinement: Any, raw: list[dict[str, Any]]) -> dict:
-    """raw id -> the refined values the model's transform gives, per robot in the order
-    the transformer takes (source timestamp, then id); a transform reading the next
-    record leaves each robot's last one for later."""
-    function = namespace[function_name(refinement.transform.name)]
-    uses_next = "next" in neighbours_used(refinement.transform)
-    by_robot: dict[str, list[dict[str, Any]]] = {}
-    for record in raw:
-        by_robot.setdefault(record["robot"], []).append(record)
-    found = {}
-    for records in by_robot.values():
-        records.sort(key=lambda r: (r["timestamp"], r["id"]))
-        values = [{**r["data"], "timestamp": r["timestamp"]} for r in records]
-        for index, record in enumerate(records):
-            following = values[index + 1] if index + 1 < len(values) else None
-            if uses_next and following is None:
-                continue
-            before = values[index - 1] if index > 0 else None
-            try:
-                found[record["id"]] = function(values[index], before, following)
-            except namespace["RecordError"]:
-                continue
-    return found
-
-
-def _sent_to(plan: SmokePlan, statuses: dict[str, dict[str, dict]], writer: Any) -> list[list]:
-    """The values the stand-in publishers on a writer's topic sent, in order."""
-    container = writer.eContainer().name
-    writer_id = f"{container}.{writer.name}.records"
-    sent = []
-    for node in next(c for c in plan.containers if c.name == container).nodes:
-        for interface in node.interfaces:
-            if interface.values and _feeds(plan, interface.id, writer_id):
-                entry = (
-                    statuses.get(container, {})
-                    .get(node.ros_name, {})
-                    .get("interfaces", {})
-                    .get(interface.name, {})
-                )
-                sent += entry.get("values", [])
-    return sent
-
-
-def _planned_to(plan: SmokePlan, writer: Any) -> int:
-    container = writer.eContainer().name
-    writer_id = f"{container}.{writer.name}.records"
-    return sum(
-        interface.values["count"]
-        for c in plan.containers
-        if c.name == container
-        for node in c.nodes
-        for interface in node.interfaces
-        if interface.values and _feeds(plan, interface.id, writer_id)
-    )
-
-
-def _feeds(plan: SmokePlan, publisher: str, subscriber: str) -> bool:
-    return any(i.id == subscriber and publisher in i.sources for i in plan.interfaces())
-
-
-def _same(got: list[list[Any]], wanted: list[list[Any]]) -> bool:
-    if len(got) != len(wanted):
-        return False
-    for a, b in zip(got, wanted, strict=True):
-        for x, y in zip(a, b, strict=True):
-            if isinstance(x, float) or isinstance(y, float):
-                if not math.isclose(float(x), float(y), rel_tol=1e-9, abs_tol=1e-9):
-                    return False
-            elif x != y:
-                return False
-    return True
-
-
-def _difference(got: list[list[Any]], wanted: list[list[Any]]) -> str:
-    """Where two runs of values first differ, in words."""
-    for index, (a, b) in enumerate(zip(got, wanted, strict=False)):
-        if not _same([a], [b]):
-            return f"; #{index + 1} is {a}, expected {b}"
-    if len(got) > len(wanted):
-        extra = got[len(wanted)]
-        return f"; {len(got) - len(wanted)} more than expected (#{len(wanted) + 1}: {extra})"
-    if len(got) < len(wanted):
-        return f"; {len(wanted) - len(got)} missing (from #{len(got) + 1}: {wanted[len(got)]})"
-    return ""

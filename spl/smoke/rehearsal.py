@@ -32,7 +32,8 @@ from spl.lifetime import raise_if_signalled
 from spl.pipeline import read_bundle
 from spl.smoke.data_path import DATA_ROWS, DataPath, cloud_stores, missing
 from spl.smoke.live import NOT_MODELLED, Master, Row, compare, read_statuses
-from spl.smoke.plan import ContainerPlan, SmokePlan, load_plan
+from spl.smoke.plan import ContainerPlan, SmokePlan
+from spl.smoke.planning import load_plan
 from spl.smoke.processes import (
     STANDIN,
     Processes,
