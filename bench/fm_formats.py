@@ -47,7 +47,8 @@ def main() -> int:
     args = parser.parse_args()
 
     from spl.dsl import fm
-    from spl.dsl.featureide import parse_featureide, write_featureide
+    from spl.dsl.featureide import parse_featureide
+    from spl.dsl.featureide_writer import write_featureide
     from spl.dsl.fm_formats import load_feature_model
     from spl.dsl.fm_printer import print_model
     from spl.dsl.uvl import parse_uvl, write_uvl

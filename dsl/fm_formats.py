@@ -65,7 +65,7 @@ def render_feature_model(model: Any, suffix: str) -> bytes:
 
         return write_uvl(model).encode("utf-8")
     if suffix == ".xml":
-        from spl.dsl.featureide import write_featureide
+        from spl.dsl.featureide_writer import write_featureide
 
         return write_featureide(model)
     raise ValueError(f"no feature-model format for {suffix!r}")

@@ -10,7 +10,9 @@ as an internal error.
 
 from __future__ import annotations
 
+import math
 import re
+from typing import Any
 
 INT32_MAX = 2**31 - 1  # EInt in the metamodels, Rapyuta's resource fields
 INT64_MAX = 2**63 - 1  # feature attributes
@@ -63,3 +65,37 @@ def _empty_entry(value: object, path: tuple[str, ...]) -> tuple[str, ...] | None
             if found is not None:
                 return found
     return None
+
+
+def attribute_fits(attribute_type: str, parameter_type: str) -> bool:
+    """Whether a feature attribute of one type can give a parameter of the other its value."""
+    return attribute_type == parameter_type or (attribute_type, parameter_type) in {
+        ("int", "double"),
+        ("string", "yaml"),
+    }
+
+
+def parameter_literal(value: Any, ptype: str) -> tuple[str | None, str | None]:
+    """The canonical text of a literal for a parameter of type ``ptype`` (TSM convention)."""
+    kind, text = type(value).__name__, value.value
+    if kind == "StringValue":
+        if ptype not in ("string", "yaml"):
+            return None, f"expected a {ptype} value, got a string"
+        if any(ord(c) < 32 and c not in "\n\t" for c in text):
+            return None, "control characters are not allowed in values"
+        if ptype == "yaml":
+            problem = problem_yaml(text)
+            if problem:
+                return None, problem
+        return text, None
+    if kind == "BoolValue":
+        return (text, None) if ptype == "bool" else (None, f"expected a {ptype} value, got {text}")
+    if ptype == "int" and text.lstrip("+-").isdigit():
+        value = int_literal(text, ROS_INT_MAX)
+        if value is None:
+            return None, f"{text} is out of range: {ROS_INT_RANGE}"
+        return str(value), None
+    if ptype == "double":
+        value = float(text)
+        return (repr(value), None) if math.isfinite(value) else (None, f"{text} is out of range")
+    return None, f"expected a {ptype} value, got {text}"

@@ -10,7 +10,6 @@ same tree.
 
 from __future__ import annotations
 
-import math
 import re
 from dataclasses import dataclass
 from functools import cache
@@ -333,7 +332,7 @@ class _Builder:
             if attribute is None:
                 self.error(stmt, f"feature {feature.name} has no attribute {value.attribute}")
                 return None
-            if not _attribute_fits(attribute.type.name, ptype):
+            if not literals.attribute_fits(attribute.type.name, ptype):
                 self.error(
                     stmt,
                     f"attribute {feature.name}.{attribute.name} is {attribute.type.name}, "
@@ -343,7 +342,7 @@ class _Builder:
             return self.R.ParameterValue(
                 parameter=parameter, refinement=refinement, attribute=attribute
             )
-        text, problem = canonical_parameter_value(value, ptype)
+        text, problem = literals.parameter_literal(value, ptype)
         if problem:
             self.error(stmt, f"{what} is {ptype}: {problem}")
             return None
@@ -378,36 +377,3 @@ class _Builder:
             self.error(stmt, f"type mismatch: {a.name} is {a.type}, {b.name} is {b.type}")
             return False
         return True
-
-
-def _attribute_fits(attribute_type: str, parameter_type: str) -> bool:
-    return attribute_type == parameter_type or (attribute_type, parameter_type) in {
-        ("int", "double"),
-        ("string", "yaml"),
-    }
-
-
-def canonical_parameter_value(value: Any, ptype: str) -> tuple[str | None, str | None]:
-    """The canonical text of a literal for a parameter of type ``ptype`` (TSM convention)."""
-    kind, text = type(value).__name__, value.value
-    if kind == "StringValue":
-        if ptype not in ("string", "yaml"):
-            return None, f"expected a {ptype} value, got a string"
-        if any(ord(c) < 32 and c not in "\n\t" for c in text):
-            return None, "control characters are not allowed in values"
-        if ptype == "yaml":
-            problem = literals.problem_yaml(text)
-            if problem:
-                return None, problem
-        return text, None
-    if kind == "BoolValue":
-        return (text, None) if ptype == "bool" else (None, f"expected a {ptype} value, got {text}")
-    if ptype == "int" and text.lstrip("+-").isdigit():
-        value = literals.int_literal(text, literals.ROS_INT_MAX)
-        if value is None:
-            return None, f"{text} is out of range: {literals.ROS_INT_RANGE}"
-        return str(value), None
-    if ptype == "double":
-        value = float(text)
-        return (repr(value), None) if math.isfinite(value) else (None, f"{text} is out of range")
-    return None, f"expected a {ptype} value, got {text}"

@@ -32,7 +32,8 @@ from spl.dsl.fm import all_features
 from spl.resolver.capabilities import choose_features
 from spl.resolver.context import describe
 from spl.resolver.effects import PLACEMENT, SHARING, NodeEffects, Settings
-from spl.resolver.fleet import SERVER_INSTANCE, Ask, FleetCheck, check_fleet, shown
+from spl.resolver.fleet import FleetCheck, check_fleet
+from spl.resolver.fleet_asks import SERVER_INSTANCE, Ask, shown
 from spl.resolver.fleet_file import DEFAULT_GROUP, Fleet
 
 TRUE, FALSE = ("const", True), ("const", False)

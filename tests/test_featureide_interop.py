@@ -11,7 +11,8 @@ from real_models import REAL_MODELS
 
 from spl.diagnostics import ModelError
 from spl.dsl import fm
-from spl.dsl.featureide import parse_featureide, read_featureide, write_featureide
+from spl.dsl.featureide import parse_featureide, read_featureide
+from spl.dsl.featureide_writer import write_featureide
 from spl.dsl.fm_interchange import original_name
 from spl.dsl.uvl import read_uvl, write_uvl
 from spl.emf import differences

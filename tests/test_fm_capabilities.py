@@ -8,7 +8,8 @@ import pytest
 
 from spl.diagnostics import ModelError
 from spl.dsl import fm
-from spl.dsl.featureide import parse_featureide, write_featureide
+from spl.dsl.featureide import parse_featureide
+from spl.dsl.featureide_writer import write_featureide
 from spl.dsl.fm_printer import format_capabilities, print_model
 from spl.dsl.uvl import parse_uvl, write_uvl
 from spl.emf import differences

@@ -325,7 +325,8 @@ def test_a_constraint_too_deep_for_the_readers_is_refused_by_every_format(
 
 
 def test_the_deepest_constraint_allowed_goes_through_every_format(tmp_path: Path) -> None:
-    from spl.dsl.featureide import read_featureide, write_featureide
+    from spl.dsl.featureide import read_featureide
+    from spl.dsl.featureide_writer import write_featureide
     from spl.dsl.uvl import read_uvl, write_uvl
 
     chain = " => ".join(["A", "B"] * (MAX_FORMULA_DEPTH // 2) + ["A"])
