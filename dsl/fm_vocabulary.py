@@ -11,30 +11,14 @@ import re
 from typing import Any
 
 from spl.diagnostics import Diagnostic, Location
-from spl.dsl import literals
+from spl.dsl import grammar_keywords, literals
 
-# Words of the .fm language that can never name a feature (the grammar rejects them
-# where a feature name is expected); importers rename features called like this.
-RESERVED_WORDS = frozenset(
-    {
-        "abstract",
-        "and",
-        "attribute",
-        "constraints",
-        "excludes",
-        "group",
-        "mandatory",
-        "not",
-        "optional",
-        "or",
-        "requires",
-        "sharing",
-        "xor",
-    }
-)
+# Words of the .fm language that can never name a feature (the grammar's FeatureName
+# refuses them); importers rename features called like this.
+RESERVED_WORDS = grammar_keywords.excluded_words("fm", "FeatureName")
 IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
-ATTRIBUTE_TYPES = ("int", "double", "string", "bool")
-SHARING_MODES = ("public", "protected", "private")
+ATTRIBUTE_TYPES = grammar_keywords.words_of("fm", "AttributeType")  # int, double, ...
+SHARING_MODES = grammar_keywords.words_of("fm", "SharingModeName")  # public, protected, ...
 # Binary operators of the metamodel, as the .fm language spells them.
 OPERATORS = ("and", "or", "implies", "iff", "requires", "excludes")
 

@@ -16,6 +16,17 @@ does not read to the end (a syntax error, or an expression nested deeper than
 refusal of expressions too deep for textX, stay exactly textX's. Where it reads a text,
 textX reads the same tree (``tests/test_tsm_reader.py`` compares both on every shipped
 model and mutations of them).
+
+It pays (``bench/readers.py``, loaded 2-core machine): the parse tree of the synthetic
+line of ``bench/tsm_scale.py`` in 0.036 s instead of textX's 0.88 s at 1,000 nodes (24x)
+and 0.91 s instead of 13.1 s at 10,000 (14x), of the shipped .tsm files 16x faster;
+``spl check`` of the 1,000-node .tsm takes 0.15 s of CPU with it and 0.73 s without
+(4.8x), of the shipped mapping3d line 0.14 s and 0.19 s (no textX import or metamodel).
+The editor's incremental reading (``tsm_incremental``) and the excerpts textX words
+syntax errors from (``tsm_syntax_excerpt``) are built on it too.
+
+A keyword added to ``tsm.tx`` must be read here too:
+``tests/test_grammar_keywords.py`` fails on one the reader never matches.
 """
 
 from __future__ import annotations

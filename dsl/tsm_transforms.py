@@ -14,7 +14,7 @@ import math
 import re
 from typing import Any
 
-from spl.dsl import literals
+from spl.dsl import grammar_keywords, literals
 from spl.dsl.tsm_names import Names
 from spl.dsl.tsm_syntax import kind
 
@@ -43,9 +43,17 @@ FUNCTIONS: dict[str, tuple[int, int]] = {
 CONSTANTS = {"pi": math.pi, "e": math.e}
 NEIGHBOURS = ("prev", "next")
 IMPLICIT_FIELD = "timestamp"
-# Words an expression reads specially; a data field may not be called so.
+# Words an expression reads specially; a data field may not be called so: the keywords
+# and literals of tsm.tx's expressions (and, or, not, true, false) and the names above.
 RESERVED_FIELD_NAMES = frozenset(
-    {"and", "or", "not", "true", "false", "if", IMPLICIT_FIELD, *NEIGHBOURS, *CONSTANTS}
+    {
+        *grammar_keywords.words_of("tsm", "Expression"),
+        *grammar_keywords.literal_words("tsm", "Boolean"),
+        "if",
+        IMPLICIT_FIELD,
+        *NEIGHBOURS,
+        *CONSTANTS,
+    }
 )
 
 

@@ -15,7 +15,15 @@ import re
 
 from lsprotocol import types
 
-from spl.lsp.occurrences import FM_KEYWORDS, RM_STATEMENTS, TSM_STATEMENTS
+from spl.dsl import grammar_keywords as grammar
+from spl.lsp.occurrences import (
+    FM_KEYWORDS,
+    RM_STATEMENTS,
+    TSM_MEMBER_HEADS,
+    TSM_NODE_HEADS,
+    TSM_STATEMENTS,
+    TSM_TOP_HEADS,
+)
 from spl.lsp.symbols import Decl, SymbolIndex
 from spl.lsp.tokens import Token, Tokens
 
@@ -32,10 +40,28 @@ KINDS = {
     "data": types.CompletionItemKind.Struct,
     "transform": types.CompletionItemKind.Function,
 }
-RM_TOP = ["when", "resolution", "model", "tsm", "fm"]
-TSM_TOP = ["system", "robot", "cloud", "container", "bridge", "data", "transform"]
-TSM_MEMBERS = ["topic", "node", "optional", "store", "writer", "reader", "namespace", "endpoint"]
-TSM_NODE = ["implementation", "param", "publishes", "subscribes", "provides", "calls"]
+# The keywords offered where a statement starts, from the grammars (dsl/*.tx): at the top
+# of a .rm (``when`` and the header's words), and in a .tsm every word of the runs that
+# open an item at the top level, in a container and in a node.
+RM_TOP = [
+    *dict.fromkeys(run[0] for run in grammar.heads("rm", "Element")),
+    *grammar.words_of("rm", "ResolutionModel", deep=False),
+]
+TSM_TOP = list(dict.fromkeys(word for run in TSM_TOP_HEADS for word in run))
+TSM_MEMBERS = list(dict.fromkeys(word for run in TSM_MEMBER_HEADS for word in run))
+TSM_NODE = list(dict.fromkeys(word for run in TSM_NODE_HEADS for word in run))
+# The operators of a .fm constraint.
+FM_OPERATORS = list(grammar.words_of("fm", "Constraint"))
+# What may be typed next inside a .rm statement, by rm.tx.
+_CONNECTS = ("ConnectTopicStmt", "ConnectNewTopicStmt", "ConnectServerStmt", "ConnectBridgeStmt")
+AFTER_WHEN_FEATURE = list(grammar.follows("rm", "feature", "Element"))  # not, selected
+PARAMETER_VALUES = list(grammar.follows("rm", "=", "ParameterStmt"))  # feature, true, false
+AFTER_MIGRATE_NODE = list(grammar.follows("rm", "node", "MigrateStmt"))  # to
+AFTER_CONNECT = list(grammar.follows("rm", "connect", *_CONNECTS))  # bridge
+AFTER_CONNECT_INTERFACE = list(grammar.follows("rm", "interface", *_CONNECTS[:2]))  # to
+AFTER_BRIDGE_SOURCE = list(grammar.follows("rm", "source", "ConnectBridgeStmt"))  # ->
+AFTER_CONNECT_TO = list(grammar.follows("rm", "to", *_CONNECTS))  # topic, new, server
+AFTER_NEW = list(grammar.follows("rm", "new", "ConnectNewTopicStmt"))  # topic
 
 
 def complete(
@@ -129,7 +155,7 @@ def _rm(
             and len(before) > 1
             and before[-2].is_word("when")
         ):
-            return [], ["selected", "not"]
+            return [], AFTER_WHEN_FEATURE
         return [], RM_TOP
     if qualifier:
         return _members(qualifier, index), []
@@ -148,11 +174,11 @@ def _rm(
     if kind == "connect":
         return _connect(before, statement, word, index)
     if kind == "parameter" and word == "=":
-        return [], ["feature", "true", "false"]
+        return [], PARAMETER_VALUES
     if kind == "parameter" and word == "feature":
         return list(index.features.values()), []
     if kind == "migrate" and last is not None and last.kind == "name" and word != "to":
-        return [], ["to"]
+        return [], AFTER_MIGRATE_NODE
     return [], sorted(RM_STATEMENTS - {"when"})
 
 
@@ -162,15 +188,15 @@ def _connect(
     tail = before[before.index(statement) :]
     words = [t.text for t in tail]
     if word == "connect":
-        return _nodes(index), ["bridge"]
+        return _nodes(index), AFTER_CONNECT
     if "bridge" in words[:2]:
         if word in ("bridge", "->"):
             return [*index.containers.values(), *_nodes(index)], []
-        return [], ["->"]
+        return [], AFTER_BRIDGE_SOURCE
     if word == "to":
-        return [], ["topic", "new", "server"]
+        return [], AFTER_CONNECT_TO
     if word == "new":
-        return [], ["topic"]
+        return [], AFTER_NEW
     if word == "topic" and "new" not in words:
         interface = tail[1] if len(tail) > 1 else None
         owners = index.elements(interface.parts[:-1])[-1] if interface is not None else []
@@ -181,7 +207,7 @@ def _connect(
     if word == "server":
         return _nodes(index), []
     if len(tail) == 2:
-        return [], ["to"]
+        return [], AFTER_CONNECT_INTERFACE
     return [], []
 
 
@@ -217,5 +243,5 @@ def _container_at(before: list[Token]) -> str | None:
 def _fm(before: list[Token], index: SymbolIndex) -> tuple[list[Decl], list[str]]:
     in_constraints = any(t.is_word("constraints") for t in before)
     if in_constraints:
-        return list(index.features.values()), ["and", "or", "not", "requires", "excludes"]
-    return [], sorted(FM_KEYWORDS - {"true", "false"})
+        return list(index.features.values()), FM_OPERATORS
+    return [], sorted(FM_KEYWORDS - set(grammar.literal_words("fm", "BoolWord")))

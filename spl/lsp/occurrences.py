@@ -13,20 +13,26 @@ import os
 from collections import defaultdict
 from dataclasses import dataclass
 
+from spl.dsl import grammar_keywords as grammar
 from spl.lsp.symbols import Decl, NewTopics, SymbolIndex
 from spl.lsp.tokens import Token, Tokens
 
-TSM_STATEMENTS = {
-    "container", "topic", "node", "param", "publishes", "subscribes", "provides", "calls",
-    "bridge", "data", "transform", "store", "writer", "reader", "implementation", "endpoint",
-}  # fmt: skip
-RM_STATEMENTS = {"require", "implementation", "connect", "parameter", "migrate", "when"}
-FM_KEYWORDS = {
-    "feature", "model", "root", "constraints", "abstract", "mandatory", "optional", "xor",
-    "or", "and", "not", "group", "attribute", "sharing", "capability", "requires",
-    "excludes", "int", "double", "string", "bool", "public", "protected", "private", "true",
-    "false", "has",
-}  # fmt: skip
+# The keyword runs that open an item of a .tsm, at the top level (``system``, ``robot
+# container``, ``bridge``, ...), in a container (``optional node``, ``topic``, ...) and in
+# a node, writer or reader (``implementation``, ``param``, ``publishes``, ...): tsm.tx's.
+TSM_TOP_HEADS = grammar.heads("tsm", "System")
+TSM_MEMBER_HEADS = grammar.block_heads("tsm", "RobotContainer", "CloudContainer")
+TSM_NODE_HEADS = grammar.block_heads("tsm", "Node", "Writer", "Reader")
+# The word that opens a .tsm statement is the last of its run (``robot container``,
+# ``optional node``); ``system`` and ``namespace`` open none whose names the walks read,
+# and a topic may be called ``namespace``.
+_TSM_HEADS = TSM_TOP_HEADS + TSM_MEMBER_HEADS + TSM_NODE_HEADS
+TSM_STATEMENTS = frozenset(run[-1] for run in _TSM_HEADS) - {"system", "namespace"}
+# A .rm statement is opened by the first word of its run (``connect bridge``), as is an
+# element (``when``): rm.tx's.
+RM_STATEMENTS = frozenset(run[0] for run in grammar.heads("rm", "Element", "Statement"))
+# Every keyword of fm.tx and capability.tx, and the literals true and false.
+FM_KEYWORDS = grammar.keywords("fm") | set(grammar.literal_words("fm", "BoolWord"))
 
 
 @dataclass(frozen=True)

@@ -1,0 +1,167 @@
+"""Benchmark: does each fast reader (dsl/*_reader.py) pay against textX?
+
+    .venv/bin/python bench/readers.py [--sizes 1000 10000] [--repeat 3] [--runs 5]
+        [--each] [--no-in-process]
+
+The readers exist only for speed (textX parses whatever they leave, and must give the
+same tree: tests/test_*_reader.py). For each grammar, in process:
+
+* **metamodel**: importing textX, and textX building the grammar's metamodel, which every
+  process that parses with textX pays once (the readers need neither);
+* **parse tree**, best of ``--repeat``: textX's ``model_from_str`` against the reader's
+  ``read`` on every shipped model of the language (product_lines/, summed) and on the
+  synthetic line of bench/tsm_scale.py (``--sizes`` nodes: its .tsm, .fm and .rm).
+
+Then whole ``spl check`` processes, ``--runs`` each, interleaved, median CPU time (user
++ system: on a loaded machine the wall time also measures waiting for a core): with the
+readers, and with them switched off (each ``read`` returning None, so textX reads
+everything, as it would without the reader; ``--each``: also one reader at a time): on
+the shipped mapping3d line and on the synthetic line's .tsm and folder. The processes
+keep cached bytecode, as an installed spl does.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+from tsm_scale import synthetic_line  # the same synthetic line, run as a script
+
+from spl.dsl import fm, fm_reader, rm, rm_reader, tsm, tsm_reader
+
+ROOT = Path(__file__).resolve().parents[1]
+LANGUAGES = {
+    "tsm": (tsm._grammar, tsm_reader.read),
+    "fm": (fm._grammar, fm_reader.read),
+    "rm": (rm._grammar, rm_reader.read),
+}
+ENVIRONMENT = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
+# `spl` with the readers named in its first argument switched off
+WITHOUT_READERS = (
+    "import importlib, sys\n"
+    "for name in sys.argv.pop(1).split(','):\n"
+    "    importlib.import_module(f'spl.dsl.{name}_reader').read = lambda text: None\n"
+    "from spl.cli import main\n"
+    "sys.argv[0] = 'spl'\n"
+    "main()\n"
+)
+
+
+def best(repeat: int, action) -> float:
+    times = []
+    for _ in range(repeat):
+        start = time.perf_counter()
+        action()
+        times.append(time.perf_counter() - start)
+    return min(times)
+
+
+def parse_all(parse, texts: list[str]) -> None:
+    for text in texts:
+        parse(text)
+
+
+def in_process(texts: dict[str, dict[str, list[str]]], repeat: int) -> None:
+    start = time.perf_counter()
+    import textx  # noqa: F401  (what a process parsing with textX imports first)
+
+    print(f"importing textX: {time.perf_counter() - start:.3f} s (the readers need none)")
+    print()
+    print("| grammar | texts | KB | textX metamodel s | textX tree s | reader tree s | ratio |")
+    print("| --- | --- | ---: | ---: | ---: | ---: | ---: |")
+    for language, (grammar, read) in LANGUAGES.items():
+        grammar.cache_clear()
+        start = time.perf_counter()
+        metamodel = grammar()
+        built = time.perf_counter() - start
+        for label, group in texts[language].items():
+            assert all(read(t) is not None for t in group), f"{label}: the reader refuses one"
+            size = sum(len(t) for t in group) / 1024
+            slow = best(repeat, lambda g=group, m=metamodel: parse_all(m.model_from_str, g))
+            fast = best(repeat, lambda g=group, r=read: parse_all(r, g))
+            print(
+                f"| {language}.tx | {label} | {size:.0f} | {built:.3f} | {slow:.3f} "
+                f"| {fast:.4f} | {slow / fast:.0f} x |"
+            )
+
+
+def process(arguments: list[str], off: tuple[str, ...]) -> float:
+    """The CPU seconds (user + system) of one process ``spl ARGUMENTS`` with the readers
+    of the languages ``off`` switched off: on a shared, loaded machine the wall time
+    also measures waiting for a core."""
+    command = [sys.executable, "-m", "spl", *arguments]
+    if off:
+        command = [sys.executable, "-c", WITHOUT_READERS, ",".join(off), *arguments]
+    child = subprocess.Popen(
+        command, cwd=ROOT, env=ENVIRONMENT, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE
+    )
+    _, status, usage = os.wait4(child.pid, 0)
+    if os.waitstatus_to_exitcode(status) != 0:
+        raise SystemExit(f"{' '.join(command)} failed:\n{child.stderr.read().decode()}")
+    child.stderr.close()
+    return usage.ru_utime + usage.ru_stime
+
+
+def whole_processes(targets: dict[str, Path], runs: int, each: bool) -> None:
+    ways = {"with readers": ()}
+    if each:
+        ways |= {f"no {language} reader": (language,) for language in LANGUAGES}
+    ways["textX only"] = tuple(LANGUAGES)
+    print(f"median CPU s of {runs} processes each (interleaved):")
+    print()
+    print(f"| spl check | {' | '.join(ways)} |")
+    print(f"| --- | {' | '.join('---:' for _ in ways)} |")
+    for label, target in targets.items():
+        arguments = ["check", str(target)]
+        process(arguments, ())  # writes the bytecode a first run lacks
+        samples: dict[str, list[float]] = {way: [] for way in ways}
+        for _ in range(runs):  # interleaved, so a change of load hits every way alike
+            for way, off in ways.items():
+                samples[way].append(process(arguments, off))
+        on = statistics.median(samples["with readers"])
+        cells = [f"{on:.3f}"]
+        for way in list(ways)[1:]:
+            slower = statistics.median(samples[way])
+            cells.append(f"{slower:.3f} ({slower / on:.1f} x)")
+        print(f"| {label} | {' | '.join(cells)} |")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--sizes", type=int, nargs="+", default=[1000, 10000])
+    parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--runs", type=int, default=5)
+    parser.add_argument("--each", action="store_true", help="also switch off one reader at a time")
+    parser.add_argument("--no-in-process", action="store_true", help="time whole processes only")
+    options = parser.parse_args()
+    texts: dict[str, dict[str, list[str]]] = {}
+    for language in LANGUAGES:
+        shipped = sorted((ROOT / "product_lines").rglob(f"*.{language}"))
+        texts[language] = {
+            f"{len(shipped)} shipped": [p.read_text(encoding="utf-8") for p in shipped]
+        }
+    targets = {"product_lines/mapping3d": ROOT / "product_lines" / "mapping3d"}
+    with tempfile.TemporaryDirectory() as tmp:
+        for size in options.sizes:
+            folder = Path(tmp) / f"n{size}"
+            folder.mkdir()
+            synthetic_line(folder, size)
+            for language in LANGUAGES:
+                text = (folder / f"synthetic.{language}").read_text(encoding="utf-8")
+                texts[language][f"synthetic {size}"] = [text]
+            targets[f"synthetic {size}: .tsm"] = folder / "synthetic.tsm"
+            targets[f"synthetic {size}: folder"] = folder
+        if not options.no_in_process:
+            in_process(texts, options.repeat)
+            print()
+        whole_processes(targets, options.runs, options.each)
+
+
+if __name__ == "__main__":
+    main()
