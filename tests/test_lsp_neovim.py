@@ -1,9 +1,9 @@
-"""`spl lsp` in a real editor: the README's Neovim set-up, run in a headless Neovim.
+"""`spl lsp` in a real editor: the documented Neovim set-up, run in a headless Neovim.
 
 pytest-lsp drives the server the way the protocol says; this drives it the way an editor
 does (its own document synchronisation, position encoding, filetype detection and
-diagnostics store), from the ``init.lua`` lines the README tells users to write, so a
-README snippet that no longer works fails here. Neovim is a Debian package (``apt-get
+diagnostics store), from the ``init.lua`` lines docs/editors.md tells users to write, so
+a snippet there that no longer works fails here. Neovim is a Debian package (``apt-get
 install neovim``) that ``.ci/run`` installs; without it this test fails, never skips.
 """
 
@@ -63,12 +63,12 @@ def neovim_version() -> tuple[int, int]:
     return int(major), int(minor)
 
 
-def readme_snippet(version: tuple[int, int]) -> str:
-    """The README's init.lua lines for this Neovim version."""
+def documented_snippet(version: tuple[int, int]) -> str:
+    """The init.lua lines docs/editors.md gives for this Neovim version."""
     marker = "neovim-0.11" if version >= (0, 11) else "neovim-0.7"
-    readme = (ROOT / "README.md").read_text()
-    block = re.search(rf"<!-- {marker} -->\n```lua\n(.*?)```", readme, re.S)
-    assert block, f"README has no <!-- {marker} --> block"
+    page = (ROOT / "docs" / "editors.md").read_text()
+    block = re.search(rf"<!-- {marker} -->\n```lua\n(.*?)```", page, re.S)
+    assert block, f"docs/editors.md has no <!-- {marker} --> block"
     return block.group(1)
 
 
@@ -87,7 +87,7 @@ def spl_check_of(text: str, folder: Path) -> list[tuple[int, int, str, str]]:
     ]
 
 
-def test_readme_neovim_setup_shows_checks_and_definitions(tmp_path):
+def test_documented_neovim_setup_shows_checks_and_definitions(tmp_path):
     version = neovim_version()
     line_dir = tmp_path / "orchard"
     shutil.copytree(ROOT / "product_lines" / "orchard", line_dir)
@@ -101,7 +101,7 @@ def test_readme_neovim_setup_shows_checks_and_definitions(tmp_path):
 
     config = tmp_path / "config"
     config.mkdir()
-    (config / "init.lua").write_text(readme_snippet(version))
+    (config / "init.lua").write_text(documented_snippet(version))
     result = tmp_path / "result.json"
     probe = tmp_path / "probe.lua"
     probe.write_text(
@@ -114,7 +114,7 @@ def test_readme_neovim_setup_shows_checks_and_definitions(tmp_path):
             "result": json.dumps(str(result)),
         }
     )
-    # the README's set-up runs `spl lsp` from the PATH: the spl of this test run
+    # the documented set-up runs `spl lsp` from the PATH: the spl of this test run
     env = dict(os.environ, PATH=f"{Path(sys.executable).parent}{os.pathsep}{os.environ['PATH']}")
     env.update(XDG_CONFIG_HOME=str(tmp_path / "xdg"), XDG_STATE_HOME=str(tmp_path / "state"))
     done = subprocess.run(
