@@ -165,4 +165,3 @@ def is_type(text: str) -> bool:
 
 def is_package(name: str) -> bool:
     return problem_package(name) is None
-

@@ -52,8 +52,10 @@ class TransformTyping:
 
     def error(self, element: Any, message: str) -> None:
         self.diagnostics.append(
-            Diagnostic(location_of(element) or location_of(self.transform),
-                       f"transform {self.transform.name}: {message}")
+            Diagnostic(
+                location_of(element) or location_of(self.transform),
+                f"transform {self.transform.name}: {message}",
+            )
         )
 
     def type_of(self, expr: Any) -> str | None:
@@ -143,8 +145,8 @@ class TransformTyping:
             if len(args) < 2:
                 self.error(expr, f"{name}() takes at least 2 arguments, got {len(args)}")
                 return None
-        elif name in DOUBLE_FUNCTIONS or name in ROUNDING_FUNCTIONS or name in (
-            "abs", "atan2", "if"
+        elif (
+            name in DOUBLE_FUNCTIONS or name in ROUNDING_FUNCTIONS or name in ("abs", "atan2", "if")
         ):
             if len(args) != arity:
                 noun = "argument" if arity == 1 else "arguments"
@@ -259,23 +261,40 @@ def check_system(system: Any) -> list[Diagnostic]:
                 if transform is None or refinement.output is None or store.raw is None:
                     continue
                 if transform.input is not store.raw:
-                    problems.append(Diagnostic(where, (
-                        f"store {store.name}: transform {transform.name} reads "
-                        f"{transform.input.name}, but the store's raw type is {store.raw.name}"
-                    )))
+                    problems.append(
+                        Diagnostic(
+                            where,
+                            f"store {store.name}: transform {transform.name} reads "
+                            f"{transform.input.name}, but the store's raw type is "
+                            f"{store.raw.name}",
+                        )
+                    )
                 if transform.output is not refinement.output:
-                    problems.append(Diagnostic(where, (
-                        f"store {store.name}: transform {transform.name} produces "
-                        f"{transform.output.name}, not {refinement.output.name}"
-                    )))
+                    problems.append(
+                        Diagnostic(
+                            where,
+                            (
+                                f"store {store.name}: transform {transform.name} produces "
+                                f"{transform.output.name}, not {refinement.output.name}"
+                            ),
+                        )
+                    )
                 if refinement.output.name in outputs:
-                    problems.append(Diagnostic(where, (
-                        f"store {store.name}: {refinement.output.name} is refined twice"
-                    )))
+                    problems.append(
+                        Diagnostic(
+                            where,
+                            (f"store {store.name}: {refinement.output.name} is refined twice"),
+                        )
+                    )
                 outputs.add(refinement.output.name)
                 if refinement.period is not None and not refinement.period > 0:
-                    problems.append(Diagnostic(where, (
-                        f"store {store.name}: the period of {refinement.output.name} "
-                        "must be positive"
-                    )))
+                    problems.append(
+                        Diagnostic(
+                            where,
+                            (
+                                f"store {store.name}: the period of {refinement.output.name} "
+                                "must be positive"
+                            ),
+                        )
+                    )
     return problems
