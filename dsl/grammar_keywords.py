@@ -25,10 +25,16 @@ its rules include those of the grammars it imports (``fm.tx`` imports ``capabili
 
 from __future__ import annotations
 
-import re
-from collections.abc import Iterator, Mapping
 from functools import cache
-from pathlib import Path
+
+from spl.dsl.grammar_text import (
+    BUILT_IN,
+    EXCLUDED_WORDS,
+    LITERAL_WORDS,
+    Expr,
+    is_word,
+    rules,
+)
 
 __all__ = [
     "block_heads",
@@ -42,196 +48,7 @@ __all__ = [
     "words_of",
 ]
 
-# An expression of a rule's body, as nested tuples:
-#   ("str", text) ("regex", pattern) ("ref", rule) ("seq", (e, ...)) ("choice", (e, ...))
-#   ("rep", "?" | "*" | "+" | "#", e) ("assign", attribute, "=" | "+=" | "*=" | "?=", e)
-#   ("pred", "&" | "!", e)
-Expr = tuple
 
-_TOKEN = re.compile(
-    r"""
-    (?P<skip>\s+|//[^\n]*|/\*.*?\*/)
-  | (?P<str>'(?:\\.|[^'\\])*'|"(?:\\.|[^"\\])*")
-  | (?P<regex>/(?:\\.|[^/\\\n])+/)
-  | (?P<name>[A-Za-z_][A-Za-z0-9_.]*)
-  | (?P<op>\?=|\+=|\*=|[=:;|()\[\]?*+#&!,-])
-    """,
-    re.VERBOSE | re.DOTALL,
-)
-_WORD = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
-# /(w1|w2)(?!...)/: a terminal matching one of a few words
-_LITERAL_WORDS = re.compile(r"\(((?:[A-Za-z_]\w*\|)*[A-Za-z_]\w*)\)(?=\(\?!|\Z)")
-# /(?!(w1|w2)(?!...))NAME/: a name that may not be one of a few words
-_EXCLUDED_WORDS = re.compile(r"\(\?!\(((?:[A-Za-z_]\w*\|)*[A-Za-z_]\w*)\)")
-_UNESCAPE = re.compile(r"\\(.)")
-GRAMMARS = Path(__file__).parent  # where dsl/<language>.tx are
-# textX's own rules (terminals, none a keyword of spl's languages)
-_BUILT_IN = frozenset({"ID", "BOOL", "INT", "FLOAT", "STRICTFLOAT", "STRING", "NUMBER", "BASETYPE"})
-
-
-def is_word(text: str) -> bool:
-    """Whether a string match is a word (a keyword), not punctuation."""
-    return bool(_WORD.match(text))
-
-
-# -- reading a grammar ---------------------------------------------------------------------
-def _tokens(text: str) -> list[tuple[str, str]]:
-    """The tokens of a grammar's text, blanks and comments left out, and an end mark."""
-    tokens, covered = [], 0
-    for match in _TOKEN.finditer(text):
-        covered += match.end() - match.start()
-        if match.lastgroup != "skip":
-            tokens.append((match.lastgroup or "", match.group()))
-    if covered != len(text):
-        raise ValueError("not a textX grammar this reader knows")
-    tokens.append(("end", ""))
-    return tokens
-
-
-class _Parser:
-    """textX's grammar language, from one token on: a rule's body (``choice``)."""
-
-    def __init__(self, tokens: list[tuple[str, str]], at: int = 0) -> None:
-        self.tokens = tokens
-        self.at = at
-
-    def peek(self, offset: int = 0) -> tuple[str, str]:
-        return self.tokens[min(self.at + offset, len(self.tokens) - 1)]
-
-    def take(self, text: str | None = None) -> str:
-        kind, value = self.tokens[self.at]
-        if kind == "end" or (text is not None and value != text):
-            raise ValueError(f"grammar: expected {text or 'a token'}, found {value!r}")
-        self.at += 1
-        return value
-
-    def choice(self) -> Expr:
-        alternatives = [self.sequence()]
-        while self.tokens[self.at][1] == "|":
-            self.at += 1
-            alternatives.append(self.sequence())
-        return alternatives[0] if len(alternatives) == 1 else ("choice", tuple(alternatives))
-
-    def sequence(self) -> Expr:
-        elements = []
-        while self.tokens[self.at][1] not in ("|", ")", ";", ""):
-            elements.append(self.repeatable())
-        return elements[0] if len(elements) == 1 else ("seq", tuple(elements))
-
-    def repeatable(self) -> Expr:
-        expr = self.expression()
-        if self.tokens[self.at][1] in ("?", "*", "+", "#"):
-            expr = ("rep", self.take(), expr)
-            self.modifiers()
-        if self.tokens[self.at][1] == "-":  # suppression
-            self.at += 1
-        return expr
-
-    def modifiers(self) -> None:
-        """Repetition modifiers (``[',']``, ``[eolterm]``): they add no keyword."""
-        if self.tokens[self.at][1] == "[":
-            while self.take() != "]":
-                pass
-
-    def expression(self) -> Expr:
-        kind, value = self.tokens[self.at]
-        if value in ("&", "!"):
-            self.at += 1
-            return ("pred", value, self.expression())
-        if kind == "name" and self.peek(1)[1] in ("=", "+=", "*=", "?="):
-            self.at += 1
-            operator = self.take()
-            expr = self.simple()
-            self.modifiers()
-            return ("assign", value, operator, expr)
-        return self.simple()
-
-    def simple(self) -> Expr:
-        kind, value = self.tokens[self.at]
-        self.take()
-        if kind == "str":
-            return ("str", _UNESCAPE.sub(r"\1", value[1:-1]))
-        if kind == "regex":
-            return ("regex", value[1:-1])
-        if kind == "name":
-            return ("ref", value.rsplit(".", 1)[-1])
-        if value == "(":
-            expr = self.choice()
-            self.take(")")
-            return expr
-        if value == "[":  # a cross reference [Class] or [Class:Rule]: no keyword either
-            while self.take() != "]":
-                pass
-            return ("regex", "")
-        raise ValueError(f"grammar: unexpected {value!r}")
-
-
-class _Rules(Mapping[str, Expr]):
-    """The rules of one grammar file and those it imports (name -> body); a body is
-    parsed when it is first asked for (most uses need a few rules of a grammar)."""
-
-    def __init__(self, language: str) -> None:
-        text = (GRAMMARS / f"{language}.tx").read_text(encoding="utf-8")
-        self.tokens = tokens = _tokens(text)
-        parser = _Parser(tokens)
-        self.imported: list[Mapping[str, Expr]] = []
-        while parser.peek()[1] in ("import", "reference"):
-            parser.take()
-            self.imported.append(rules(parser.take()))
-            if parser.peek()[1] == "as":
-                parser.take()
-                parser.take()
-        self.spans: dict[str, int] = {}  # a rule's name -> the first token of its body
-        at = parser.at
-        while tokens[at][0] != "end":
-            name = tokens[at][1]
-            at += 1
-            if tokens[at][1] == "[":  # rule parameters, e.g. [noskipws]
-                while tokens[at][1] != "]":
-                    at += 1
-                at += 1
-            if tokens[at][1] != ":":
-                raise ValueError(f"{language}.tx: expected ':' after {name}")
-            self.spans[name] = at + 1
-            while tokens[at][1] != ";":  # ';' ends a rule and appears nowhere else
-                if tokens[at][0] == "end":
-                    raise ValueError(f"{language}.tx: rule {name} has no ';'")
-                at += 1
-            at += 1
-        self.parsed: dict[str, Expr] = {}
-        self.names = list(dict.fromkeys([n for m in self.imported for n in m] + [*self.spans]))
-
-    def __getitem__(self, name: str) -> Expr:
-        if name in self.parsed:
-            return self.parsed[name]
-        if name in self.spans:
-            parser = _Parser(self.tokens, self.spans[name])
-            body = parser.choice()
-            parser.take(";")
-            self.parsed[name] = body
-            return body
-        for imported in self.imported:
-            if name in imported:
-                return imported[name]
-        raise KeyError(name)
-
-    def __contains__(self, name: object) -> bool:
-        return name in self.spans or any(name in m for m in self.imported)
-
-    def __iter__(self) -> Iterator[str]:
-        return iter(self.names)
-
-    def __len__(self) -> int:
-        return len(self.names)
-
-
-@cache
-def rules(language: str) -> Mapping[str, Expr]:
-    """Every rule of ``dsl/<language>.tx`` and of the grammars it imports (name -> body)."""
-    return _Rules(language)
-
-
-# -- what the rules say --------------------------------------------------------------------
 class _Reading:
     """Questions about one language's rules, each answer kept."""
 
@@ -244,7 +61,7 @@ class _Reading:
     def rule(self, name: str) -> Expr:
         if name in self.rules:
             return self.rules[name]
-        if name in _BUILT_IN:
+        if name in BUILT_IN:
             return ("regex", "")
         raise KeyError(f"{name}: no such rule")
 
@@ -466,7 +283,7 @@ def words_of(language: str, rule: str, deep: bool = True) -> tuple[str, ...]:
     (``words_of("fm", "SharingModeName")`` is ``("public", "protected", "private")``);
     with ``deep=False`` only those written in the rule itself."""
     reading = _reading(language)
-    seen = {rule} if deep else {rule, *reading.rules, *_BUILT_IN}
+    seen = {rule} if deep else {rule, *reading.rules, *BUILT_IN}
     return tuple(_unique(reading.words(reading.rule(rule), seen)))
 
 
@@ -513,7 +330,7 @@ def _regex(language: str, rule: str) -> str:
 def literal_words(language: str, rule: str) -> tuple[str, ...]:
     """The words a terminal of the form ``/(w1|w2)(?!...)/`` matches
     (``literal_words("fm", "BoolWord")`` is ``("true", "false")``)."""
-    match = _LITERAL_WORDS.match(_regex(language, rule))
+    match = LITERAL_WORDS.match(_regex(language, rule))
     if match is None:
         raise ValueError(f"rule {rule} of {language}.tx matches no list of words")
     return tuple(match.group(1).split("|"))
@@ -523,7 +340,7 @@ def literal_words(language: str, rule: str) -> tuple[str, ...]:
 def excluded_words(language: str, rule: str) -> frozenset[str]:
     """The words a name terminal refuses with a leading ``(?!(w1|w2)(?!...))``
     (``excluded_words("fm", "FeatureName")``: the words that cannot name a feature)."""
-    match = _EXCLUDED_WORDS.match(_regex(language, rule))
+    match = EXCLUDED_WORDS.match(_regex(language, rule))
     if match is None:
         raise ValueError(f"rule {rule} of {language}.tx refuses no words")
     return frozenset(match.group(1).split("|"))

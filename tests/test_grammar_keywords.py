@@ -263,8 +263,8 @@ EDITS = {
 REPORT = """
 import json, sys
 from pathlib import Path
-from spl.dsl import grammar_keywords
-grammar_keywords.GRAMMARS = Path(sys.argv[1])
+from spl.dsl import grammar_text
+grammar_text.GRAMMARS = Path(sys.argv[1])
 from spl.dsl import fm_vocabulary, tsm_transforms
 from spl.lsp import completion, occurrences
 print(json.dumps({
