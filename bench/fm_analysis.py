@@ -30,7 +30,7 @@ Two measurements:
   column is spl's exact product count and its time (flamapy's BDD count, where it
   finishes, must agree).
 
-``--json-out`` stores flamapy's answers (the test fixtures of tests/test_analysis_real.py).
+``--json-out`` stores flamapy's answers (the test fixtures of tests/resolver/test_analysis_real.py).
 """
 
 from __future__ import annotations

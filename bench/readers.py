@@ -4,7 +4,7 @@
         [--each] [--no-in-process]
 
 The readers exist only for speed (textX parses whatever they leave, and must give the
-same tree: tests/test_*_reader.py). For each grammar, in process:
+same tree: tests/dsl/test_*_reader.py). For each grammar, in process:
 
 * **metamodel**: importing textX, and textX building the grammar's metamodel, which every
   process that parses with textX pays once (the readers need neither);

@@ -1,0 +1,117 @@
+"""The VS Code extension in editors/vscode: it starts ``spl lsp`` for the files the
+server serves, and its TextMate grammars know every keyword of the textX grammars (the
+keywords, literals and declaring keywords, compared with ``spl.dsl.grammar_keywords``)."""
+
+from __future__ import annotations
+
+import json
+import re
+import shutil
+import subprocess
+from pathlib import Path
+
+import pytest
+
+from spl.dsl import grammar_keywords
+from spl.lsp.checking import SUFFIXES
+
+ROOT = Path(__file__).resolve().parents[2]
+EXTENSION = ROOT / "editors" / "vscode"
+GRAMMARS = {"tsm": ["tsm.tx"], "fm": ["fm.tx", "capability.tx"], "rm": ["rm.tx"]}
+
+
+def manifest() -> dict:
+    return json.loads((EXTENSION / "package.json").read_text(encoding="utf-8"))
+
+
+def test_extension_starts_spl_lsp_for_every_suffix_the_server_checks():
+    package = manifest()
+    command = package["contributes"]["configuration"]["properties"]["spl.command"]["default"]
+    assert command == ["spl", "lsp"]
+    suffixes = {e for lang in package["contributes"]["languages"] for e in lang["extensions"]}
+    assert suffixes | {".xml"} == set(SUFFIXES)  # .xml is VS Code's own language
+    script = (EXTENSION / "extension.js").read_text(encoding="utf-8")
+    selected = set(re.findall(r'language: "([\w-]+)"', script))
+    assert selected == {lang["id"] for lang in package["contributes"]["languages"]} | {"xml"}
+    assert package["main"] == "./extension.js"
+
+
+@pytest.mark.parametrize("language", sorted(GRAMMARS))
+def test_textmate_grammar_highlights_every_keyword_of_the_language(language: str):
+    """The keywords, the literals and the declaring keywords of each TextMate grammar
+    are those of its textX grammars (read by ``spl.dsl.grammar_keywords``, as the
+    language server's sets are): a keyword added to a .tx file fails here until the
+    TextMate grammar highlights it."""
+    package = manifest()
+    (entry,) = [g for g in package["contributes"]["grammars"] if g["language"] == f"spl-{language}"]
+    grammar = json.loads((EXTENSION / entry["path"]).read_text(encoding="utf-8"))
+    assert grammar["scopeName"] == entry["scopeName"]
+    keywords = grammar_keywords.keywords(language)
+    assert keywords == {
+        word for file in GRAMMARS[language] for word in _string_words(ROOT / "dsl" / file)
+    }
+    constants = set(_words(grammar["repository"]["constants"]["match"]))
+    assert constants == set(BOOLEANS[language]())
+    highlighted = set(_words(grammar["repository"]["keywords"]["match"]))
+    assert highlighted == keywords - constants
+    declaring = set(_words(grammar["repository"]["declarations"]["match"]))
+    assert declaring <= keywords
+    assert _declaring_keywords(language) <= declaring
+    for rule in grammar["repository"].values():
+        for item in rule.get("patterns", [rule]):
+            for key in ("match", "begin", "end"):
+                if key in item:
+                    re.compile(item[key])  # the patterns are plain regular expressions
+
+
+BOOLEANS = {
+    "tsm": lambda: grammar_keywords.literal_words("tsm", "Boolean"),
+    "fm": lambda: grammar_keywords.literal_words("fm", "BoolWord"),
+    "rm": lambda: grammar_keywords.words_of("rm", "Boolean"),
+}
+
+
+def _string_words(path: Path) -> set[str]:
+    """The quoted words of a grammar file, read plainly (a second reading)."""
+    return set(re.findall(r"'([a-z_]+)'", path.read_text(encoding="utf-8")))
+
+
+def _words(pattern: str) -> list[str]:
+    """The words of a TextMate pattern ``\\b(a|b|c)\\b...``."""
+    return re.match(r"\\b\(([a-z_|]+)\)", pattern).group(1).split("|")
+
+
+def _declaring_keywords(language: str) -> set[str]:
+    """The keywords written right before a declared ``name=`` in the grammar."""
+    found: set[str] = set()
+
+    def keyword(expr: tuple) -> str | None:
+        if expr[0] == "rep":
+            return keyword(expr[2])
+        if expr[0] == "assign" and expr[2] == "?=":
+            return keyword(expr[3])
+        return expr[1] if expr[0] == "str" and grammar_keywords.is_word(expr[1]) else None
+
+    def declares(expr: tuple) -> bool:
+        inner = expr[2] if expr[0] == "rep" else expr
+        return inner[0] == "assign" and inner[1] == "name"
+
+    def walk(expr: tuple) -> None:
+        if expr[0] in ("seq", "choice"):
+            if expr[0] == "seq":
+                for before, after in zip(expr[1], expr[1][1:], strict=False):
+                    if declares(after) and (word := keyword(before)) is not None:
+                        found.add(word)
+            for part in expr[1]:
+                walk(part)
+        elif expr[0] in ("rep", "assign", "pred"):
+            walk(expr[-1])
+
+    for body in grammar_keywords.rules(language).values():
+        walk(body)
+    return found
+
+
+@pytest.mark.skipif(shutil.which("node") is None, reason="node is not installed")
+def test_extension_script_is_valid_javascript():
+    subprocess.run(["node", "--check", str(EXTENSION / "extension.js")], check=True)

@@ -1,0 +1,115 @@
+"""``spl products``: on a product-line folder and on feature-model files, in text and
+JSON Lines, with the usage errors of its options."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from click.testing import CliRunner
+
+from spl.cli import main
+from spl.dsl.fm_formats import load_feature_model
+
+from support.fm_semantics import is_product
+from support.real_models import REAL_MODELS
+from support.sample_checks import interactions
+
+ROOT = Path(__file__).resolve().parents[2]
+MAPPING = ROOT / "product_lines" / "mapping3d"
+SEARCH = Path(__file__).parents[1] / "models" / "validate" / "sampling" / "search.fm"
+
+
+def run(*args: object):
+    return CliRunner().invoke(main, ["products", *map(str, args)])
+
+
+def test_all_products_of_a_line_resolve_as_listed() -> None:
+    result = run(MAPPING)  # --all is the default
+    assert result.exit_code == 0, result.stderr
+    lines = result.stdout.splitlines()
+    assert len(lines) == len(set(lines)) == 12 and result.stderr == "12 products\n"
+    assert "YouBot,Stereo,AdditionalPC,Room" in lines
+    assert not any("Roomba" in line and "AdditionalPC" in line for line in lines)
+    assert run(MAPPING, "--all").stdout == result.stdout
+
+
+def test_pairwise_sample_as_json_lines_covers_every_pair() -> None:
+    model = load_feature_model(MAPPING / "mapping.fm")
+    everything = [json.loads(line) for line in run(MAPPING, "--all", "--json").stdout.splitlines()]
+    result = run(MAPPING, "--sample", "t=2", "--json")
+    assert result.exit_code == 0
+    sample = [json.loads(line) for line in result.stdout.splitlines()]
+    assert [p["index"] for p in sample] == list(range(1, len(sample) + 1))
+    assert all(is_product(model, set(p["features"])) for p in sample)
+    names = everything[0]["features"]  # starts with the root; collect every name used
+    names = sorted({name for p in everything for name in p["features"]} | {"AdditionalPC"})
+    products = [frozenset(p["features"]) for p in everything]
+    chosen = [frozenset(p["features"]) for p in sample]
+    assert not interactions(products, names, 2) - interactions(chosen, names, 2)
+    assert len(sample) < 12
+    assert "valid 2-wise combinations" in result.stderr
+
+
+def test_feature_model_files_in_every_format() -> None:
+    uvl = run(REAL_MODELS / "berkeleydb.uvl", "--sample", "t=2")
+    xml = run(REAL_MODELS / "berkeleydb.xml", "--sample", "2")
+    assert uvl.exit_code == xml.exit_code == 0
+    assert len(uvl.stdout.splitlines()) > 1
+    assert run(SEARCH, "--random", "5", "--seed", "3").stdout.count("\n") == 5
+
+
+def test_random_is_reproducible() -> None:
+    first = run(SEARCH, "--random", "8", "--seed", "11", "--json")
+    assert first.exit_code == 0
+    assert run(SEARCH, "--random", "8", "--seed", "11", "--json").stdout == first.stdout
+    model = load_feature_model(SEARCH)
+    assert all(
+        is_product(model, set(json.loads(line)["features"])) for line in first.stdout.splitlines()
+    )
+
+
+def test_usage_errors_exit_2(tmp_path: Path) -> None:
+    assert run(MAPPING, "--sample", "t=7").exit_code == 2
+    assert "t=1, t=2 or t=3" in run(MAPPING, "--sample", "pairs").stderr
+    assert run(MAPPING, "--all", "--random", "3").exit_code == 2
+    text = tmp_path / "model.txt"
+    text.write_text("x")
+    bad = run(text)
+    assert bad.exit_code == 2 and "feature model" in bad.stderr
+
+
+def test_model_errors_are_located(tmp_path: Path) -> None:
+    broken = tmp_path / "broken.fm"
+    broken.write_text("feature model B\nroot R {\n    optional A\n    optional A\n}\n")
+    result = run(broken)
+    assert result.exit_code == 1
+    assert result.stderr.startswith(f"{broken}:")
+
+
+def test_three_wise_on_busybox_is_refused_with_the_number() -> None:
+    result = run(REAL_MODELS / "busybox_2010-05-02_14-17-07.uvl", "--sample", "t=3")
+    assert result.exit_code == 1
+    assert "622 free features means 319,309,920 combinations" in result.stderr
+
+
+def test_a_reader_that_leaves_early_ends_spl_quietly() -> None:
+    """`spl products LINE | head -1`: when the reader has gone, spl stops writing and
+    exits 141 (as a tool killed by SIGPIPE) with nothing on stderr."""
+    import os
+    import subprocess
+    import sys
+
+    read, write = os.pipe()
+    os.close(read)  # the reader is gone before the first line is written
+    try:
+        done = subprocess.run(
+            [sys.executable, "-m", "spl", "products", str(ROOT / "product_lines" / "orchard"),
+             "--json"],
+            stdout=write, stderr=subprocess.PIPE, text=True, timeout=60,
+        )  # fmt: skip
+    finally:
+        os.close(write)
+    assert done.returncode == 141
+    assert "error" not in done.stderr.lower()
+    assert "Exception" not in done.stderr

@@ -1,0 +1,127 @@
+"""A model copy (the Resolution Engine's step 3) is the original again, element for
+element, and a model pyecore handles as any other: attributes set as pyecore sets them,
+containers and references in place, edits and listeners on the copy working."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from pyecore.notification import EObserver
+
+from spl.dsl.tsm import parse_file
+from spl.emf import copy_with_map, differences
+
+MODELS = sorted((Path(__file__).resolve().parents[2] / "product_lines").glob("*/*.tsm"))
+
+
+@pytest.mark.parametrize("path", MODELS, ids=lambda p: p.stem)
+def test_a_copy_equals_its_original_and_maps_every_element(path):
+    original = parse_file(path)
+    copy, mapping = copy_with_map(original)
+    assert list(differences(original, copy)) == []
+    elements = [original, *original.eAllContents()]
+    assert all(mapping[id(e)] is not e for e in elements)
+    for element in elements:
+        twin = mapping[id(element)]
+        assert twin.eClass is element.eClass
+        container = element.eContainer()
+        assert twin.eContainer() is (mapping[id(container)] if container else None)
+        for feature in element.eClass.eAllAttributes():
+            if not feature.many:  # a default value is left unset in the copy
+                value = getattr(element, feature.name)
+                assert getattr(twin, feature.name) == value
+                explicit = value is not None and value != feature.get_default_value()
+                assert twin.eIsSet(feature) == explicit, feature.name
+
+
+def test_edits_and_listeners_on_a_copy_work_and_leave_the_original_alone():
+    original = parse_file(MODELS[0])
+    copy, _ = copy_with_map(original)
+    node = next(n for c in copy.containers for n in c.nodes)
+    heard = []
+
+    class Listener(EObserver):
+        def notifyChanged(self, notification):
+            heard.append((notification.feature.name, notification.new))
+
+    Listener(notifier=node)
+    before = {id(n): n.name for c in original.containers for n in c.nodes}
+    node.name = "Renamed"
+    assert heard == [("name", "Renamed")]
+    assert node.name == "Renamed"
+    assert {id(n): n.name for c in original.containers for n in c.nodes} == before
+
+
+@pytest.mark.parametrize("path", MODELS, ids=lambda p: p.stem)
+def test_a_copied_attribute_slot_is_the_one_pyecore_builds(path):
+    from pyecore.valuecontainer import EValue
+
+    original = parse_file(path)
+    _, mapping = copy_with_map(original)
+    compared = 0
+    for element in [original, *original.eAllContents()]:
+        twin = mapping[id(element)]
+        for feature in element.eClass.eAllAttributes():
+            slot = twin.__dict__.get(feature.name)
+            if feature.many or slot is None:
+                continue
+            own = EValue(twin, feature)
+            own._value = getattr(element, feature.name)
+            assert type(slot) is EValue and vars(slot) == vars(own), feature.name
+            compared += 1
+    assert compared > 0
+
+
+@pytest.mark.parametrize("path", MODELS, ids=lambda p: p.stem)
+def test_a_copy_is_the_one_pyecore_builds_by_setting_each_feature(path, monkeypatch):
+    """Slots, set features, containers and inverse relations of every copied element
+    equal those of a copy whose features are all set through pyecore's descriptors."""
+    from spl import emf
+
+    original = parse_file(path)
+    _, fast_map = copy_with_map(original)
+    monkeypatch.setattr(
+        emf, "_set_attribute", lambda obj, _, name, value: setattr(obj, name, value)
+    )
+    monkeypatch.setattr(
+        emf, "_set_reference", lambda obj, _, name, value, __: setattr(obj, name, value)
+    )
+    monkeypatch.setattr(
+        emf, "_extend", lambda obj, _, name, values, __: getattr(obj, name).extend(values)
+    )
+    _, slow_map = copy_with_map(original)
+    to_slow = {id(fast_map[key]): slow_map[key] for key in fast_map}
+
+    def same(value):
+        return to_slow.get(id(value), value)
+
+    compared = 0
+    for element in [original, *original.eAllContents()]:
+        a, b = fast_map[id(element)], slow_map[id(element)]
+        assert set(a._isset) == set(b._isset)
+        assert same(a.eContainer()) is b.eContainer()
+        assert a._containment_feature is b._containment_feature
+        assert {(same(owner), f) for owner, f in a._inverse_rels} == {
+            (owner, f) for owner, f in b._inverse_rels
+        }
+        for feature in element.eClass.eAllStructuralFeatures():
+            slot, own = a.__dict__.get(feature.name), b.__dict__.get(feature.name)
+            if feature.many:
+                if getattr(element, feature.name):
+                    assert type(slot) is type(own), feature.name
+                    assert [same(v) for v in slot] == list(own), feature.name
+                    fields = {
+                        k: same(v) for k, v in vars(slot).items() if k not in ("items", "map")
+                    }
+                    assert fields == {
+                        k: v for k, v in vars(own).items() if k not in ("items", "map")
+                    }
+                    compared += 1
+                continue
+            assert (slot is None) == (own is None), feature.name
+            if slot is not None:
+                fields = {k: same(v) for k, v in vars(slot).items()}
+                assert type(slot) is type(own) and fields == vars(own), feature.name
+                compared += 1
+    assert compared > 0

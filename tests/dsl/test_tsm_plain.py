@@ -1,0 +1,96 @@
+"""The plain-object build of a .tsm (``spl.dsl.tsm.check_text``, what ``spl check
+FILE.tsm`` and the editor run) finds exactly what the pyecore build (``parse_text``)
+finds: the same diagnostics, in the same order, and for a text without errors the
+same summary and the same printed model. Checked on every shipped and test model,
+the mutation corpus of tests/dsl/test_tsm_reader.py and generated, mutated lines.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from test_tsm_reader import SHIPPED, SUBSTITUTES
+
+from spl.diagnostics import ModelError
+from spl.dsl import tsm, tsm_plain
+from spl.dsl.tsm_printer import print_model
+
+from support import textx_trees
+from support.hypothesis_budget import examples
+from support.model_mutations import mutate, mutations
+from support.random_lines import line_specs, tsm_text
+from support.textx_trees import ROOT
+
+
+def outcome(build: Any, text: str) -> tuple[str, ...]:
+    """What a build says of ``text``: its diagnostics, or its summary, printed model and
+    the class, name and location of every element."""
+    try:
+        system = build(text, "m.tsm")
+    except ModelError as exc:
+        return tuple(f"{d} [{d.severity} {d.code}]" for d in exc.diagnostics)
+    return tsm.summary(system), print_model(system), *places(system)
+
+
+def places(element: Any) -> list[str]:
+    """Every element under ``element`` (containment, in feature order) and its place."""
+    found = [
+        f"{element.eClass.name} {getattr(element, 'name', '')} "
+        f"{element.srcFile}:{element.srcLine}:{element.srcCol}"
+    ]
+    for feature in element.eClass.eAllStructuralFeatures():
+        if getattr(feature, "containment", False):
+            value = getattr(element, feature.name)
+            for child in value if feature.many else [value] if value is not None else []:
+                found += places(child)
+    return found
+
+
+def assert_same(text: str) -> None:
+    assert outcome(tsm.check_text, text) == outcome(tsm.parse_text, text)
+
+
+def mutated_texts(count: int, seed: int) -> list[str]:
+    """Lines deleted and doubled, tokens deleted or replaced: a fixed random sample."""
+    return textx_trees.mutated_texts(SHIPPED, SUBSTITUTES, count, seed)
+
+
+@pytest.mark.parametrize("path", SHIPPED, ids=lambda p: str(p.relative_to(ROOT)))
+def test_every_shipped_model_checks_alike_in_plain_objects(path) -> None:
+    assert_same(path.read_text(encoding="utf-8"))
+
+
+def test_mutated_shipped_models_check_alike_in_plain_objects() -> None:
+    for text in mutated_texts(600, 17):
+        assert_same(text)
+
+
+@settings(max_examples=examples(30), deadline=None)
+@given(line_specs(), st.data())
+def test_generated_and_mutated_lines_check_alike_in_plain_objects(spec, data) -> None:
+    text = tsm_text(spec)
+    assert_same(text)
+    assert_same(mutate(text, data.draw(mutations(text))))
+
+
+def test_plain_elements_answer_like_the_metamodels_objects() -> None:
+    """Defaults, containment, eContainer, eClass and enum literals as pyecore has them."""
+    from spl.metamodels import tsm as ecore
+
+    T, E = tsm_plain.metamodel(), ecore()
+    node, ecore_node = T.Node(name="n"), E.Node(name="n")
+    for feature in ("name", "optional", "sharing", "package", "args", "srcLine"):
+        assert getattr(node, feature) == getattr(ecore_node, feature), feature
+    assert node.eClass is E.Node.eClass and node.sharing is E.SharingMode.private
+    container = T.CloudContainer(name="c")
+    container.nodes.append(node)
+    container.endpoint = T.Endpoint()
+    assert node.eContainer() is container and container.endpoint.eContainer() is container
+    call = T.CallExpression(function="max", arguments=[T.NumberLiteral(value="1")])
+    assert call.arguments[0].eContainer() is call
+    container.eSet("cpu", 2)
+    assert container.eGet("cpu") == 2 and container.size is None
+    assert T.SharingMode is E.SharingMode

@@ -1,0 +1,155 @@
+"""Deployment files of the data-acquisition services: YAML that parses, with images,
+ports, environment and secrets consistent between Dockerfile, compose and Kubernetes."""
+
+from __future__ import annotations
+
+import re
+
+import pytest
+import yaml
+
+from spl.generators import deploy, service
+
+from support.service_models import product
+
+EMBEDDED = ("DataAcquisition", "Embedded", "Follow", "Positions", "Storage")
+POSTGRES = ("DataAcquisition", "Follow", "Positions", "Postgres", "Storage")
+STORES = {"position-store": "POSITION_STORE_TOKEN", "follow-store": "FOLLOW_STORE_TOKEN"}
+
+
+def documents(files: dict[str, bytes], path: str) -> list[dict]:
+    return [d for d in yaml.safe_load_all(files[path]) if d is not None]
+
+
+@pytest.fixture(scope="module", params=[EMBEDDED, POSTGRES], ids=["embedded", "postgres"])
+def generated(request):  # type: ignore[no-untyped-def]
+    resolved = product(features=request.param)
+    return request.param is POSTGRES, deploy.generate(resolved), service.generate(resolved)
+
+
+def test_compose_runs_every_service_with_its_token_from_the_environment(generated) -> None:
+    postgres, files, services = generated
+    compose = documents(files, "deploy/docker-compose.yml")[0]
+    expected = set(STORES) | ({"postgres"} if postgres else set())
+    assert set(compose["services"]) == expected
+    host_ports = []
+    for name, token_env in STORES.items():
+        entry = compose["services"][name]
+        store = {"position-store": "PositionStore", "follow-store": "FollowStore"}[name]
+        assert entry["build"] == {"context": "..", "dockerfile": f"deploy/{store}/Dockerfile"}
+        assert f"deploy/{store}/Dockerfile" in files
+        assert entry["environment"][token_env] == f"${{{token_env}:?set {token_env}}}"
+        url = entry["environment"]["DATABASE_URL"]
+        if postgres:
+            assert url.startswith("postgresql://spl:${POSTGRES_PASSWORD:?")
+            assert entry["depends_on"]["postgres"]["condition"] == "service_healthy"
+        else:
+            assert url.startswith("sqlite:////data/")
+            volume = entry["volumes"][0].split(":")[0]
+            assert volume in compose["volumes"]
+        host, container = entry["ports"][0].split(":")
+        assert container == entry["environment"]["PORT"] == "8000"
+        host_ports.append(host)
+        dockerfile = files[f"deploy/{store}/Dockerfile"].decode()
+        assert "EXPOSE 8000" in dockerfile and "PORT=8000" in dockerfile
+        package = re.search(r'CMD \["python", "-m", "(\w+)"\]', dockerfile).group(1)
+        assert f"services/{store}/{package}/__main__.py" in services
+        assert f"COPY services/{store}/ /app/" in dockerfile
+    assert len(set(host_ports)) == len(host_ports)
+    if postgres:
+        db = compose["services"]["postgres"]
+        assert db["environment"]["POSTGRES_PASSWORD"].startswith("${POSTGRES_PASSWORD:?")
+        assert "healthcheck" in db
+
+
+def test_kubernetes_manifests_are_consistent(generated) -> None:
+    postgres, files, _ = generated
+    compose = documents(files, "deploy/docker-compose.yml")[0]
+    for name, token_env in STORES.items():
+        docs = {d["kind"]: d for d in documents(files, f"deploy/kubernetes/{name}.yaml")}
+        assert {"Deployment", "Service"} <= set(docs)
+        deployment = docs["Deployment"]
+        assert deployment["apiVersion"] == "apps/v1"
+        labels = deployment["spec"]["selector"]["matchLabels"]
+        assert deployment["spec"]["template"]["metadata"]["labels"].items() >= labels.items()
+        assert docs["Service"]["spec"]["selector"] == labels
+        container = deployment["spec"]["template"]["spec"]["containers"][0]
+        assert container["image"] == compose["services"][name]["image"]
+        assert container["ports"][0] == {"name": "https", "containerPort": 8000}
+        assert docs["Service"]["spec"]["ports"][0] == {
+            "name": "https",
+            "port": 443,
+            "targetPort": "https",
+        }
+        env = {e["name"]: e for e in container["env"]}
+        # HTTPS from the TLS secret, mounted as files (read only), never a value here
+        upper = name.replace("-", "_").upper()
+        assert env[f"{upper}_TLS_CERT"]["value"] == "/etc/tls/tls.crt"
+        assert env[f"{upper}_TLS_KEY"]["value"] == "/etc/tls/tls.key"
+        assert {"name": "tls", "mountPath": "/etc/tls", "readOnly": True} in container[
+            "volumeMounts"
+        ]
+        volumes = {v["name"]: v for v in deployment["spec"]["template"]["spec"]["volumes"]}
+        assert volumes["tls"] == {"name": "tls", "secret": {"secretName": f"{name}-tls"}}
+        for probe in ("readinessProbe", "livenessProbe"):
+            assert container[probe]["httpGet"]["scheme"] == "HTTPS"
+        assert env["PORT"]["value"] == "8000"
+        token = env[token_env]["valueFrom"]["secretKeyRef"]
+        assert token == {"name": "data-acquisition-secrets", "key": f"{name}-token"}
+        if postgres:
+            assert env["DATABASE_URL"]["valueFrom"]["secretKeyRef"]["key"] == "database-url"
+        else:
+            claim = volumes["data"]
+            assert (
+                docs["PersistentVolumeClaim"]["metadata"]["name"]
+                == (claim["persistentVolumeClaim"]["claimName"])
+            )
+    if postgres:
+        docs = {d["kind"]: d for d in documents(files, "deploy/kubernetes/postgres.yaml")}
+        stateful = docs["StatefulSet"]
+        assert stateful["spec"]["serviceName"] == docs["Service"]["metadata"]["name"]
+        assert docs["Service"]["spec"]["clusterIP"] == "None"
+        assert stateful["spec"]["volumeClaimTemplates"][0]["metadata"]["name"] == "data"
+    else:
+        assert "deploy/kubernetes/postgres.yaml" not in files
+
+
+def test_no_secret_value_in_any_generated_file(generated) -> None:
+    _, files, services = generated
+    text = b"".join([*files.values(), *services.values()]).decode()
+    assert not re.search(r"(?i)password\s*[:=]\s*['\"]?[A-Za-z0-9]{6,}", text)
+    assert not re.search(r"TOKEN=(?!<secret>|\.\.\.)\S", text)  # placeholders only
+
+
+def test_nothing_to_deploy_without_stores() -> None:
+    resolved = product()
+    for container in resolved.system.containers:
+        container.stores.clear()
+    assert deploy.generate(resolved) == {}
+    assert service.generate(resolved) == {}
+
+
+def test_names_yaml_would_read_as_other_values_stay_text() -> None:
+    """A product called ``no`` and a store called ``null`` (both valid identifiers) were
+    written bare: YAML read ``part-of: no`` as false and ``services: {null: ...}`` as a
+    null key, and kubernetes-validate refused the Deployment. Every name reads back as
+    the text it is, and every manifest passes ``kubernetes-validate --strict``."""
+    import kubernetes_validate
+
+    resolved = product(name="no", features=POSTGRES)
+    store = next(s for c in resolved.system.containers for s in c.stores)
+    store.name = "null"
+    files = deploy.generate(resolved)
+    compose = documents(files, "deploy/docker-compose.yml")[0]
+    assert compose["name"] == "no" and "null" in compose["services"]
+    manifests = [p for p in files if p.startswith("deploy/kubernetes/")]
+    assert "deploy/kubernetes/null.yaml" in manifests
+    for path in manifests:
+        for document in documents(files, path):
+            labels = document["metadata"].get("labels", {})
+            assert labels.get("app.kubernetes.io/part-of", "no") == "no"
+            kubernetes_validate.validate(document, "1.33.0", strict=True)
+    deployment = next(
+        d for d in documents(files, "deploy/kubernetes/null.yaml") if d["kind"] == "Deployment"
+    )
+    assert deployment["metadata"]["name"] == "null"

@@ -1,5 +1,0 @@
-"""Where the tests find the community's real feature models (copies in tests/data)."""
-
-from pathlib import Path
-
-REAL_MODELS = Path(__file__).resolve().parent / "data" / "feature-models"
