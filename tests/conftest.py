@@ -5,7 +5,8 @@
 is no per-example deadline (a shared 2-core machine has slow moments). Example counts
 are set per test and stay small so the suite keeps its time budget.
 ``explore`` searches with fresh random examples and ten times as many of them, for a
-developer hunting new counterexamples: ``HYPOTHESIS_PROFILE=explore pytest tests/cli/test_fuzz_*.py``.
+developer hunting new counterexamples: ``HYPOTHESIS_PROFILE=explore pytest
+tests/cli/test_fuzz_*.py``.
 """
 
 import os

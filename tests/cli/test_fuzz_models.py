@@ -1,4 +1,4 @@
-"""Fuzzing the command line with mutated and generated models (issue 13: no internal
+"""Fuzzing the command line with mutated and generated models (no internal
 error on any valid or invalid input).
 
 The shipped product lines and the test corpora are mutated one file at a time (.tsm,

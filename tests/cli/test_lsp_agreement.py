@@ -26,7 +26,7 @@ from support.lsp_client import SERVER, change, close, diagnostics, open_file, st
 ROOT = Path(__file__).resolve().parents[2]
 MODEL_SUFFIXES = {".tsm", ".fm", ".rm"}
 FEATURE_MODEL_SUFFIXES = {".uvl", ".xml"}
-# product-line checks spl check reports as errors and the editor as warnings (issue 16):
+# product-line checks spl check reports as errors and the editor as warnings:
 # an element no product activates, a reachable conflict, a product-dependent statement
 LINE_CHECK_ERRORS = {"SPL010", "SPL012", "SPL016"}
 LOCATED = re.compile(r"^(.*?):(\d+):(\d+): (error|warning|info): (.*?)(?: \[(SPL\d+)\])?$")

@@ -151,7 +151,7 @@ async def test_product_line_findings_appear_on_the_element(client: LanguageClien
     open_file(client, rm, text)
     found = await diagnostics(client, rm, lambda d: any(x.code == "SPL012" for x in d))
     rm.write_text(text, encoding="utf-8")
-    # spl check's error (exit 1) is a warning on the element in the editor, issue 16
+    # spl check's error (exit 1) is a warning on the element in the editor
     checked = expected(spl_check(orchard), rm)
     assert {d[2] for d in checked if d[3] == "SPL012"} == {"error"}
     assert [as_spl(d, text) for d in found] == [

@@ -1,4 +1,4 @@
-"""The .fm language: the SPEC example, every construct, located errors, the printer."""
+"""The .fm language: the example of docs/fm.md, every construct, located errors, the printer."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""The fast .rm reader (spl.dsl.rm_reader) reads exactly what textX reads (issue 17).
+"""The fast .rm reader (spl.dsl.rm_reader) reads exactly what textX reads.
 
 Where the reader takes a text, its tree equals textX's object for object (class name,
 every attribute of the rule, ``_tx_position``); where textX refuses a text, the reader

@@ -1,4 +1,4 @@
-"""The .tsm language: what the SPEC examples and the shipped models mean once parsed,
+"""The .tsm language: what the examples of docs/tsm.md and the shipped models mean once parsed,
 and that the printer writes every model back to text that parses to the same model."""
 
 from __future__ import annotations
@@ -38,7 +38,7 @@ def interface(system: Any, container_name: str, node_name: str, name: str) -> An
     return by_name(node(system, container_name, node_name).interfaces, name)
 
 
-# -- SPEC section 2, first example ------------------------------------------------------
+# -- docs/tsm.md, first example ------------------------------------------------------
 @pytest.fixture(scope="module")
 def spec_mapping() -> Any:
     return tsm.parse_file(MODELS / "spec_mapping.tsm")
@@ -123,7 +123,7 @@ def test_spec_example_bridge_is_endpoint_interfaces_and_a_connection(spec_mappin
     assert (connection.srcLine, connection.srcCol) == (43, 1)
 
 
-# -- SPEC section 2, second example (data acquisition) ------------------------------------
+# -- docs/tsm.md, second example (data acquisition) ------------------------------------
 def test_spec_data_acquisition_example() -> None:
     system = tsm.parse_file(MODELS / "spec_data.tsm")
     assert system.name is None

@@ -1,4 +1,4 @@
-"""The fast .tsm reader (spl.dsl.tsm_reader) reads exactly what textX reads (issue 17).
+"""The fast .tsm reader (spl.dsl.tsm_reader) reads exactly what textX reads.
 
 Where the reader takes a text, its tree must equal textX's object for object: class
 name, every attribute of the rule, ``_tx_position``; where textX refuses a text, the

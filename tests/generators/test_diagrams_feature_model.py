@@ -1,4 +1,4 @@
-"""Feature-model diagram (seeds/003 Fig. 5) of the mapping product line's feature model."""
+"""Feature-model diagram (the mapping paper's Fig. 5) of the mapping line's feature model."""
 
 from __future__ import annotations
 
@@ -33,7 +33,7 @@ def _ref(name: str, features: dict[str, Any]) -> Any:
 
 
 def mapping_feature_model() -> Any:
-    """reference/case-studies.md part 1, plus an or-group and a cardinality group."""
+    """docs/product-lines.md, plus an or-group and a cardinality group."""
     F = fm()
     names = [
         "Mapping",

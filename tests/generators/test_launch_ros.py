@@ -1,4 +1,4 @@
-"""ROS 1 and ROS 2 launch files of the resolved mapping product (seeds/003 Fig. 5)."""
+"""ROS 1 and ROS 2 launch files of the resolved mapping product (the mapping paper's Fig. 5)."""
 
 from __future__ import annotations
 

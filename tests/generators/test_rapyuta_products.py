@@ -73,7 +73,7 @@ def test_every_shipped_mapping3d_product_is_accepted(mapping_line, selection):
 
 
 def test_the_papers_product_mirrors_the_migrated_map_optimizer(mapping_line):
-    # seeds/003 Fig. 5: YouBot, Stereo, AdditionalPC, Room; MapOptimizer on the robot
+    # the mapping paper's Fig. 5: YouBot, Stereo, AdditionalPC, Room; MapOptimizer on the robot
     product = resolve(mapping_line, selection_from_list("YouBot,Stereo,AdditionalPC,Room"))
     doc = json.loads(generate(product.product)["rapyuta/Robot.json"])
     assert [(n["cTag"], n["nTag"]) for n in doc["nodes"]] == [

@@ -1,4 +1,5 @@
-"""Both case studies of seeds/000 end to end, on SQLite: the services generated from
+"""Both case studies of the data-acquisition paper end to end, on SQLite: the services
+generated from
 product_lines/data_acquisition/data.tsm run under uvicorn, the generated writer's HTTP
 module posts, the transformer runs, the generated reader's HTTP module reads back."""
 

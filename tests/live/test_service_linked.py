@@ -1,4 +1,5 @@
-"""The generated services as Linked Robotic Things (seeds/002, R1.1-R1.12): Turtle unless
+"""The generated services as Linked Robotic Things (R1.1-R1.12 of the Linked Data
+requirements, docs/services.md): Turtle unless
 the Accept header prefers JSON (406 when neither fits), an rdf:type on every record
 (SOSA observations of the model's data types), the root and the store linking their
 subscriptions, properties, actions and SHACL blueprint with the hybrit: terms, and

@@ -1,4 +1,5 @@
-"""Subscriptions of the generated services (seeds/002, R0.12-R0.17 and R1.8), through
+"""Subscriptions of the generated services (R0.12-R0.17 and R1.8 of the
+Linked Data requirements, docs/services.md), through
 uvicorn as deployed: a GET of a collection with ``Upgrade: websocket`` (the real
 ``websockets`` client) pushes each new record as one text frame, in id order, the JSON
 frame being exactly what a GET of the record answers; ``after_id`` first sends the

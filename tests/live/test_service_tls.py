@@ -1,4 +1,5 @@
-"""HTTPS (seeds/002, R0.2): the generated service serves TLS when its two environment
+"""HTTPS (R0.2 of the Linked Data requirements, docs/services.md): the generated
+service serves TLS when its two environment
 variables name a certificate and a key file, here a self-signed certificate made in the
 test with ``cryptography``; reads, writes and WebSocket subscriptions (wss) go through
 it, and a plain HTTP request to it is no answer at all."""

@@ -18,7 +18,8 @@ DATA = ROOT / "product_lines" / "data_acquisition"
 
 @pytest.fixture(scope="module")
 def both(tmp_path_factory) -> Path:
-    """Both case studies of seeds/000: GPS seconds to degrees, velocities to commands
+    """Both case studies of the data-acquisition paper: GPS seconds to degrees, velocities
+    to commands
     (whose reader subscribes over a WebSocket)."""
     return write_product(DATA, "Positions,Follow,Embedded", tmp_path_factory.mktemp("d") / "b")
 

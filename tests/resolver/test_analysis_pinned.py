@@ -3,7 +3,7 @@
 ``tests/models/analysis/spl_results.json`` holds spl's own answers (features, constraints,
 satisfiable, core, dead, false-optional, exact product count) for every file of
 tests/data/feature-models, computed with the code as it was *before* the UVL reader
-and ``spl analyze`` were rewritten for speed (issue 17). Any later change of reader,
+and ``spl analyze`` were rewritten for speed. Any later change of reader,
 encoding or analysis that alters one of these answers fails here.
 
 Each model is checked both through the library (``load_feature_model`` and

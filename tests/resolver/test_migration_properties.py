@@ -1,9 +1,10 @@
-"""Property-based tests of node migration with endpoint rewiring (SPEC 5.3, issue 13).
+"""Property-based tests of node migration with endpoint rewiring (docs/resolution.md).
 
 Random small templates (2-4 robot and cloud containers, publishers, subscribers,
 service servers and clients, topic and service bridges) and random migration sets,
 each under its own feature, are resolved through the public API and the resolved
-architecture is checked against SPEC 5.3 (tests/flow_invariants.py): every template
+architecture is checked against docs/resolution.md (tests/support/flow_invariants.py):
+every template
 flow between kept nodes still delivered, every client reaching its server, no bridge
 inside a container, no hairpin, no duplicate bridge, a migrated node's interfaces all
 wired; the output is deterministic, and resolving the resolved model again with no

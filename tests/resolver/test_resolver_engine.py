@@ -1,5 +1,5 @@
 """Engine behaviour: conflicts, `not selected` elements, attributes, sharing, selection
-errors, the SPEC section 4 example, and the command line's determinism and atomicity."""
+errors, the example of docs/rm.md, and the command line's determinism and atomicity."""
 
 from __future__ import annotations
 

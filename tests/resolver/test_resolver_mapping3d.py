@@ -1,5 +1,5 @@
 """The shipped mapping3d line, product by product, element by element
-(reference/case-studies.md part 1 and seeds/003 section VI)."""
+(docs/product-lines.md and the mapping paper's section VI)."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Node migration with endpoint rewiring (SPEC 5.3) on a small dedicated line:
+"""Node migration with endpoint rewiring (docs/resolution.md) on a small dedicated line:
 robot->cloud, cloud->robot and cloud->cloud, for publishers, subscribers, service
 servers and clients, with hairpin removal, topic reuse and no duplicate bridges."""
 

@@ -75,7 +75,7 @@ def remaps(bundle: Path, container: str) -> dict[str, dict[str, str]]:
     }
 
 
-# -- the two defects of issue 13, as a user met them ----------------------------------------
+# -- two defects as a user met them ----------------------------------------
 MIGRATE_THEN_CONNECT = """\
     when OnBoard selected {
         connect Tractor.Camera.thumbs to new topic Thumbs : sensor_msgs/Image name "/camera/thumbs"

@@ -14,7 +14,7 @@ from support.analysis_models import binary, constraint, mapping3d, ref
 @pytest.fixture
 def mapping():
     m, fs = mapping3d()
-    # line 18 of mapping.fm, as in the SPEC example
+    # line 18 of mapping.fm, as in the example of docs/fm.md
     m.constraints.append(
         constraint(binary("excludes", ref("Roomba", fs), ref("AdditionalPC", fs)), 18)
     )

@@ -78,7 +78,7 @@ def all_features(m: Any) -> dict[str, Any]:
 
 
 def mapping3d() -> tuple[Any, dict[str, Any]]:
-    """SPEC section 3's Mapping3D, with ``Roomba excludes AdditionalPC`` added (line 17)."""
+    """docs/fm.md's Mapping3D, with ``Roomba excludes AdditionalPC`` added (line 17)."""
     root = feature(
         "Mapping",
         group(

@@ -1,4 +1,4 @@
-"""The invariants of SPEC 5.3 checked on a resolved architecture, independently of the
+"""The invariants of docs/resolution.md checked on a resolved architecture, independently of the
 engine: what the template promises is computed from the test's own record of it
 (:mod:`random_lines`), and what the product delivers from the resolved pyecore model
 with a graph built here, not with the engine's rewiring code."""
@@ -21,7 +21,7 @@ def active_elements(spec: LineSpec, selected: set[str]) -> list[Element]:
 
 
 def placement(spec: LineSpec, selected: set[str]) -> dict[str, str]:
-    """Node -> container of every node the product keeps (SPEC 5.1 steps 4 and 7)."""
+    """Node -> container of every node the product keeps (docs/resolution.md, steps 4 and 7)."""
     active = active_elements(spec, selected)
     kept = {n for e in active for n in e.requires} | {n for e in active for n, _ in e.migrations}
     moved = {n: target for e in active for n, target in e.migrations}
@@ -108,7 +108,7 @@ def undeliverable(spec: LineSpec, selected: set[str]) -> set[tuple[Endpoint, End
 
 
 def check_resolved(spec: LineSpec, selected: set[str], system: Any, warnings=()) -> None:
-    """Assert every SPEC 5.3 invariant on ``system``, the product of ``selected``;
+    """Assert every invariant of docs/resolution.md on ``system``, the product of ``selected``;
     ``warnings`` are the engine's, which must name every flow it could not deliver."""
     where = placement(spec, selected)
     actual = {n.name: c.name for c in system.containers for n in c.nodes}

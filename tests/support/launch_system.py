@@ -1,7 +1,7 @@
-"""The resolved mapping product of seeds/003 Fig. 5, built with the metamodel classes.
+"""The resolved mapping product of the mapping paper's Fig. 5, built with the metamodel classes.
 
 YouBot, Stereo, AdditionalPC, Room: MapOptimizer migrated to the robot, the robot
-endpoint mirroring its cloud-side connections (reference/case-studies.md part 1).
+endpoint mirroring its cloud-side connections (docs/product-lines.md).
 Shared by the launch and diagram tests until resolved products come from .tsm text.
 """
 

@@ -9,7 +9,7 @@ from anything the engine builds.
 
 Templates are well formed by construction: bridged topics have one type, a ROS name
 always has the same type, and no chain of bridges brings data back into a container
-it left (a hairpin in the template itself, which SPEC 5.3 forbids in results).
+it left (a hairpin in the template itself, which docs/resolution.md forbids in results).
 """
 
 from __future__ import annotations
