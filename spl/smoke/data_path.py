@@ -136,6 +136,7 @@ class DataPath:
             )
         self.transforms = compiled_transforms(system)
         self.fault: str | None = None  # what the fault round did, once done
+        self.restarted_at = 0.0  # when the fault round's restart answered (monotonic)
         self.problems: list[str] = []
 
     # -- starting ------------------------------------------------------------------------
@@ -200,6 +201,7 @@ class DataPath:
         self.processes.retire(service.process)
         self._start(service)
         self._wait_up(service)
+        self.restarted_at = time.monotonic()
         self.fault = f"killed (SIGKILL) after {stored} of {expected} records, restarted"
 
     # -- comparing ---------------------------------------------------------------------------

@@ -49,6 +49,10 @@ from spl.smoke.processes import (
 
 DEFAULT_TIMEOUT = 30.0
 DEFAULT_SETTLE = 5.0
+# after the data path's fault round a writer retries with a backoff that has grown while
+# the service restarted (up to ~10 s on a loaded machine): wait that long before calling
+# the counts settled (a run that passes ends as soon as every check is ok)
+WRITER_RETRY = 15.0
 POLL = 0.25
 # roslaunch's line for a node process that ended: "[ns/Name-1] process has died [...]"
 NODE_DIED = re.compile(r"\[([^\]\s]+)-\d+\] process has (?:died|finished)")
@@ -281,6 +285,8 @@ class _Rehearsal:
                     self._start_master(container)
             if self.data is not None:
                 self.data.step(self.data.expected_raw(self.plan))
+                # the restart's own time is no quiet spell: the writers were waiting on it
+                last_change = max(last_change, self.data.restarted_at)
             rows, ready, stand_ins, given_up = self._snapshot()
             problems = self._process_problems()
             if self.data is not None:
@@ -301,6 +307,8 @@ class _Rehearsal:
                 up_after = now - start
             # a loaded machine that was slow to start is given a longer quiet spell too
             quiet = max(settle, (up_after or 0.0) / 2)
+            if self.data is not None and self.data.fault is not None:
+                quiet = max(quiet, WRITER_RETRY)
             settled = up and now - last_change >= quiet
             if (all_up and everything_ok and ready >= stand_ins) or settled or now >= deadline:
                 break
