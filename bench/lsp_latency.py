@@ -1,4 +1,5 @@
-"""How long after a change ``spl lsp`` shows its diagnostics (issue 16 benchmark).
+"""How long after a change ``spl lsp`` shows its diagnostics (docs/performance.md,
+"Editor latency").
 
 Starts the real server over stdio with pygls's client, opens a synthetic .tsm of N
 nodes (the generator of bench/resolve_scaling.py) and measures, from the moment the

@@ -1,4 +1,5 @@
-"""Resolve time on synthetic product lines of 1k and 10k nodes (issue 4 benchmark).
+"""Resolve time on synthetic product lines of 1k and 10k nodes (docs/performance.md,
+"Resolution scaling").
 
 Each line has one robot and four cloud containers. In every container the nodes form
 chains over topics; every cloud container mirrors a tenth of the robot's topics (same
@@ -30,8 +31,10 @@ def synthetic_line(folder: Path, nodes: int) -> list[str]:
     for c, container in enumerate(CONTAINERS):
         if container == "Robot":
             tsm.append("robot container Robot {")
-            tsm.append('    endpoint robot_id "robot_1" url "wss://cloud.example.org:9000/" '
-                       'user "bench" password env "RCE_PASSWORD"')
+            tsm.append(
+                '    endpoint robot_id "robot_1" url "wss://cloud.example.org:9000/" '
+                'user "bench" password env "RCE_PASSWORD"'
+            )
         else:
             tsm.append(f'cloud container {container} group "g{c}" {{')
         for i in range(per_container):
@@ -65,10 +68,10 @@ def synthetic_line(folder: Path, nodes: int) -> list[str]:
     fm += ["}"]
     (folder / "synthetic.fm").write_text("\n".join(fm) + "\n")
 
-    rm = ['resolution model Synthetic', 'tsm "synthetic.tsm"', 'fm "synthetic.fm"', ""]
+    rm = ["resolution model Synthetic", 'tsm "synthetic.tsm"', 'fm "synthetic.fm"', ""]
     all_nodes = [(c, n) for c in CONTAINERS for n in node_names[c]]
     for j in range(features):
-        chunk = all_nodes[j * 20:(j + 1) * 20]
+        chunk = all_nodes[j * 20 : (j + 1) * 20]
         optional = [n for k, (_, n) in enumerate(chunk) if int(n.split("N")[1]) % 2]
         rm.append(f"when F{j} selected {{")
         if optional:
@@ -116,8 +119,10 @@ def main() -> None:
     if len(sizes) >= 2:
         small, large = sizes[0], sizes[-1]
         ratio = results[large] / results[small]
-        print(f"\nresolve time ratio {large}/{small}: {ratio:.1f} "
-              f"(size ratio {large / small:.0f}; target <= {1.2 * large / small:.0f})")
+        print(
+            f"\nresolve time ratio {large}/{small}: {ratio:.1f} "
+            f"(size ratio {large / small:.0f}; target <= {1.2 * large / small:.0f})"
+        )
 
 
 if __name__ == "__main__":

@@ -48,7 +48,9 @@ from service_models import product  # noqa: E402
 from spl.generators import service  # noqa: E402
 
 TOKEN = "bench-token"
-TARGET = 0.5  # issue 17: generated / bare at concurrency 8, reliably (the min of 5 runs)
+# docs/performance.md, "Targets": generated / bare at concurrency 8, reliably (the min of
+# 5 runs)
+TARGET = 0.5
 STORE = "/PositionStore"
 BARE_APP = """
 from fastapi import FastAPI, Request

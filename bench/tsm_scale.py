@@ -1,4 +1,5 @@
-"""Benchmark: whole ``spl check`` processes on a synthetic .tsm of 1k and 10k nodes (issue 17).
+"""Benchmark: whole ``spl check`` processes on a synthetic .tsm of 1k and 10k nodes
+(docs/performance.md, "Targets").
 
     .venv/bin/python bench/tsm_scale.py [--sizes 1000 10000] [--runs 3] [--line] [--keep DIR]
 
@@ -16,7 +17,7 @@ Times ``--runs`` whole ``spl check FILE.tsm`` processes per size, interleaved, a
 prints the wall time and peak memory (min and median) of each and the ratio the issue
 judges: the 10k median over the 1k median, at most 10 (size ratio 10), and the 10k
 median under 5 s. ``--line`` also times ``spl check`` of the whole product-line folder
-(the .rm, .fm and .tsm parsed, then the line checks of SPEC section 8).
+(the .rm, .fm and .tsm parsed, then the line checks of docs/commands.md, "spl check").
 """
 
 from __future__ import annotations

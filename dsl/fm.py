@@ -15,7 +15,7 @@ import re
 from collections.abc import Iterator
 from functools import cache
 from pathlib import Path
-from typing import Any
+from typing import Any, cast
 
 from spl.diagnostics import (
     DiagnosticSink,
@@ -319,7 +319,7 @@ class _Builder:
                 )
             return right
         for tail in node.rest:
-            result = self.binary(operator, result, self.formula(tail.operand), tail)
+            result = self.binary(cast(str, operator), result, self.formula(tail.operand), tail)
         return result
 
     def binary(self, operator: str, left: Any, right: Any, node: Any) -> Any:

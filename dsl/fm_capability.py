@@ -11,13 +11,16 @@ from __future__ import annotations
 
 from functools import cache
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any, cast
 
 from spl.diagnostics import Diagnostic, DiagnosticSink, Location, ModelError
 from spl.dsl import fm_reader
 from spl.dsl.fm_syntax import syntax_diagnostic
 from spl.dsl.fm_vocabulary import canonical_value
 from spl.metamodels import fm as fm_metamodel
+
+if TYPE_CHECKING:
+    from spl.metamodels import fm_types
 
 
 @cache
@@ -73,9 +76,10 @@ def capability_condition(node: Any, where: Location | None, sink: DiagnosticSink
     if node.value is not None:
         kind = _CAPABILITY_LITERALS[type(node.value).__name__]
         text = node.value.text[1:-1] if kind == "string" else node.value.text
-        condition.valueType = F.AttributeType.getEEnumLiteral(kind)
-        condition.value = canonical_value(kind, text)
-        if condition.value is None:
+        condition.valueType = cast("fm_types.AttributeType", F.AttributeType.getEEnumLiteral(kind))
+        value = canonical_value(kind, text)
+        condition.value = cast(str, value)  # None: not a value of the kind, reported here
+        if value is None:
             sink.error(where, f"capability {node.key}: {node.value.text} is not a {kind}")
         elif node.operator in (">=", "<=") and kind not in ("int", "double"):
             sink.error(

@@ -17,9 +17,14 @@ and ``position`` the character offset the element was read at.
 from __future__ import annotations
 
 import bisect
-from typing import Any
+from typing import TYPE_CHECKING, TypeVar, cast
 
 from spl.diagnostics import Location
+
+if TYPE_CHECKING:
+    from spl.metamodels import fm_types
+
+Located_ = TypeVar("Located_", bound="fm_types.Located")  # an element being built
 
 
 class Source:
@@ -129,7 +134,16 @@ class FeatureModel(Located):
         self.constraints: list[Constraint] = []
 
 
-def to_ecore(model: FeatureModel) -> Any:
+if TYPE_CHECKING:
+    # A feature model as analysis reads it, in either form: pyecore's (fm.ecore), or held
+    # in the plain objects of this module; and its parts.
+    FmModel = fm_types.FeatureModel | FeatureModel
+    FmFeature = fm_types.Feature | Feature
+    FmGroup = fm_types.Group | Group
+    FmConstraint = fm_types.Constraint | Constraint
+
+
+def to_ecore(model: FeatureModel) -> fm_types.FeatureModel:
     """The same model as an ``fm.FeatureModel`` (pyecore), every element located."""
     from spl.metamodels import fm as fm_metamodel
 
@@ -137,27 +151,27 @@ def to_ecore(model: FeatureModel) -> Any:
 
 
 class _Converter:
-    def __init__(self, F: Any, source: Source) -> None:
+    def __init__(self, F: fm_types.Metamodel, source: Source) -> None:
         self.F = F
         self.source = source
-        self.features: dict[str, Any] = {}
+        self.features: dict[str, fm_types.Feature] = {}
 
-    def locate(self, element: Any, position: int) -> Any:
+    def locate(self, element: Located_, position: int) -> Located_:
         where = self.source.location(position)
         element.srcFile, element.srcLine, element.srcCol = where.file, where.line, where.col
         return element
 
-    def model(self, plain: FeatureModel) -> Any:
+    def model(self, plain: FeatureModel) -> fm_types.FeatureModel:
         F = self.F
         model = self.locate(F.FeatureModel(name=plain.name), plain.position)
-        model.root = self.feature(plain.root)
+        model.root = self.feature(cast(Feature, plain.root))  # a model read has its root
         for constraint in plain.constraints:
             element = self.locate(F.Constraint(), constraint.position)
             element.formula = self.formula(constraint.formula)
             model.constraints.append(element)
         return model
 
-    def feature(self, plain: Feature) -> Any:
+    def feature(self, plain: Feature) -> fm_types.Feature:
         F = self.F
         feature = self.locate(F.Feature(name=plain.name), plain.position)
         self.features[plain.name] = feature
@@ -165,12 +179,16 @@ class _Converter:
             feature.abstract = True
         for attribute in plain.attributes:
             element = self.locate(F.Attribute(name=attribute.name), attribute.position)
-            element.type = F.AttributeType.getEEnumLiteral(attribute.type)
+            element.type = cast(
+                "fm_types.AttributeType", F.AttributeType.getEEnumLiteral(attribute.type)
+            )
             element.value = attribute.value
             feature.attributes.append(element)
         if plain.sharing is not None:
             config = self.locate(F.SharingConfig(), plain.sharing.position)
-            config.mode = F.SharingMode.getEEnumLiteral(plain.sharing.mode)
+            config.mode = cast(
+                "fm_types.SharingMode", F.SharingMode.getEEnumLiteral(plain.sharing.mode)
+            )
             feature.sharing = config
         if plain.capability is not None:
             from spl.dsl.fm_interchange import add_capabilities  # the .fm grammar: only if used
@@ -179,7 +197,7 @@ class _Converter:
             add_capabilities(feature, type_name, text, self.source.location(position))
         for plain_group in plain.groups:
             group = self.locate(F.Group(), plain_group.position)
-            group.kind = F.GroupKind.getEEnumLiteral(plain_group.kind)
+            group.kind = cast("fm_types.GroupKind", F.GroupKind.getEEnumLiteral(plain_group.kind))
             if plain_group.kind == "cardinality":
                 group.lower, group.upper = plain_group.lower, plain_group.upper
             for child in plain_group.features:
@@ -187,7 +205,7 @@ class _Converter:
             feature.groups.append(group)
         return feature
 
-    def formula(self, tree: tuple) -> Any:
+    def formula(self, tree: tuple) -> fm_types.Formula:
         F = self.F
         head = tree[0]
         if head == "ref":

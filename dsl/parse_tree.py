@@ -39,7 +39,7 @@ BLANKS = re.compile(rf"[{WHITESPACE}]*")  # a grammar without a Comment rule
 _WORD = re.compile(r"\w*")
 _new_tuple = tuple.__new__
 try:  # the C accessor namedtuple's fields use
-    from _collections import _tuplegetter as _field
+    from _collections import _tuplegetter as _field  # type: ignore[import-not-found]
 except ImportError:  # pragma: no cover - an interpreter without it
 
     def _field(index: int, doc: str) -> Any:
@@ -110,7 +110,7 @@ class Tokens:
         """Where the next terminal starts: past blanks and comments."""
         start, end = self._skipped
         if start != self.pos:
-            end = self.skipped.match(self.text, self.pos).end()
+            end = self.skipped.match(self.text, self.pos).end()  # type: ignore[union-attr]
             self._skipped = (self.pos, end)
         return end
 
@@ -121,7 +121,7 @@ class Tokens:
     def word(self) -> tuple[int, str]:
         """Where the next token starts, and its run of word characters ('' if none)."""
         at = self.skip()
-        return at, _WORD.match(self.text, at).group()
+        return at, _WORD.match(self.text, at).group()  # type: ignore[union-attr]  # \w*
 
     def keyword(self, keyword: str) -> int:
         """An autokwd keyword: ``keyword`` ending at a word boundary."""
@@ -169,7 +169,7 @@ class Tokens:
 
     def repeated(self, expression: Callable[[], Any], separator: str | None = None) -> list[Any]:
         """``expression*`` (``expression*[separator]`` with a keyword separator)."""
-        found = []
+        found: list[Any] = []
         while True:
             start = self.pos
             try:

@@ -14,7 +14,7 @@ import re
 from dataclasses import dataclass
 from functools import cache
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any, cast
 
 from spl.diagnostics import Diagnostic, DiagnosticSink, Location, ModelError, counted, model_text
 from spl.dsl import literals, rm_reader, rosnames
@@ -37,6 +37,9 @@ from spl.dsl.rm_names import (
 from spl.metamodels import rm as rm_metamodel
 from spl.metamodels import tsm as tsm_metamodel
 
+if TYPE_CHECKING:
+    from spl.metamodels import fm_types, rm_types, tsm_types
+
 # The one product-line check (spl check DIR, resolver/line_checks.py) this parser makes:
 # a migration must name another, existing container.
 MIGRATION_TARGET = "SPL013"
@@ -46,9 +49,9 @@ MIGRATION_TARGET = "SPL013"
 class ResolutionModelFiles:
     """A resolution model together with the two models it refers to."""
 
-    rm: Any  # rm.ResolutionModel
-    tsm: Any  # tsm.System
-    fm: Any  # fm.FeatureModel
+    rm: rm_types.ResolutionModel
+    tsm: tsm_types.System
+    fm: fm_types.FeatureModel
     path: Path
 
 
@@ -59,11 +62,11 @@ def _grammar() -> Any:
     return metamodel_from_file(str(Path(__file__).with_name("rm.tx")), use_regexp_group=False)
 
 
-def parse_file(path: str | Path) -> Any:
+def parse_file(path: str | Path) -> rm_types.ResolutionModel:
     return load(path).rm
 
 
-def summary(model: Any) -> str:
+def summary(model: rm_types.ResolutionModel) -> str:
     transformations = sum(len(e.transformations) for e in model.elements)
     elements = counted(len(model.elements), "resolution element")
     return f"{elements}, {counted(transformations, 'transformation')}"
@@ -226,7 +229,7 @@ class _Builder:
         interface = self.names.interface(stmt.interface)
         if not self._typed(stmt, interface, ("Publisher", "Subscriber"), "publisher or subscriber"):
             return None
-        container, topics = self.names.topic_reference(stmt.topic, interface.eContainer())
+        container, topics = self.names.topic_reference(stmt.topic, _node(interface))
         if not any(agree(interface, topic) for topic in topics):
             self._same_type(stmt, interface, topics[0])
             return None
@@ -245,7 +248,7 @@ class _Builder:
         topic = self.locate(self.T.Topic(name=stmt.name, type=stmt.type, rosName=ros_name), stmt)
         if not self._same_type(stmt, interface, topic):
             return None
-        places = self.names.places(interface.eContainer())
+        places = self.names.places(_node(interface))
         clashes = [c for c in (self._new_topic_clash(stmt.name, p, topic) for p in places) if c]
         if len(clashes) == len(places):  # refused wherever the node can be
             self.error(stmt, clashes[0])
@@ -267,7 +270,9 @@ class _Builder:
         """Two `new topic` statements creating one topic (same type and ROS name) agree."""
         return self.names.is_created(existing) and same_topic(existing, topic)
 
-    def _service_pair(self, stmt, client: Any, server: Any):
+    def _service_pair(
+        self, stmt: Any, client: tsm_types.Interface, server: tsm_types.Interface
+    ) -> tuple[tsm_types.ServiceClient, tsm_types.ServiceServer] | None:
         """The client and server of a statement when their kinds and types agree, else None."""
         if not (
             self._typed(stmt, client, ("ServiceClient",), "service client")
@@ -275,15 +280,17 @@ class _Builder:
             and self._same_type(stmt, client, server)
         ):
             return None
-        return client, server
+        return cast("tsm_types.ServiceClient", client), cast("tsm_types.ServiceServer", server)
 
     def _ConnectServerStmt(self, stmt):
         client = self.names.interface(stmt.client)
         server = self.names.interface(stmt.server)
-        if self._service_pair(stmt, client, server) is None:
+        pair = self._service_pair(stmt, client, server)
+        if pair is None:
             return None
-        client_places = self.names.places(client.eContainer())
-        server_places = self.names.places(server.eContainer())
+        client, server = pair
+        client_places = self.names.places(_node(client))
+        server_places = self.names.places(_node(server))
         if not {id(c) for c in client_places} & {id(c) for c in server_places}:
             self.error(stmt, not_served_here(client, server, server_places, client_places))
             return None
@@ -307,8 +314,8 @@ class _Builder:
             if pair is None:
                 return None
             client, server = pair
-            client_places = self.names.places(client.eContainer())
-            server_places = self.names.places(server.eContainer())
+            client_places = self.names.places(_node(client))
+            server_places = self.names.places(_node(server))
             if len(client_places) == len(server_places) == 1 and client_places == server_places:
                 self.error(stmt, same_container_bridge(client, server, client_places[0]))
                 return None
@@ -321,6 +328,7 @@ class _Builder:
         if refinement is not None:
             ptype, what = "double", f"{stmt.parameter}"
         else:
+            parameter = cast("tsm_types.Parameter", parameter)  # one of the two is set
             ptype, what = parameter.type.name, f"parameter {parameter.name}"
         value = stmt.value
         if type(value).__name__ == "FeatureAttributeValue":
@@ -343,7 +351,7 @@ class _Builder:
                 parameter=parameter, refinement=refinement, attribute=attribute
             )
         text, problem = literals.parameter_literal(value, ptype)
-        if problem:
+        if problem or text is None:  # (no problem: a text)
             self.error(stmt, f"{what} is {ptype}: {problem}")
             return None
         if refinement is not None and float(text) <= 0:
@@ -377,3 +385,8 @@ class _Builder:
             self.error(stmt, f"type mismatch: {a.name} is {a.type}, {b.name} is {b.type}")
             return False
         return True
+
+
+def _node(interface: tsm_types.Interface) -> tsm_types.Node:
+    """The node of an interface the .rm names (a node's, never an endpoint's)."""
+    return cast("tsm_types.Node", interface.eContainer())

@@ -5,7 +5,7 @@ the product-line checks walk the parsed model with the same class, so a name mea
 thing everywhere.
 
 Statements run in file order, each seeing the model the statements before it left
-(SPEC 5.1 step 4). Before a product is chosen it is not known which elements are
+(docs/resolution.md, step 3). Before a product is chosen it is not known which elements are
 active, so :class:`Names` follows the model as far as it is known statically: the
 containers a node can be in at a statement (the one declaring it in the .tsm, or one an
 earlier migration may have moved it to) and the topics that can exist there (the
@@ -17,10 +17,20 @@ again against the product it derives (:mod:`spl.resolver.transformations`).
 from __future__ import annotations
 
 from collections import defaultdict
-from typing import Any, NamedTuple
+from typing import TYPE_CHECKING, Literal, NamedTuple, TypeVar, cast, overload
 
 from spl.diagnostics import location_of
 from spl.metamodels import tsm
+
+if TYPE_CHECKING:
+    from spl.metamodels import rm_types, tsm_types
+    from spl.metamodels.model_types import EObject
+
+    Member = tsm_types.Node | tsm_types.Store  # what the .rm names by NAME or CONTAINER.NAME
+    # a topic a statement may meet: the .tsm's, or a `new topic` declaration
+    Typed = tsm_types.Interface | tsm_types.Topic
+
+Meaning = TypeVar("Meaning")
 
 BRIDGE_FORMS = (
     "a bridge is CONTAINER.TOPIC -> CONTAINER.TOPIC or "
@@ -35,20 +45,23 @@ class NameProblem(Exception):
 class BridgeEnd(NamedTuple):
     """One end of ``connect bridge``: a topic of a container, or a service interface."""
 
-    container: Any  # the topic's container; None for an interface
-    topic: Any  # the .tsm topic or the `new topic` declaration; None for an interface
-    interface: Any  # None for a topic
+    container: tsm_types.Container | None  # the topic's container; None for an interface
+    # the .tsm topic or the `new topic` declaration; None for an interface
+    topic: tsm_types.Topic | None
+    interface: tsm_types.Interface | None  # None for a topic
 
 
 class Placement(NamedTuple):
     """Where a node can be at one statement of a resolution model (docs/semantics.md C1)."""
 
-    node: Any
-    certain: Any  # the target of a migration earlier in the same element, or None
-    moves: tuple[tuple[Any, Any], ...]  # (target, element) of migrations in earlier elements
+    node: tsm_types.Node
+    # the target of a migration earlier in the same element, or None
+    certain: tsm_types.Container | None
+    # (target, element) of migrations in earlier elements
+    moves: tuple[tuple[tsm_types.Container, rm_types.ResolutionElement], ...]
 
     @property
-    def places(self) -> list[Any]:
+    def places(self) -> list[tsm_types.Container]:
         """The containers the node can be in, the declaring one first.
 
         A migration earlier in the same element decides it (the element is active when
@@ -66,16 +79,16 @@ class Creation(NamedTuple):
     """A `new topic` statement that may create a topic: its element, and where its node
     could be (it creates the topic in the container the node is in)."""
 
-    element: Any
+    element: rm_types.ResolutionElement
     placement: Placement
 
 
-def at(element: Any) -> str:
+def at(element: EObject) -> str:
     """Where a model element is declared, as messages cite it (``file:line:col``)."""
     return str(location_of(element))
 
 
-def candidates(found: list[tuple[str, Any]]) -> str:
+def candidates(found: list[tuple[str, EObject]]) -> str:
     """``Alpha.Camera (t.tsm:11:10) or Beta.Camera (t.tsm:28:10)``: every candidate of an
     ambiguous reference with its location."""
     return " or ".join(f"{label} ({at(element)})" for label, element in found)
@@ -84,87 +97,109 @@ def candidates(found: list[tuple[str, Any]]) -> str:
 class Names:
     """Resolves .rm references against a .tsm, following the model in file order."""
 
-    def __init__(self, system: Any) -> None:
+    def __init__(self, system: tsm_types.System) -> None:
         self.T = tsm()
         self.containers = {c.name: c for c in system.containers}
-        self.declared: dict[str, list[Any]] = defaultdict(list)  # node and store names
+        self.declared: dict[str, list[Member]] = defaultdict(list)  # node and store names
         for container in system.containers:
             for member in [*container.nodes, *container.stores]:
                 self.declared[member.name].append(member)
         self._topics = {(id(c), t.name): t for c in system.containers for t in c.topics}
-        self._created: dict[tuple[int, str], Any] = {}  # first `new topic` declaration
+        # first `new topic` declaration
+        self._created: dict[tuple[int, str], tsm_types.Topic] = {}
         # the topics of each container by ROS name: the .tsm's, then those created
-        self._ros_names: dict[tuple[int, str], list[Any]] = defaultdict(list)
+        self._ros_names: dict[tuple[int, str], list[tsm_types.Topic]] = defaultdict(list)
         for c in system.containers:
             for t in c.topics:
                 self._ros_names[(id(c), t.rosName)].append(t)
         self._creators: dict[tuple[int, str], list[Creation]] = defaultdict(list)
-        self._element: Any = None  # the running resolution element
+        # the running resolution element
+        self._element: rm_types.ResolutionElement | None = None
         # migrations of earlier elements, node id -> [(target, element)], and of earlier
         # statements of the running element, node id -> target
-        self._may_move: dict[int, list[tuple[Any, Any]]] = defaultdict(list)
-        self._moved: dict[int, Any] = {}
+        self._may_move: dict[int, list[tuple[tsm_types.Container, rm_types.ResolutionElement]]] = (
+            defaultdict(list)
+        )
+        self._moved: dict[int, tsm_types.Container] = {}
 
     # -- the model as statements leave it ------------------------------------------------
-    def begin_element(self, element: Any = None) -> None:
+    def begin_element(self, element: rm_types.ResolutionElement | None = None) -> None:
         """The next resolution element starts: the migrations of the one before become
         possible (its feature may be off), no longer certain."""
-        for node_id, target in self._moved.items():
-            self._may_move[node_id].append((target, self._element))
+        for node_id, target in self._moved.items():  # (moved by a running element)
+            moved_by = cast("rm_types.ResolutionElement", self._element)
+            self._may_move[node_id].append((target, moved_by))
         self._moved = {}
         self._element = element
 
-    def placement(self, node: Any) -> Placement:
+    def placement(self, node: tsm_types.Node) -> Placement:
         """Where ``node`` can be at the running statement."""
         return Placement(node, self._moved.get(id(node)), tuple(self._may_move.get(id(node), ())))
 
-    def places(self, node: Any) -> list[Any]:
+    def places(self, node: tsm_types.Node) -> list[tsm_types.Container]:
         return self.placement(node).places
 
-    def apply(self, transformation: Any) -> None:
+    def apply(self, transformation: rm_types.Transformation) -> None:
         """What a statement of the running element changes for the statements after it."""
         kind = transformation.eClass.name
         if kind == "NodeMigration":
-            self._moved[id(transformation.node)] = transformation.target
+            migration = cast("rm_types.NodeMigration", transformation)
+            self._moved[id(migration.node)] = migration.target
         elif kind == "ConnectToNewTopic":
-            placement = self.placement(transformation.interface.eContainer())
-            topic = transformation.topic
+            connect = cast("rm_types.ConnectToNewTopic", transformation)
+            placement = self.placement(cast("tsm_types.Node", connect.interface.eContainer()))
+            topic = connect.topic
             for container in placement.places:
                 key = (id(container), topic.name)
                 if key not in self._created:
                     self._created[key] = topic
                     self._ros_names[(id(container), topic.rosName)].append(topic)
-                self._creators[key].append(Creation(self._element, placement))
+                creator = cast("rm_types.ResolutionElement", self._element)  # the running one
+                self._creators[key].append(Creation(creator, placement))
 
-    def topic(self, container: Any, name: str) -> Any:
+    def topic(self, container: tsm_types.Container, name: str) -> tsm_types.Topic | None:
         """Topic ``name`` of ``container`` (the .tsm's or an earlier `new topic`'s), or None."""
         key = (id(container), name)
         return self._topics.get(key) or self._created.get(key)
 
-    def ros_name_taken(self, container: Any, topic: Any) -> Any:
+    def ros_name_taken(
+        self, container: tsm_types.Container, topic: tsm_types.Topic
+    ) -> tsm_types.Topic | None:
         """A topic of ``container`` (the .tsm's or an earlier `new topic`'s) under the ROS
         name of ``topic`` with another message type, or None."""
         others = self._ros_names.get((id(container), topic.rosName), ())
         return next((other for other in others if other.type != topic.type), None)
 
-    def declared_topic(self, container: Any, name: str) -> bool:
+    def declared_topic(self, container: tsm_types.Container, name: str) -> bool:
         return (id(container), name) in self._topics
 
-    def creations(self, container: Any, name: str) -> list[Creation]:
+    def creations(self, container: tsm_types.Container, name: str) -> list[Creation]:
         """The `new topic` statements so far that may create ``name`` in ``container``."""
         return list(self._creators.get((id(container), name), ()))
 
-    def is_created(self, topic: Any) -> bool:
+    def is_created(self, topic: tsm_types.Topic) -> bool:
         return not isinstance(topic.eContainer(), self.T.Container)
 
     # -- references -----------------------------------------------------------------------
-    def container(self, name: str) -> Any:
+    def container(self, name: str) -> tsm_types.Container:
         found = self.containers.get(name)
         if found is None:
             raise NameProblem(f"unknown container {name}")
         return found
 
-    def element(self, ref: str, what: str = "node") -> Any:
+    @overload
+    def element(self, ref: str) -> tsm_types.Node: ...
+
+    @overload
+    def element(self, ref: str, what: Literal["node"]) -> tsm_types.Node: ...
+
+    @overload
+    def element(self, ref: str, what: Literal["store"]) -> tsm_types.Store: ...
+
+    @overload
+    def element(self, ref: str, what: str) -> Member: ...
+
+    def element(self, ref: str, what: str = "node") -> Member:
         """``NAME`` or ``CONTAINER.NAME``: a node, a store, or either ("node or store").
 
         The container is the one declaring the element in the .tsm; an unqualified name
@@ -196,31 +231,34 @@ class Names:
             raise NameProblem(f"{name} is ambiguous: {listed}; qualify it with its container")
         return found[0]
 
-    def _kind(self, member: Any) -> str:
+    def _kind(self, member: Member) -> str:
         return "store" if isinstance(member, self.T.Store) else "node"
 
-    def _is(self, member: Any, what: str) -> bool:
+    def _is(self, member: Member, what: str) -> bool:
         if what == "node":
             return isinstance(member, self.T.Node)
         if what == "store":
             return isinstance(member, self.T.Store)
         return True
 
-    def member(self, ref: str, attr: str, what: str) -> Any:
+    def member(self, ref: str, attr: str, what: str) -> tsm_types.NamedElement:
         """``[CONTAINER.]NODE.NAME``: an interface or parameter of a node."""
         parts = ref.split(".")
         if not 2 <= len(parts) <= 3:
             raise NameProblem(f"{ref}: expected NODE.{what} or CONTAINER.NODE.{what}")
         node = self.element(".".join(parts[:-1]))
-        found = next((x for x in getattr(node, attr) if x.name == parts[-1]), None)
+        members: list[tsm_types.NamedElement] = getattr(node, attr)
+        found = next((x for x in members if x.name == parts[-1]), None)
         if found is None:
             raise NameProblem(f"node {node.name} has no {what} {parts[-1]}")
         return found
 
-    def interface(self, ref: str) -> Any:
-        return self.member(ref, "interfaces", "interface")
+    def interface(self, ref: str) -> tsm_types.Interface:
+        return cast("tsm_types.Interface", self.member(ref, "interfaces", "interface"))
 
-    def topic_reference(self, ref: str, node: Any) -> tuple[Any, list[Any]]:
+    def topic_reference(
+        self, ref: str, node: tsm_types.Node
+    ) -> tuple[tsm_types.Container | None, list[tsm_types.Topic]]:
         """What ``to topic REF`` names for an interface of ``node``: the container written
         (None when unqualified) and the topics it can be at this statement, never empty.
 
@@ -249,7 +287,7 @@ class Names:
             return BridgeEnd(None, None, self.interface(ref))
         if len(parts) != 2:
             raise NameProblem(BRIDGE_FORMS)
-        readings: list[tuple[str, Any, BridgeEnd]] = []
+        readings: list[tuple[str, EObject, BridgeEnd]] = []
         problems: list[str] = []
         container = self.containers.get(parts[0])
         if container is not None:
@@ -268,12 +306,14 @@ class Names:
                 problems.append(str(problem))
         return _one_reading(ref, readings, problems, f"unknown container or node {parts[0]}")
 
-    def parameter(self, ref: str) -> tuple[Any, Any]:
+    def parameter(self, ref: str) -> tuple[tsm_types.Parameter | None, tsm_types.Refinement | None]:
         """(parameter, refinement), one of them None: ``[CONTAINER.]NODE.PARAMETER`` or
         ``[CONTAINER.]STORE.REFINED_TYPE.period`` (a store's transformer period); when
         both readings exist the reference is ambiguous."""
         parts = ref.split(".")
-        readings: list[tuple[str, Any, tuple[Any, Any]]] = []
+        readings: list[
+            tuple[str, EObject, tuple[tsm_types.Parameter | None, tsm_types.Refinement | None]]
+        ] = []
         problems: list[str] = []
         named_store = len(parts) >= 3 and any(
             self._is(m, "store") for m in self.declared.get(parts[-3], ())
@@ -292,7 +332,7 @@ class Names:
                 problems.append(str(problem))
         if len(parts) in (2, 3):
             try:
-                parameter = self.member(ref, "parameters", "parameter")
+                parameter = cast("tsm_types.Parameter", self.member(ref, "parameters", "parameter"))
                 label = f"parameter {parameter.name} of node {parameter.eContainer().name}"
                 readings.append((label, parameter, (parameter, None)))
             except NameProblem as problem:
@@ -301,8 +341,8 @@ class Names:
 
 
 def _one_reading(
-    ref: str, readings: list[tuple[str, Any, Any]], problems: list[str], unknown: str
-) -> Any:
+    ref: str, readings: list[tuple[str, EObject, Meaning]], problems: list[str], unknown: str
+) -> Meaning:
     """The meaning of a dotted name that has exactly one reading; two readings are an
     ambiguity naming both, none the first reading's problem (else ``unknown``)."""
     if len(readings) > 1:
@@ -313,7 +353,7 @@ def _one_reading(
     return readings[0][2]
 
 
-def missing_topic(name: str, node: Any, places: list[Any]) -> str:
+def missing_topic(name: str, node: tsm_types.Node, places: list[tsm_types.Container]) -> str:
     """The message for topic ``name`` found in none of the containers ``node`` can be in."""
     if len(places) == 1:
         return f"unknown topic {name} in container {places[0].name}"
@@ -322,17 +362,19 @@ def missing_topic(name: str, node: Any, places: list[Any]) -> str:
 
 
 # -- messages the .rm builder and the Resolution Engine share ------------------------------
-def agree(a: Any, b: Any) -> bool:
+def agree(a: Typed, b: Typed) -> bool:
     """Two typed elements (interface, topic, server) agree unless both have different types."""
     return not (a.type and b.type and a.type != b.type)
 
 
-def same_topic(a: Any, b: Any) -> bool:
+def same_topic(a: tsm_types.Topic, b: tsm_types.Topic) -> bool:
     """Two `new topic` declarations create one topic when type and ROS name agree."""
     return (a.type, a.rosName) == (b.type, b.rosName)
 
 
-def new_topic_clash(name: str, container: Any, existing: Any, created: bool) -> str:
+def new_topic_clash(
+    name: str, container: tsm_types.Container, existing: tsm_types.Topic, created: bool
+) -> str:
     if created:
         return (
             f"new topic {name} in {container.name} is declared again with another type or "
@@ -344,7 +386,9 @@ def new_topic_clash(name: str, container: Any, existing: Any, created: bool) -> 
     )
 
 
-def new_topic_ros_name_clash(name: str, container: Any, other: Any, topic: Any) -> str:
+def new_topic_ros_name_clash(
+    name: str, container: tsm_types.Container, other: tsm_types.Topic, topic: tsm_types.Topic
+) -> str:
     """A `new topic` under the ROS name of a topic of another type in its container: ROS has
     one topic there, and its subscribers would get messages of the wrong type."""
     return (
@@ -354,32 +398,46 @@ def new_topic_ros_name_clash(name: str, container: Any, other: Any, topic: Any) 
     )
 
 
-def declared_name(interface: Any) -> str:
+def declared_name(interface: tsm_types.Interface) -> str:
     """``CONTAINER.NODE.INTERFACE`` of a .tsm interface, qualified by the declaring container."""
-    node = interface.eContainer()
+    node = cast("tsm_types.Node", interface.eContainer())  # a node's (the .rm names those)
     return f"{node.eContainer().name}.{node.name}.{interface.name}"
 
 
-def not_served_here(client: Any, server: Any, server_places: list, client_places: list) -> str:
+def not_served_here(
+    client: tsm_types.ServiceClient,
+    server: tsm_types.ServiceServer,
+    server_places: list[tsm_types.Container],
+    client_places: list[tsm_types.Container],
+) -> str:
     """``connect CLIENT to server SERVER`` whose two nodes are in different containers."""
     served = " or ".join(c.name for c in server_places)
     calling = " or ".join(c.name for c in client_places)
     return (
-        f"{server.eContainer().name}.{server.name} is served in container {served}, not in "
+        f"{_node(server).name}.{server.name} is served in container {served}, not in "
         f"{calling}: use 'connect bridge {declared_name(client)} -> {declared_name(server)}'"
     )
 
 
-def same_container_bridge(client: Any, server: Any, container: Any) -> str:
+def same_container_bridge(
+    client: tsm_types.ServiceClient,
+    server: tsm_types.ServiceServer,
+    container: tsm_types.Container,
+) -> str:
     return (
-        f"a bridge connects two different containers: {client.eContainer().name}."
-        f"{client.name} and {server.eContainer().name}.{server.name} are both in "
+        f"a bridge connects two different containers: {_node(client).name}."
+        f"{client.name} and {_node(server).name}.{server.name} are both in "
         f"{container.name} at this point (connect them with 'to server')"
     )
 
 
-def name_taken(node: Any, target: Any, resident: Any) -> str:
+def name_taken(node: tsm_types.Node, target: tsm_types.Container, resident: tsm_types.Node) -> str:
     return (
         f"cannot migrate {node.name} to {target.name}: container {target.name} already has a "
         f"node {resident.name} ({at(resident)})"
     )
+
+
+def _node(interface: tsm_types.Interface) -> tsm_types.Node:
+    """The node of an interface the .rm names (a node's, never an endpoint's)."""
+    return cast("tsm_types.Node", interface.eContainer())

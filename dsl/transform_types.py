@@ -11,7 +11,7 @@ store's raw type and produce the refinement's output type.
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, cast
 
 from spl.diagnostics import Diagnostic, location_of
 
@@ -157,8 +157,9 @@ class TransformTyping:
             return None
         if any(a is None for a in args):
             return None
+        typed = cast("list[str]", args)  # every argument typed
         if name == "if":
-            condition, then, otherwise = args
+            condition, then, otherwise = typed
             if condition != "bool":
                 self.error(expr, f"the condition of if() must be bool, not {condition}")
                 return None
@@ -167,7 +168,7 @@ class TransformTyping:
                 self.error(expr, f"the branches of if() have different types {then}, {otherwise}")
             return joined
         if not all(a in NUMERIC for a in args):
-            self.error(expr, f"{name}() needs numbers, got {', '.join(args)}")
+            self.error(expr, f"{name}() needs numbers, got {', '.join(typed)}")
             return None
         if name in ROUNDING_FUNCTIONS:
             return "int"

@@ -10,9 +10,12 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 from itertools import count
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from spl.dsl.tsm_names import Names, find_interface
+
+if TYPE_CHECKING:
+    from spl.metamodels import tsm_types
 
 
 # -- canonical endpoint interface names (shared with the resolver) ---------------------
@@ -212,6 +215,7 @@ class Bridges:
             if existing.eClass.name == kind and self._serves(existing, role, target):
                 return existing
         T = names.T
+        interface: tsm_types.Interface
         if kind == "ServiceServer":
             interface = T.ServiceServer(name=name, type=target.type, rosName=target.rosName)
         elif kind == "ServiceClient":

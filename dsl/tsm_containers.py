@@ -10,11 +10,14 @@ only a cloud container holds stores.
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import Any
+from typing import TYPE_CHECKING, Any, cast
 
 from spl.dsl import literals, rosnames, tsm_data, tsm_nodes
 from spl.dsl.tsm_names import Names
 from spl.dsl.tsm_syntax import decode, kind
+
+if TYPE_CHECKING:
+    from spl.dsl import tsm_tree
 
 # How each rule of the grammar's ``Member`` (but a topic) becomes a model element,
 # and what it is called in a duplicate-name message.
@@ -26,7 +29,7 @@ _MEMBERS: dict[str, tuple[Callable[[Names, Any], Any], str]] = {
 }
 
 
-def container(names: Names, tree: Any) -> Any:
+def container(names: Names, tree: tsm_tree.RobotContainer | tsm_tree.CloudContainer) -> Any:
     """The RobotContainer or CloudContainer of a ``container`` block and its members."""
     T = names.T
     robot = kind(tree) == "RobotContainer"
@@ -48,15 +51,14 @@ def container(names: Names, tree: Any) -> Any:
             "only in case: their bundle files (ros1/<container>.launch, ...) would be one file "
             "on a case-insensitive file system",
         )
-    container.endpoint = _endpoint(names, tree) if robot else None
-    if container.endpoint is None:
-        container.endpoint = names.locate(T.Endpoint(), tree.name)
+    endpoint = _endpoint(names, cast("tsm_tree.RobotContainer", tree)) if robot else None
+    container.endpoint = endpoint if endpoint is not None else names.locate(T.Endpoint(), tree.name)
     if tree.namespace is not None:
         namespace = decode(tree.namespace.value)
         names.check(tree.namespace, rosnames.problem_graph_name(namespace, "namespace"))
         container.namespace = namespace
     if not robot:
-        _cloud_settings(names, container, tree)
+        _cloud_settings(names, container, cast("tsm_tree.CloudContainer", tree))
     members: dict[str, Any] = {}  # nodes and stores share one namespace
     topics = names.topics[id(container)] = {}
     nodes = names.nodes[id(container)] = {}
@@ -65,7 +67,7 @@ def container(names: Names, tree: Any) -> Any:
     for member in tree.members:
         rule = kind(member)
         if rule == "Topic":
-            topic = _topic(names, member)
+            topic = _topic(names, cast("tsm_tree.Topic", member))
             names.declare(topics, topic, member.name, "topic", where)
             container.topics.append(topic)
             first = by_ros_name.setdefault(topic.rosName, topic)
@@ -89,7 +91,7 @@ def container(names: Names, tree: Any) -> Any:
     return container
 
 
-def _cloud_settings(names: Names, container: Any, tree: Any) -> None:
+def _cloud_settings(names: Names, container: Any, tree: tsm_tree.CloudContainer) -> None:
     if tree.group is not None:
         group = decode(tree.group.value)
         if names.check(tree.group, rosnames.problem_group(group)):
@@ -108,7 +110,7 @@ def _cloud_settings(names: Names, container: Any, tree: Any) -> None:
             container.eSet(attribute, value)
 
 
-def _endpoint(names: Names, tree: Any) -> Any:
+def _endpoint(names: Names, tree: tsm_tree.RobotContainer) -> Any:
     endpoint_tree = tree.endpoint
     if endpoint_tree is None:
         return None
@@ -130,17 +132,18 @@ def _endpoint(names: Names, tree: Any) -> Any:
         if kind(password) == "LiteralPassword":
             # The value is a secret: it is neither stored nor repeated in the message.
             names.error(
-                password.literal,
+                cast("tsm_tree.LiteralPassword", password).literal,
                 'password given as a literal; write password env "VAR"',
             )
         else:
-            variable = decode(password.variable.value)
-            if names.check(password.variable, rosnames.problem_env_var(variable)):
+            written = cast("tsm_tree.EnvPassword", password).variable
+            variable = decode(written.value)
+            if names.check(written, rosnames.problem_env_var(variable)):
                 endpoint.passwordEnv = variable
     return endpoint
 
 
-def _topic(names: Names, tree: Any) -> Any:
+def _topic(names: Names, tree: tsm_tree.Topic) -> Any:
     name = tree.name.name
     topic = names.locate(names.T.Topic(name=name), tree.name)
     topic.type = tsm_nodes.ros_type(names, tree.type)

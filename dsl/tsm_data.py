@@ -10,15 +10,18 @@ disagreement is reported at the name that causes it.
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from spl.dsl import rosnames
 from spl.dsl.tsm_names import Names
 from spl.dsl.tsm_nodes import implementation, node_common, parameters
 
+if TYPE_CHECKING:
+    from spl.dsl import tsm_tree
+
 
 # -- stores -------------------------------------------------------------------------------
-def store(names: Names, tree: Any) -> Any:
+def store(names: Names, tree: tsm_tree.Store) -> Any:
     """The Store of a ``store`` block; its types and refinements resolve later."""
     store = names.locate(names.T.Store(name=tree.name.name), tree.name)
     store.optional = bool(tree.optional)
@@ -27,7 +30,7 @@ def store(names: Names, tree: Any) -> Any:
     return store
 
 
-def _resolve_store(names: Names, store: Any, tree: Any) -> None:
+def _resolve_store(names: Names, store: Any, tree: tsm_tree.Store) -> None:
     store.raw = names.data_type(tree.raw)
     outputs: dict[str, Any] = {}
     for refinement_tree in tree.refinements:
@@ -74,7 +77,7 @@ def period_fits(value: float) -> bool:
     return math.isfinite(value) and 0 < value <= MAX_PERIOD
 
 
-def _period(names: Names, tree: Any) -> float | None:
+def _period(names: Names, tree: tsm_tree.Period) -> float | None:
     value = float(tree.value)
     if not period_fits(value):
         names.error(tree, f"period {tree.value} s must be positive and at most a year")
@@ -83,12 +86,12 @@ def _period(names: Names, tree: Any) -> float | None:
 
 
 # -- writers and readers ------------------------------------------------------------------
-def writer(names: Names, tree: Any) -> Any:
+def writer(names: Names, tree: tsm_tree.Writer) -> Any:
     """The Writer of a ``writer`` statement: records from a topic into a store."""
     return _data_node(names, names.T.Writer(name=tree.name.name), tree, "Subscriber")
 
 
-def reader(names: Names, tree: Any) -> Any:
+def reader(names: Names, tree: tsm_tree.Reader) -> Any:
     """The Reader of a ``reader`` statement: what a store keeps, published as it is
     pushed (``subscribe``) or polled every ``period``."""
     reader = _data_node(names, names.T.Reader(name=tree.name.name), tree, "Publisher")
@@ -97,7 +100,9 @@ def reader(names: Names, tree: Any) -> Any:
     return reader
 
 
-def _data_node(names: Names, node: Any, tree: Any, interface_class: str) -> Any:
+def _data_node(
+    names: Names, node: Any, tree: tsm_tree.Writer | tsm_tree.Reader, interface_class: str
+) -> Any:
     node_common(names, node, tree)
     node.sharing = names.T.SharingMode.private
     records = names.locate(getattr(names.T, interface_class)(name="records"), tree.topic)
@@ -108,7 +113,7 @@ def _data_node(names: Names, node: Any, tree: Any, interface_class: str) -> Any:
     return node
 
 
-def _resolve_data_node(names: Names, node: Any, tree: Any) -> None:
+def _resolve_data_node(names: Names, node: Any, tree: tsm_tree.Writer | tsm_tree.Reader) -> None:
     reads = node.eClass.name == "Reader"
     node.dataType = names.data_type(tree.dataType)
     container = node.eContainer()

@@ -99,7 +99,8 @@ class ExpressionReader(TsmTokens):
 
     def chain(self, rule: Any, operand: Any, operators: str) -> Any:
         """``operands=OPERAND (operators=OPERATOR operands=OPERAND)*``"""
-        operands, found = [operand()], []
+        operands: list[Any] = [operand()]
+        found: list[Any] = []
         while True:
             at = self.skip()
             symbol = self.text[at : at + 1]

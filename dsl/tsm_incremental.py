@@ -170,7 +170,9 @@ def located(value: Any, places: Places) -> Any:
     if kind is list:
         return [located(item, places) for item in value]
     if kind in _RULES:
-        return kind._make((places.offset(value[0]), *[located(v, places) for v in value[1:]]))
+        return kind._make(  # type: ignore[attr-defined]  # a rule's class (parse_tree.rule)
+            (places.offset(value[0]), *[located(v, places) for v in value[1:]])
+        )
     return value
 
 
@@ -224,8 +226,9 @@ class _SplicingReader(_Reader):
         if found is None:
             return None
         old = self.previous.text
-        peeked = SKIP.match(old, found[1]).end()
-        if peeked + max(1, len(_WORD.match(old, peeked).group())) > self.prefix:
+        peeked: int = SKIP.match(old, found[1]).end()  # type: ignore[union-attr]  # matches ''
+        word: str = _WORD.match(old, peeked).group()  # type: ignore[union-attr]  # matches ''
+        if peeked + max(1, len(word)) > self.prefix:
             return None
         self._take_members(found[0], 0)
         return found
@@ -285,7 +288,9 @@ class _Band:
             return [self.moved(item) for item in value]
         if kind in _RULES and id(value) not in self.taken:
             self.fresh.append(value[0])
-            moved = kind._make((value[0] + self.base, *[self.moved(v) for v in value[1:]]))
+            moved = kind._make(  # type: ignore[attr-defined]  # a rule's class
+                (value[0] + self.base, *[self.moved(v) for v in value[1:]])
+            )
             self.by_id[id(value)] = moved
             return moved
         return value

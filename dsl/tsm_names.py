@@ -14,10 +14,13 @@ from __future__ import annotations
 import bisect
 import re
 from collections.abc import Callable
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from spl.diagnostics import DiagnosticSink, Location
 from spl.metamodels import tsm as tsm_metamodel
+
+if TYPE_CHECKING:
+    from spl.metamodels import tsm_types
 
 # A resolution step: (names, model element, its parse tree) -> None
 Resolve = Callable[["Names", Any, Any], None]
@@ -57,7 +60,7 @@ class Names:
         text: str,
         filename: str,
         sink: DiagnosticSink,
-        metamodel: Any = None,
+        metamodel: tsm_types.Metamodel | None = None,
         places: Callable[[int], int] | None = None,
     ) -> None:
         self.filename = filename

@@ -11,11 +11,15 @@ from __future__ import annotations
 
 import math
 import re
-from typing import Any
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any, cast
 
 from spl.dsl import literals, rosnames
 from spl.dsl.tsm_names import Names, find_interface
 from spl.dsl.tsm_syntax import decode, kind
+
+if TYPE_CHECKING:
+    from spl.dsl import tsm_tree
 
 _INTERFACE_CLASSES = {
     "Publishes": "Publisher",
@@ -25,7 +29,9 @@ _INTERFACE_CLASSES = {
 }
 
 
-def node_common(names: Names, node: Any, tree: Any) -> Any:
+def node_common(
+    names: Names, node: Any, tree: tsm_tree.Node | tsm_tree.Writer | tsm_tree.Reader
+) -> Any:
     """What every kind of node declares: where it is, whether optional, a valid name."""
     names.locate(node, tree.name)
     node.optional = bool(tree.optional)
@@ -33,20 +39,22 @@ def node_common(names: Names, node: Any, tree: Any) -> Any:
     return node
 
 
-def node(names: Names, tree: Any) -> Any:
+def node(names: Names, tree: tsm_tree.Node) -> Any:
     """The Node of a ``node`` block with its parameters and interfaces."""
     T = names.T
     node = node_common(names, T.Node(name=tree.name.name), tree)
     node.sharing = names.literal("SharingMode", tree.sharing or "private")
     implementation(names, node, tree)
-    parameters(names, node, [m for m in tree.members if kind(m) == "Parameter"])
+    parameters(
+        names, node, [cast("tsm_tree.Parameter", m) for m in tree.members if kind(m) == "Parameter"]
+    )
     interfaces: dict[str, Any] = {}
     where = f" in node {node.name}"
     for member in tree.members:
         rule = kind(member)
         if rule == "Parameter":
             continue
-        interface = _interface(names, member)
+        interface = _interface(names, cast("tsm_tree.Publishes", member))  # or another one
         names.declare(interfaces, interface, member.name, "interface", where)
         node.interfaces.append(interface)
         resolve = _RESOLVE.get(rule)
@@ -55,7 +63,7 @@ def node(names: Names, tree: Any) -> Any:
     return node
 
 
-def parameters(names: Names, node: Any, parameter_trees: list) -> None:
+def parameters(names: Names, node: Any, parameter_trees: list[tsm_tree.Parameter]) -> None:
     """Declare ``parameter_trees`` as the parameters of ``node``."""
     declared: dict[str, Any] = {}
     where = f" in node {node.name}"
@@ -65,7 +73,9 @@ def parameters(names: Names, node: Any, parameter_trees: list) -> None:
         node.parameters.append(parameter)
 
 
-def implementation(names: Names, node: Any, tree: Any) -> None:
+def implementation(
+    names: Names, node: Any, tree: tsm_tree.Node | tsm_tree.Writer | tsm_tree.Reader
+) -> None:
     """The ``implementation package/executable args "..."`` of a node, when given."""
     if tree.implementation is None:
         return
@@ -84,7 +94,7 @@ def ros_type(names: Names, tree: Any) -> str:
     return tree.value
 
 
-def _parameter(names: Names, tree: Any) -> Any:
+def _parameter(names: Names, tree: tsm_tree.Parameter) -> Any:
     T = names.T
     name = tree.name.name
     parameter = names.locate(
@@ -129,15 +139,18 @@ def _parameter_value(tree: Any, ptype: str) -> tuple[str | None, str | None]:
             return None, f"{text} is out of range: {literals.ROS_INT_RANGE}"
         return None, f"expected an int value, got {text}"
     if ptype == "double":
-        value = float(text)
-        if not math.isfinite(value):
+        number = float(text)
+        if not math.isfinite(number):
             return None, f"{text} is out of range"
-        return repr(value), None
+        return repr(number), None
     return None, f"expected {_a(ptype)} value, got {text}"
 
 
 # -- interfaces ---------------------------------------------------------------------------
-def _interface(names: Names, tree: Any) -> Any:
+def _interface(
+    names: Names,
+    tree: tsm_tree.Publishes | tsm_tree.Subscribes | tsm_tree.Provides | tsm_tree.Calls,
+) -> Any:
     interface_class = _INTERFACE_CLASSES[kind(tree)]
     name = tree.name.name
     interface = names.locate(getattr(names.T, interface_class)(name=name), tree.name)
@@ -145,9 +158,10 @@ def _interface(names: Names, tree: Any) -> Any:
     if tree.type is not None:
         interface.type = ros_type(names, tree.type)
     if interface_class == "ServiceServer":
-        if tree.rosName is not None:
-            ros_name = decode(tree.rosName.value)
-            names.check(tree.rosName, rosnames.problem_graph_name(ros_name, "service name"))
+        written = cast("tsm_tree.Provides", tree).rosName
+        if written is not None:
+            ros_name = decode(written.value)
+            names.check(written, rosnames.problem_graph_name(ros_name, "service name"))
         else:
             ros_name = f"/{name}"
         interface.rosName = ros_name
@@ -158,7 +172,9 @@ def _container_of(interface: Any) -> Any:
     return interface.eContainer().eContainer()
 
 
-def _connect_topic(names: Names, interface: Any, tree: Any) -> None:
+def _connect_topic(
+    names: Names, interface: Any, tree: tsm_tree.Publishes | tsm_tree.Subscribes
+) -> None:
     """A publisher's or subscriber's topic, of its own container; the types must agree."""
     if tree.topic is None:
         return
@@ -180,7 +196,7 @@ def _bind(names: Names, interface: Any, role: str, target: Any, ref: Any, named:
         interface.type = target.type
 
 
-def _connect_server(names: Names, client: Any, tree: Any) -> None:
+def _connect_server(names: Names, client: Any, tree: tsm_tree.Calls) -> None:
     """The server a client calls: NODE.SERVER in the client's own container."""
     if tree.server is None:
         return
@@ -218,7 +234,7 @@ def _connect_server(names: Names, client: Any, tree: Any) -> None:
 
 
 # the references each kind of interface makes (a server refers to nothing)
-_RESOLVE = {
+_RESOLVE: dict[str, Callable[[Names, Any, Any], None]] = {
     "Publishes": _connect_topic,
     "Subscribes": _connect_topic,
     "Calls": _connect_server,

@@ -20,11 +20,14 @@ import weakref
 from collections.abc import Iterable
 from functools import cache
 from types import SimpleNamespace
-from typing import Any
+from typing import TYPE_CHECKING, Any, cast
 
 from pyecore.ecore import EClass, EEnum, EReference
 
 from spl.metamodels import tsm as tsm_metamodel
+
+if TYPE_CHECKING:
+    from spl.metamodels import tsm_types
 
 
 class PlainElement:
@@ -36,6 +39,7 @@ class PlainElement:
     full passes cost seconds). ``eContainer()`` answers while the model's root lives."""
 
     __slots__ = ("__weakref__", "_container")
+    _container: weakref.ref[PlainElement] | None  # (a slot)
     eClass: Any = None
 
     def eContainer(self) -> Any:  # the metamodel API's spelling
@@ -73,7 +77,7 @@ class Contained(list):
         for element in elements:
             self.append(element)
 
-    def __iadd__(self, elements: Iterable[Any]) -> Contained:  # type: ignore[override, misc]
+    def __iadd__(self, elements: Iterable[Any]) -> Contained:  # type: ignore[misc]
         self.extend(elements)
         return self
 
@@ -160,7 +164,7 @@ def _plain_class(eclass: EClass) -> type:
 
 
 @cache
-def metamodel() -> SimpleNamespace:
+def metamodel() -> tsm_types.Metamodel:
     """The .tsm metamodel as plain classes, shaped like :func:`spl.metamodels.tsm`:
     ``metamodel().Node(name=...)``, ``metamodel().SharingMode.private``; its elements
     take a location to work out when read (``located_later``)."""
@@ -171,4 +175,4 @@ def metamodel() -> SimpleNamespace:
             members[classifier.name] = _plain_class(classifier)
         elif isinstance(classifier, EEnum):
             members[classifier.name] = classifier  # the same literals as the pyecore model
-    return SimpleNamespace(**members)
+    return cast("tsm_types.Metamodel", SimpleNamespace(**members))  # as tsm() gives it

@@ -31,7 +31,7 @@ A keyword added to ``tsm.tx`` must be read here too:
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, cast
 
 from spl.dsl.tsm_expression_reader import ExpressionReader
 from spl.dsl.tsm_tree import (
@@ -104,7 +104,7 @@ class _Reader(ExpressionReader):
 
     def by_keyword(self, rules: dict[str, Any]) -> list[Any]:
         """``(A | B | ...)*`` where each alternative starts with a keyword of its own."""
-        found = []
+        found: list[Any] = []
         while True:
             at, word = self.word()
             rule = rules.get(word)
@@ -147,7 +147,8 @@ class _Reader(ExpressionReader):
         namespace = self.optional_string("namespace")
         members = self.members()
         self.punct("}")
-        return CloudContainer(start, name, *settings, namespace, members)
+        group, size, cpu, memory, bandwidth = settings
+        return CloudContainer(start, name, group, size, cpu, memory, bandwidth, namespace, members)
 
     def unordered(self, values: dict[str, Any]) -> list[Any]:
         """``( (KEYWORD value)? ... )#``: each at most once, in any order."""
@@ -181,7 +182,7 @@ class _Reader(ExpressionReader):
         return LiteralPassword(value.position, value)
 
     def members(self) -> list[Any]:
-        members = []
+        members: list[Any] = []
         while True:
             start, word = self.word()
             optional = word == "optional"
@@ -230,7 +231,7 @@ class _Reader(ExpressionReader):
         name = self.name()
         self.punct(":")
         kind = self.one_of(("string", "int", "double", "bool", "yaml"))
-        value = None
+        value: StringValue | BoolValue | NumberValue | None = None
         if self.at("="):
             self.punct("=")
             at = self.skip()
@@ -370,7 +371,8 @@ class _Reader(ExpressionReader):
             self.punct("}")
         head = (start, optional, name, data_type, store, topic)
         if keyword == "reader":
-            return Reader(*head, subscribe, period, implementation, args, parameters)
+            every = cast(Period, period)  # a reader's: read above
+            return Reader(*head, subscribe, every, implementation, args, parameters)
         return Writer(*head, implementation, args, parameters)
 
 

@@ -33,7 +33,7 @@ def syntax_diagnostic(exc: TextXSyntaxError, text: str, filename: str) -> Diagno
     """The located ``syntax error: expected ..., found ...`` of a textX syntax error."""
     line, col = exc.line or 1, exc.col or 1
     offset = _offset(text, line, col)
-    token = re.match(r"\S{0,30}", text[offset:]).group(0) if offset < len(text) else ""
+    token = re.match(r"\S{0,30}", text[offset:]).group(0) if offset < len(text) else ""  # type: ignore[union-attr]
     foreign = next((i for i, ch in enumerate(token) if ord(ch) > 0x7F), None)
     if foreign is not None:
         ch = token[foreign]

@@ -200,11 +200,11 @@ def _number(names: Names, tree: Any, text: str) -> Any:
             return None
         canonical = str(value)
     else:
-        value = float(text)
-        if not math.isfinite(value):
+        number = float(text)
+        if not math.isfinite(number):
             names.error(tree, f"number {text} is out of range")
             return None
-        canonical = repr(value)
+        canonical = repr(number)
     return names.locate(names.T.NumberLiteral(value=canonical), tree)
 
 

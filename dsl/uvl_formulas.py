@@ -9,9 +9,10 @@ the reference grammar's alternatives order them; a constraint ends at its line b
 
 from __future__ import annotations
 
-from typing import Any, ClassVar
+from collections.abc import Callable
+from typing import ClassVar, NoReturn
 
-from spl.dsl.fm_plain import Constraint
+from spl.dsl.fm_plain import Constraint, Source
 from spl.dsl.fm_vocabulary import formula_too_deep
 
 # Tokens only an equation (arithmetic or attribute constraint) holds.
@@ -50,10 +51,10 @@ class FormulaReader:
     index: int
     identifiers: dict[str, str]
     failed_names: bool
-    source: Any
-    error: Any
-    fail: Any
-    expect: Any
+    source: Source
+    error: Callable[[int, str], None]
+    fail: Callable[[str], NoReturn]
+    expect: Callable[[str, str], tuple[str, str, int]]
 
     _BINARY: ClassVar[dict[str, tuple[str, int]]] = {
         "<=>": ("iff", 0),

@@ -87,9 +87,9 @@ def tokenize(text: str) -> list[tuple[str, str, int]]:
         shift = 0
     kinds = _KIND_OF_GROUP
     for match in _TOKEN.finditer(text):
-        group = match.lastindex
-        value = match[group]
-        kind = kinds[group]
+        group = match.lastindex  # one group of the alternatives matched
+        value = match[group]  # type: ignore[index]
+        kind = kinds[group]  # type: ignore[index]
         end = match.end() + shift
         start = end - len(value)
         if kind == "word":

@@ -19,7 +19,7 @@ model (600 KB) reads in a fraction of a second.
 from __future__ import annotations
 
 import re
-from typing import NoReturn
+from typing import NoReturn, cast
 
 from spl.diagnostics import DiagnosticSink, ModelError
 from spl.dsl import literals
@@ -275,6 +275,7 @@ class UvlReader(FormulaReader):
             self.fail("expected an attribute name")
         self.index += 1
         name = text[1:-1] if kind == "qid" else text
+        value: tuple[str, str, int] | None  # None: no value written
         value = tokens[self.index]
         if value[0] in ("bool", "int", "float", "string"):
             self.index += 1
@@ -316,7 +317,8 @@ class UvlReader(FormulaReader):
             return
         canonical = canonical_value(type_name, literal)
         if canonical is None:  # a number out of range (1e999, a 30-digit int)
-            self.error(value[2], f"attribute {name}: {literal} is out of range")
+            written = cast("tuple[str, str, int]", value)  # a literal out of range: written
+            self.error(written[2], f"attribute {name}: {literal} is out of range")
             return
         feature.attributes.append(Attribute(self.source, position, name, type_name, canonical))
 

@@ -14,7 +14,6 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
-from typing import Any
 
 
 @dataclass(frozen=True)
@@ -25,23 +24,27 @@ class Skipped:
     reason: str
 
 
+# files by bundle path, as a mapping or as (path, data) pairs
+Files = Mapping[str, bytes] | Iterable[tuple[str, bytes]]
+
+
 class BundlePathClash(RuntimeError):
     """Two files of one bundle would be written to one path (a generator bug)."""
 
 
-class BundleFiles(dict[str, Any]):
+class BundleFiles(dict[str, bytes]):
     """``{bundle path: bytes}`` that refuses to write a path twice."""
 
-    def __init__(self, files: Mapping[str, Any] | Iterable[tuple[str, Any]] = ()) -> None:
+    def __init__(self, files: Files = ()) -> None:
         super().__init__()
         self.update(files)
 
-    def __setitem__(self, path: str, data: Any) -> None:
+    def __setitem__(self, path: str, data: bytes) -> None:
         if path in self:
             raise BundlePathClash(f"two files for bundle path {path}")
         super().__setitem__(path, data)
 
-    def update(self, files: Mapping[str, Any] | Iterable[tuple[str, Any]] = ()) -> None:  # type: ignore[override]
+    def update(self, files: Files = ()) -> None:  # type: ignore[override]
         for path, data in files.items() if isinstance(files, Mapping) else files:
             self[path] = data
 

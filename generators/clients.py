@@ -1,4 +1,6 @@
-"""Generator of the robot-side writer and reader nodes (seeds/000's WriteRTC/ReadRTC).
+"""Generator of the robot-side writer and reader nodes (docs/services.md, "Robot-side
+writers and readers": the WriteRTC/ReadRTC of *Architecture and framework for data
+acquisition in cloud robotics*).
 
 Each ``writer``/``reader`` of a robot container becomes two packages of one node, one
 per ROS flavour, both wrapping one plain-HTTP module (``store_client``: batching,
@@ -12,7 +14,7 @@ class comes from the topic the node's ``records`` interface is connected to.
 from __future__ import annotations
 
 import re
-from typing import Any
+from typing import TYPE_CHECKING, cast
 
 from spl.diagnostics import Diagnostic, ModelError, location_of
 from spl.generators.bundle_paths import BundleFiles
@@ -21,6 +23,9 @@ from spl.generators.store_contract import client_settings, store_context
 from spl.resolver.data_clients import client_package_name, client_packages
 from spl.resolver.generated_names import IDENTIFIER
 from spl.resolver.product import ResolvedProduct
+
+if TYPE_CHECKING:
+    from spl.metamodels import tsm_types
 
 ROS_PACKAGE = re.compile(r"[a-z][a-z0-9_]*\Z")
 MESSAGE_TYPE = re.compile(r"([A-Za-z][A-Za-z0-9_]*)/(?:msg/)?([A-Za-z][A-Za-z0-9_]*)\Z")
@@ -32,10 +37,12 @@ KINDS = {
 }
 
 
-def client_nodes(system: Any) -> list[tuple[Any, Any]]:
+def client_nodes(
+    system: tsm_types.System,
+) -> list[tuple[tsm_types.Container, tsm_types.Writer | tsm_types.Reader]]:
     """(container, node) for every writer and reader in a robot container."""
     return [
-        (container, node)
+        (container, cast("tsm_types.Writer | tsm_types.Reader", node))
         for container in system.containers
         if container.eClass.name == "RobotContainer"
         for node in container.nodes
@@ -43,7 +50,7 @@ def client_nodes(system: Any) -> list[tuple[Any, Any]]:
     ]
 
 
-def _message(node: Any, interface_kind: str) -> tuple[str, str, str]:
+def _message(node: tsm_types.Node, interface_kind: str) -> tuple[str, str, str]:
     interface = next(
         (i for i in node.interfaces if i.eClass.name == interface_kind and i.name == "records"),
         None,
@@ -57,7 +64,7 @@ def _message(node: Any, interface_kind: str) -> tuple[str, str, str]:
                 )
             ]
         )
-    topic = getattr(interface, "topic", None)
+    topic: tsm_types.Topic | None = getattr(interface, "topic", None)
     type_text = (topic.type if topic is not None and topic.type else interface.type) or ""
     match = MESSAGE_TYPE.match(type_text)
     if match is None:
@@ -67,7 +74,7 @@ def _message(node: Any, interface_kind: str) -> tuple[str, str, str]:
     return type_text, match.group(1), match.group(2)
 
 
-def package_of(node: Any, generated: dict[int, str]) -> str:
+def package_of(node: tsm_types.Node, generated: dict[int, str]) -> str:
     """The client package of ``node``: the Resolution Engine names it in the node (launch
     files start it); a model built without the engine gets the one it would name."""
     if ROS_PACKAGE.match(node.package or ""):
@@ -76,7 +83,10 @@ def package_of(node: Any, generated: dict[int, str]) -> str:
 
 
 def generate_client(
-    container: Any, node: Any, product: ResolvedProduct, package: str
+    container: tsm_types.Container,
+    node: tsm_types.Writer | tsm_types.Reader,
+    product: ResolvedProduct,
+    package: str,
 ) -> dict[str, bytes]:
     if not IDENTIFIER.match(node.name or ""):
         raise ModelError([Diagnostic(location_of(node), f"invalid node name {node.name!r}")])
@@ -156,7 +166,7 @@ def generate(product: ResolvedProduct) -> dict[str, bytes]:
     the model gives one package are refused (located), never folded into one folder."""
     files = BundleFiles()
     generated = client_packages(product.system)
-    owners: dict[str, Any] = {}
+    owners: dict[str, tsm_types.Node] = {}
     for container, node in client_nodes(product.system):
         package = package_of(node, generated)
         first = owners.setdefault(package, node)

@@ -9,11 +9,11 @@ from a Secret created out of band.
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TypedDict
 
 from spl.generators.bundle_paths import BundleFiles
 from spl.generators.jinja_templates import render
-from spl.generators.store_contract import store_context
+from spl.generators.store_contract import StoreContext, store_context
 from spl.resolver.generated_names import dns_name
 from spl.resolver.product import ResolvedProduct
 from spl.resolver.stores import cloud_stores, database_kind
@@ -21,6 +21,15 @@ from spl.resolver.stores import cloud_stores, database_kind
 SERVICE_PORT = 8000
 FIRST_HOST_PORT = 8000
 POSTGRES_IMAGE = "postgres:16"
+
+
+class _Entry(TypedDict):
+    """One store as the deployment templates take it."""
+
+    store: StoreContext
+    image: str
+    host_port: int
+    token_key: str
 
 
 def _project(product: ResolvedProduct) -> str:
@@ -36,7 +45,7 @@ def generate(product: ResolvedProduct) -> dict[str, bytes]:
     project = _project(product)
     postgres = database_kind(product) == "postgresql"
     secret = f"{project}-secrets"
-    entries: list[dict[str, Any]] = []
+    entries: list[_Entry] = []
     for index, store in enumerate(stores):
         context = store_context(store, product)
         entries.append(
@@ -64,13 +73,13 @@ def generate(product: ResolvedProduct) -> dict[str, bytes]:
         }
     )
     for entry in entries:
-        store = entry["store"]
-        files[f"deploy/{store['name']}/Dockerfile"] = render(
-            "deploy/Dockerfile.j2", store=store, **common
+        names = entry["store"]
+        files[f"deploy/{names['name']}/Dockerfile"] = render(
+            "deploy/Dockerfile.j2", store=names, **common
         )
-        files[f"deploy/kubernetes/{store['dns']}.yaml"] = render(
+        files[f"deploy/kubernetes/{names['dns']}.yaml"] = render(
             "deploy/service.k8s.yaml.j2",
-            store=store,
+            store=names,
             image=entry["image"],
             token_key=entry["token_key"],
             **common,

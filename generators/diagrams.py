@@ -1,8 +1,9 @@
 """Diagram of a resolved (or template) architecture, drawn with Graphviz.
 
-The diagram uses the visual vocabulary of seeds/003 Fig. 4 (grey nodes, green topics,
+The diagram uses the visual vocabulary of the mapping paper's Fig. 4 (docs/outputs.md,
+"Diagrams"; docs/index.md names the paper): grey nodes, green topics,
 orange endpoints, interfaces as small squares coloured by kind: yellow publishers,
-cyan subscribers, green service servers, red service clients), so a resolved product
+cyan subscribers, green service servers, red service clients, so a resolved product
 can be compared with the paper's template at a glance. Labels, ids and rendering
 follow :mod:`spl.generators.graphviz_output`, so no model text can change the
 diagram's structure and the same model gives the same bytes.
@@ -14,7 +15,7 @@ drawn dotted grey (a bridge nothing uses).
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, cast
 
 import graphviz
 
@@ -33,6 +34,11 @@ from spl.metamodels import tsm
 from spl.resolver.flows import FlowTable
 from spl.resolver.product import ResolvedProduct, topic_ros_name
 from spl.resolver.ros_names import server_ros_name
+
+if TYPE_CHECKING:
+    from collections.abc import Iterable
+
+    from spl.metamodels import tsm_types
 
 __all__ = ["architecture_graph", "generate"]
 
@@ -63,30 +69,31 @@ CONTAINER_STYLE = {
 }
 
 
-def _interface_kind(interface: Any) -> str:
+def _interface_kind(interface: tsm_types.Interface) -> str:
     return interface.eClass.name
 
 
-def _port(interface: Any) -> str:
+def _port(interface: tsm_types.Interface) -> str:
     return f"i_{interface.name}"
 
 
-def _owner_id(owner: Any) -> str:
+def _owner_id(owner: tsm_types.Node | tsm_types.Endpoint) -> str:
     """Graph id of the node or endpoint holding interfaces."""
     if isinstance(owner, tsm().Endpoint):
         return graph_id(owner.eContainer().name, "endpoint")
-    return graph_id(owner.eContainer().name, "node", owner.name)
+    return graph_id(owner.eContainer().name, "node", cast("tsm_types.Node", owner).name)
 
 
-def _interface_ref(interface: Any) -> str:
+def _interface_ref(interface: tsm_types.Interface) -> str:
     return f"{_owner_id(interface.eContainer())}:{_port(interface)}"
 
 
-def _topic_id(topic: Any) -> str:
-    return graph_id(topic.eContainer().name, "topic", topic.name)
+def _topic_id(topic: tsm_types.Topic) -> str:
+    container = cast("tsm_types.Container", topic.eContainer())  # a topic of the system
+    return graph_id(container.name, "topic", topic.name)
 
 
-def _interface_rows(interfaces: Any) -> list[str]:
+def _interface_rows(interfaces: Iterable[tsm_types.Interface]) -> list[str]:
     rows = []
     for interface in interfaces:
         colour = INTERFACE_COLOURS[_interface_kind(interface)]
@@ -98,7 +105,7 @@ def _interface_rows(interfaces: Any) -> list[str]:
     return rows
 
 
-def _node_label(node: Any, product: ResolvedProduct | None) -> str:
+def _node_label(node: tsm_types.Node, product: ResolvedProduct | None) -> str:
     migration = product.migrated(node.name) if product is not None else None
     border = (
         f'BORDER="3" COLOR="{MIGRATED_RED}"'
@@ -125,7 +132,7 @@ def _node_label(node: Any, product: ResolvedProduct | None) -> str:
     return html_table(f'{border} CELLBORDER="0" CELLSPACING="2" BGCOLOR="{NODE_GREY}"', rows)
 
 
-def _endpoint_label(container: Any) -> str:
+def _endpoint_label(container: tsm_types.Container) -> str:
     endpoint = container.endpoint
     rows = ['<TR><TD COLSPAN="2"><B>endpoint</B></TD></TR>']
     if endpoint.robotId:
@@ -138,20 +145,21 @@ def _endpoint_label(container: Any) -> str:
     return html_table(attributes, rows)
 
 
-def _container_label(container: Any) -> str:
+def _container_label(container: tsm_types.Container) -> str:
     if isinstance(container, tsm().RobotContainer):
         text = f"«robot container» {container.name}"
     else:
         text = f"«cloud container» {container.name}"
-        if container.group:
-            text += f"\ngroup {container.group}"
+        group = cast("tsm_types.CloudContainer", container).group
+        if group:
+            text += f"\ngroup {group}"
     if container.namespace:
         text += f"\nnamespace {container.namespace}"
     return text
 
 
 def _add_container(
-    graph: graphviz.Digraph, container: Any, product: ResolvedProduct | None
+    graph: graphviz.Digraph, container: tsm_types.Container, product: ResolvedProduct | None
 ) -> None:
     style = CONTAINER_STYLE[container.eClass.name]
     with graph.subgraph(name=f"cluster_{container.name}") as cluster:
@@ -191,9 +199,9 @@ def _add_container(
             )
 
 
-def _data_flow_edges(graph: graphviz.Digraph, container: Any) -> None:
+def _data_flow_edges(graph: graphviz.Digraph, container: tsm_types.Container) -> None:
     T = tsm()
-    owners = [*container.nodes]
+    owners: list[tsm_types.Node | tsm_types.Endpoint] = [*container.nodes]
     if container.endpoint is not None:
         owners.append(container.endpoint)
     for owner in owners:
@@ -212,11 +220,11 @@ def _data_flow_edges(graph: graphviz.Digraph, container: Any) -> None:
                 )
 
 
-def _store_edges(graph: graphviz.Digraph, system: Any) -> None:
+def _store_edges(graph: graphviz.Digraph, system: tsm_types.System) -> None:
     T = tsm()
     for container in system.containers:
         for node in container.nodes:
-            store = getattr(node, "store", None)
+            store: tsm_types.Store | None = getattr(node, "store", None)
             if store is None:
                 continue
             store_id = graph_id(store.eContainer().name, "store", store.name)
@@ -254,8 +262,11 @@ def _legend(graph: graphviz.Digraph) -> None:
     )
 
 
-def architecture_graph(system: Any, product: ResolvedProduct | None = None) -> graphviz.Digraph:
-    """The resolved (or template) architecture in the notation of seeds/003 Fig. 4."""
+def architecture_graph(
+    system: tsm_types.System, product: ResolvedProduct | None = None
+) -> graphviz.Digraph:
+    """The resolved (or template) architecture in the notation of the paper's Fig. 4
+    (docs/index.md)."""
     graph = Digraph(name=system.name or "system")
     graph.attr(
         rankdir="LR",
@@ -295,7 +306,7 @@ def architecture_graph(system: Any, product: ResolvedProduct | None = None) -> g
     return graph
 
 
-def generate(product: ResolvedProduct, render: bool = True) -> dict[str, Any]:
+def generate(product: ResolvedProduct, render: bool = True) -> dict[str, bytes | Skipped]:
     """``architecture.dot`` (the Graphviz source, always) and ``architecture.svg``
     (unless ``render`` is false: ``spl validate`` checks many products and would pay one
     ``dot`` process each for a picture nobody looks at).
@@ -305,7 +316,7 @@ def generate(product: ResolvedProduct, render: bool = True) -> dict[str, Any]:
     rendered later with ``dot -Tsvg architecture.dot``.
     """
     graph = architecture_graph(product.system, product)
-    files: dict[str, Any] = {"architecture.dot": graph.source.encode("utf-8")}
+    files: dict[str, bytes | Skipped] = {"architecture.dot": graph.source.encode("utf-8")}
     if not render:
         return files
     try:

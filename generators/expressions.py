@@ -19,10 +19,13 @@ import keyword
 import math
 import re
 from collections.abc import Iterable
-from typing import Any
+from typing import TYPE_CHECKING, cast
 
 from spl.diagnostics import Diagnostic, ModelError, location_of
 from spl.resolver.generated_names import IDENTIFIER
+
+if TYPE_CHECKING:
+    from spl.metamodels import tsm_types
 
 NUMBER = re.compile(r"(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?\Z")
 
@@ -138,32 +141,34 @@ class ExpressionCompiler:
         self.diagnostics: list[Diagnostic] = []
         self.records_used: set[str] = set()
 
-    def _error(self, element: Any, message: str) -> str:
+    def _error(self, element: tsm_types.Located | None, message: str) -> str:
         self.diagnostics.append(
             Diagnostic(location_of(element), f"transform {self.transform_name}: {message}")
         )
         return "None"
 
-    def compile(self, expr: Any) -> str:
+    def compile(self, expr: tsm_types.Expression | None) -> str:
         kind = expr.eClass.name if expr is not None else None
         if kind == "BinaryExpression":
-            return self._binary(expr)
+            return self._binary(cast("tsm_types.BinaryExpression", expr))
         if kind == "UnaryExpression":
-            operator = UNARY_OPERATORS.get(expr.operator)
+            unary = cast("tsm_types.UnaryExpression", expr)
+            operator = UNARY_OPERATORS.get(unary.operator)
             if operator is None:
-                return self._error(expr, f"unknown unary operator {expr.operator!r}")
-            return f"({operator}{self.compile(expr.operand)})"
+                return self._error(unary, f"unknown unary operator {unary.operator!r}")
+            return f"({operator}{self.compile(unary.operand)})"
         if kind == "CallExpression":
-            return self._call(expr)
+            return self._call(cast("tsm_types.CallExpression", expr))
         if kind == "FieldReference":
-            return self._field(expr)
+            return self._field(cast("tsm_types.FieldReference", expr))
         if kind == "NumberLiteral":
-            return self._number(expr, expr.value)
+            number = cast("tsm_types.NumberLiteral", expr)
+            return self._number(number, number.value)
         if kind == "BooleanLiteral":
-            return "True" if expr.value is True else "False"
+            return "True" if cast("tsm_types.BooleanLiteral", expr).value is True else "False"
         return self._error(expr, f"unsupported expression {kind!r}")
 
-    def _binary(self, expr: Any) -> str:
+    def _binary(self, expr: tsm_types.BinaryExpression) -> str:
         left = self.compile(expr.left)
         right = self.compile(expr.right)
         if expr.operator in HELPER_OPERATORS:
@@ -173,7 +178,7 @@ class ExpressionCompiler:
             return self._error(expr, f"unknown operator {expr.operator!r}")
         return f"({left} {operator} {right})"
 
-    def _call(self, expr: Any) -> str:
+    def _call(self, expr: tsm_types.CallExpression) -> str:
         name = expr.function
         arguments = list(expr.arguments)
         if name in CONSTANTS and not arguments:
@@ -192,7 +197,7 @@ class ExpressionCompiler:
             return f"({then} if {condition} else {otherwise})"
         return f"{target}({', '.join(compiled)})"
 
-    def _field(self, expr: Any) -> str:
+    def _field(self, expr: tsm_types.FieldReference) -> str:
         record = expr.record or ""
         field = expr.field
         if record not in RECORDS:
@@ -206,7 +211,7 @@ class ExpressionCompiler:
         self.records_used.add(record)
         return f"{RECORDS[record]}[{field!r}]"
 
-    def _number(self, expr: Any, text: Any) -> str:
+    def _number(self, expr: tsm_types.NumberLiteral, text: object) -> str:
         if isinstance(text, str) and text in CONSTANTS:
             return CONSTANTS[text]
         if not isinstance(text, str) or not NUMBER.match(text):
@@ -223,7 +228,7 @@ def function_name(transform_name: str) -> str:
     return f"transform_{transform_name}"
 
 
-def compile_transform(transform: Any) -> tuple[str, set[str]]:
+def compile_transform(transform: tsm_types.Transform) -> tuple[str, set[str]]:
     """Python source of ``transform_<Name>`` and the neighbour records it reads.
 
     Raises ModelError (all problems, located) when any part is not in the language.
@@ -270,7 +275,7 @@ def compile_transform(transform: Any) -> tuple[str, set[str]]:
     return "\n".join(lines), records
 
 
-def transforms_module(transforms: Iterable[Any]) -> str:
+def transforms_module(transforms: Iterable[tsm_types.Transform]) -> str:
     """A complete Python module: the runtime helpers plus one function per transform."""
     parts = ['"""Transforms compiled from the template system model by spl. Do not edit."""\n']
     parts.append(RUNTIME)
@@ -287,6 +292,6 @@ def transforms_module(transforms: Iterable[Any]) -> str:
     return "\n".join(parts)
 
 
-def neighbours_used(transform: Any) -> set[str]:
+def neighbours_used(transform: tsm_types.Transform) -> set[str]:
     """``{'prev', 'next'}`` subset: which neighbouring records the transform reads."""
     return compile_transform(transform)[1]

@@ -1,6 +1,7 @@
 """Diagram of a feature model, drawn with Graphviz.
 
-It follows seeds/003 Fig. 5 and the usual feature-model notation (filled circle:
+It follows the mapping paper's Fig. 5 (docs/outputs.md, "Diagrams") and the usual
+feature-model notation (filled circle:
 mandatory, hollow circle: optional, group connectors for xor / or / [n..m]),
 highlighting a selection in green. Constraints are shown as the caller writes them
 (``spl render`` passes the .fm printer's ``format_formula``: generators do not import
@@ -11,18 +12,21 @@ the languages' modules). Labels, ids and rendering follow
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import Any
+from typing import TYPE_CHECKING
 
 import graphviz
 
 from spl.generators.graphviz_output import FONT, graph_id, html_table, html_text, plain_label
+
+if TYPE_CHECKING:
+    from spl.metamodels import fm_types
 
 __all__ = ["SELECTED_GREEN", "feature_model_graph"]
 
 SELECTED_GREEN = "#8fd694"
 
 
-def _feature_label(feature: Any) -> str:
+def _feature_label(feature: fm_types.Feature) -> str:
     name = html_text(feature.name)
     rows = [
         f"<TR><TD>{'<I>' + name + '</I>' if feature.abstract else '<B>' + name + '</B>'}</TD></TR>"
@@ -41,7 +45,7 @@ def _feature_label(feature: Any) -> str:
     return html_table('BORDER="0" CELLBORDER="0" CELLSPACING="0"', rows)
 
 
-def _group_text(group: Any) -> str:
+def _group_text(group: fm_types.Group) -> str:
     kind = group.kind.name
     if kind == "alternative":
         return "xor"
@@ -52,9 +56,13 @@ def _group_text(group: Any) -> str:
 
 
 def feature_model_graph(
-    fm: Any, selected: set[str] | None = None, *, formula_text: Callable[[Any], str]
+    fm: fm_types.FeatureModel,
+    selected: set[str] | None = None,
+    *,
+    formula_text: Callable[[fm_types.Formula], str],
 ) -> graphviz.Digraph:
-    """The feature tree in the notation of seeds/003 Fig. 5, selection in green; each
+    """The feature tree in the notation of the paper's Fig. 5 (docs/index.md), selection
+    in green; each
     constraint shown as ``formula_text`` writes its formula."""
     selected = set(selected or ())
     graph = graphviz.Digraph(name=fm.name or "features")
@@ -63,7 +71,7 @@ def feature_model_graph(
     graph.attr("node", fontname=FONT, shape="box", style="rounded,filled", fillcolor="white")
     graph.attr("edge", arrowsize="0.8")
 
-    def add(feature: Any) -> None:
+    def add(feature: fm_types.Feature) -> None:
         fill = SELECTED_GREEN if feature.name in selected else "white"
         graph.node(graph_id("feature", feature.name), label=_feature_label(feature), fillcolor=fill)
         for index, group in enumerate(feature.groups):

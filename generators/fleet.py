@@ -32,8 +32,8 @@ from __future__ import annotations
 
 import hashlib
 import json
-from collections.abc import Callable
-from typing import Any
+from collections.abc import Callable, Iterable
+from typing import TYPE_CHECKING, Protocol
 
 from lxml import etree
 
@@ -41,12 +41,31 @@ from spl import __version__
 from spl.diagnostics import Diagnostic, ModelError
 from spl.generators import kubernetes_fleet, ros1, ros2_launch
 from spl.generators.bundle import TARGETS, build_bundle, manifest
+from spl.generators.json_text import Document
 from spl.generators.launch_xml import serialize
 from spl.generators.rapyuta import configurations, declare_once, render
 from spl.generators.rapyuta_rules import check_all
 from spl.generators.zenoh_bridge import transport
 from spl.resolver.fleet_deployment import FleetDeployment, SharedInstance
 from spl.resolver.placement import Placement, sharing_mode
+
+if TYPE_CHECKING:
+    from spl.metamodels import tsm_types
+    from spl.resolver.fleet import RobotProduct
+    from spl.resolver.product import ResolvedProduct
+
+
+class _LaunchModule(Protocol):
+    """A launch flavour's module (ros1, ros2_launch): one container's launch tree."""
+
+    def launch_document(
+        self,
+        product: ResolvedProduct,
+        container: tsm_types.Container,
+        nodes: Iterable[tsm_types.Node] | None = None,
+        header: str | None = None,
+    ) -> etree._Element: ...
+
 
 # a robot's own bundle in a fleet: every target but the fleet-wide deployment ones
 ROBOT_TARGETS = tuple(t for t in TARGETS if t not in ("kubernetes", "zenoh"))
@@ -61,7 +80,9 @@ def _header(deployment: FleetDeployment, what: str) -> str:
     )
 
 
-def _shared_launch(module: Any, deployment: FleetDeployment, instance: SharedInstance) -> bytes:
+def _shared_launch(
+    module: _LaunchModule, deployment: FleetDeployment, instance: SharedInstance
+) -> bytes:
     """One launch file with the instance's nodes, each as its reference robot resolved it."""
     header = _header(deployment, f"shared instance {instance.tag} ({instance.mode})")
     root = None
@@ -89,7 +110,7 @@ SHARED_INSTANCE_GENERATORS: tuple[
 ] = (_ros1_instance, _ros2_instance)
 
 
-def _robot_files(deployment: FleetDeployment, entry: Any) -> dict[str, bytes]:
+def _robot_files(deployment: FleetDeployment, entry: RobotProduct) -> dict[str, bytes]:
     """The robot's bundle with its cloud launch files cut down to its private instances."""
     product = entry.product
     files = build_bundle(product, ROBOT_TARGETS).files
@@ -119,7 +140,7 @@ def _robot_files(deployment: FleetDeployment, entry: Any) -> dict[str, bytes]:
 def fleet_files(deployment: FleetDeployment) -> dict[str, bytes]:
     """Every file of the fleet bundle (bundle path -> bytes), checked, nothing written."""
     files: dict[str, bytes] = {}
-    documents: dict[str, dict[str, Any]] = {}
+    documents: dict[str, Document] = {}
     per_robot: dict[str, list[str]] = {}
     for entry in deployment.robots:
         prefix = f"robots/{entry.robot.name}/"

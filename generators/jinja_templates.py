@@ -11,7 +11,6 @@ identifier such as ``no`` or ``null`` is still read by YAML as a boolean or noth
 from __future__ import annotations
 
 from functools import cache
-from typing import Any
 
 import yaml
 from jinja2 import Environment, PackageLoader, StrictUndefined
@@ -40,6 +39,6 @@ def yaml_scalar(text: str) -> str:
     return dumped.removesuffix("\n...\n").removesuffix("\n")
 
 
-def render(template: str, **context: Any) -> bytes:
+def render(template: str, **context: object) -> bytes:
     """The UTF-8 text of ``template`` (a path under ``templates/``) in ``context``."""
     return environment().get_template(template).render(**context).encode("utf-8")

@@ -18,12 +18,16 @@ from typing import Any
 
 _INFINITY = float("inf")
 
+# A JSON (or YAML) document as the generators build it: text keys in the order built,
+# values of JSON's kinds (nested documents, lists, text, numbers, booleans, None).
+Document = dict[str, object]
+
 
 class _Unusual(Exception):
     """A value this writer leaves to json.dumps."""
 
 
-def indented(value: Any, sort_keys: bool = False, allow_nan: bool = True) -> str:
+def indented(value: object, sort_keys: bool = False, allow_nan: bool = True) -> str:
     """``json.dumps(value, indent=2, sort_keys=sort_keys, allow_nan=allow_nan)``."""
     chunks: list[str] = []
     try:

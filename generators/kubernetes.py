@@ -2,7 +2,7 @@
 ``kubectl apply -k kubernetes/``.
 
 Placement is :mod:`spl.resolver.placement`'s rule, the one the Rapyuta generator
-follows (SPEC 5.2): each partition of a cloud container that a robot uses becomes one
+follows (docs/deployment.md): each partition of a cloud container that a robot uses becomes one
 *instance*, ``<C>_<robotID>`` for its private nodes (one per robot), ``<C>_<group>``
 for its protected nodes (one per group) and ``<C>_public`` for its public nodes. Each
 instance gets ``kubernetes/<name>.yaml`` (ConfigMap, Deployment and, when data crosses
@@ -21,6 +21,7 @@ from spl import __version__
 from spl.diagnostics import Diagnostic, ModelError
 from spl.generators import ros2_launch
 from spl.generators.bundle_paths import BundleFiles
+from spl.generators.json_text import Document
 from spl.generators.kubernetes_names import CONFIG_SUFFIX, ROUTER, instance_names
 from spl.generators.kubernetes_objects import (
     ROS_IMAGE,
@@ -121,7 +122,7 @@ from it with them and set it without editing the manifests, in kustomization.yam
 
 def kustomization(files: list[str]) -> bytes:
     """``kustomization.yaml`` listing the manifests, so ``kubectl apply -k`` takes the folder."""
-    document = {
+    document: Document = {
         "apiVersion": "kustomize.config.k8s.io/v1beta1",
         "kind": "Kustomization",
         "resources": sorted(files),

@@ -16,7 +16,7 @@ reason in ``kubernetes/README.md``; its ``zenoh/`` is then left out.
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, cast
 
 from spl.diagnostics import Diagnostic, ModelError
 from spl.generators import kubernetes, ros2_launch, zenoh
@@ -26,18 +26,26 @@ from spl.generators.zenoh_bridge import transport
 from spl.resolver.fleet_deployment import FleetDeployment, SharedInstance
 from spl.resolver.placement import Instance, Place, Placement
 
+if TYPE_CHECKING:
+    from spl.diagnostics import Location
+    from spl.metamodels import tsm_types
+    from spl.resolver.fleet import RobotProduct
+    from spl.resolver.product import ResolvedProduct
 
-def _shared_instance(deployment: FleetDeployment, instance: SharedInstance) -> tuple[Any, Instance]:
+
+def _shared_instance(
+    deployment: FleetDeployment, instance: SharedInstance
+) -> tuple[ResolvedProduct, Instance]:
     """The shared instance as placed (its nodes as their reference robots resolved them),
     and the product of its first reference robot."""
     reference = deployment.reference(instance)
-    container = reference[0][1].eContainer()
+    container = cast("tsm_types.CloudContainer", reference[0][1].eContainer())  # a cloud's
     place = Place(instance.tag, instance.mode, instance.container, instance.group or "public")
     nodes = tuple(node for _, node in reference)
     return reference[0][0].product, Instance(place, container, nodes, instance.robots)
 
 
-def _private_instances(entry: Any) -> list[Instance]:
+def _private_instances(entry: RobotProduct) -> list[Instance]:
     """The robot's private cloud instances, one per cloud container it uses."""
     errors: list[Diagnostic] = []
     placement = Placement(entry.product.system, errors)
@@ -47,11 +55,13 @@ def _private_instances(entry: Any) -> list[Instance]:
     return instances
 
 
-def _instances(deployment: FleetDeployment) -> list[tuple[Any, Instance, str, Any]]:
+def _instances(
+    deployment: FleetDeployment,
+) -> list[tuple[ResolvedProduct, Instance, str | None, Location | None]]:
     """(product, instance, robot name or None, location) of every instance of the fleet:
     the shared ones first, then each robot's private ones."""
     located = {entry.robot.name: entry.robot.location for entry in deployment.robots}
-    found = []
+    found: list[tuple[ResolvedProduct, Instance, str | None, Location | None]] = []
     for shared in deployment.shared:
         product, instance = _shared_instance(deployment, shared)
         found.append((product, instance, None, located.get(shared.robots[0])))

@@ -19,10 +19,13 @@ from __future__ import annotations
 
 import hashlib
 import re
-from typing import Any
+from typing import TYPE_CHECKING
 
 from spl.diagnostics import Diagnostic, Location, location_of
 from spl.resolver.generated_names import ZENOH_ROUTER, kubernetes_label
+
+if TYPE_CHECKING:
+    from spl.resolver.placement import Instance
 
 DNS_LABEL = re.compile(r"[a-z]([-a-z0-9]*[a-z0-9])?")
 LABEL_VALUE = re.compile(r"([A-Za-z0-9]([-A-Za-z0-9_.]*[A-Za-z0-9])?)?")
@@ -85,7 +88,7 @@ ROUTER = ZENOH_ROUTER  # the Zenoh router's objects
 CONFIG_SUFFIX = "-config"  # an instance's ConfigMap: <name>-config
 
 
-def instance_names(instances: list[Any], errors: list[Diagnostic]) -> dict[str, str]:
+def instance_names(instances: list[Instance], errors: list[Diagnostic]) -> dict[str, str]:
     """The object name of every cloud instance (``resolver.placement.Instance``), by its
     placement tag: the Deployment, the Service the Zenoh router connects to and, with
     ``-config``, the ConfigMap. Problems are located at the instance's container."""

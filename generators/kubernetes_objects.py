@@ -26,11 +26,12 @@ Keys are written in the order built and YAML without anchors: same product, same
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import Any
+from typing import TYPE_CHECKING, cast
 
 import yaml
 
 from spl import __version__
+from spl.generators.json_text import Document
 from spl.generators.kubernetes_names import (
     CONFIG_SUFFIX,
     ROUTER,
@@ -39,6 +40,9 @@ from spl.generators.kubernetes_names import (
 from spl.generators.kubernetes_yaml import block_yaml
 from spl.generators.zenoh_bridge import ZENOH_PORT, CloudBridge, Transport
 from spl.resolver.placement import Instance
+
+if TYPE_CHECKING:
+    from spl.metamodels import tsm_types
 
 ROS_IMAGE = "ros:jazzy-ros-core"
 BRIDGE_IMAGE = "eclipse/zenoh-bridge-ros2dds:1.10.0"
@@ -61,8 +65,8 @@ def with_known_tags(base: type) -> type:
     not used: then every scalar is resolved as before)."""
     known: dict[tuple[str, tuple[bool, bool]], str] = {}
 
-    class KnownTags(base):  # type: ignore[misc, valid-type]
-        def resolve(self, kind: Any, value: Any, implicit: Any) -> Any:
+    class KnownTags(base):
+        def resolve(self, kind: type, value: str, implicit: tuple[bool, bool]) -> str:
             if kind is not yaml.ScalarNode or self.yaml_path_resolvers or len(value) > 64:
                 return super().resolve(kind, value, implicit)
             key = (value, implicit)
@@ -78,7 +82,7 @@ def with_known_tags(base: type) -> type:
 
 
 _STR = "tag:yaml.org,2002:str"
-_SCALARS: dict[type, tuple[str, Any]] = {
+_SCALARS: dict[type, tuple[str, Callable[[object], str]]] = {
     str: (_STR, str),
     int: ("tag:yaml.org,2002:int", str),
     bool: ("tag:yaml.org,2002:bool", lambda value: "true" if value else "false"),
@@ -95,19 +99,21 @@ class _DocumentNodes:
     emitter anchors a node met twice. tests/test_kubernetes_products.py checks the bytes
     equal to PyYAML's own representer's for every shipped product."""
 
-    def represent(self, data: Any) -> None:
+    def represent(self, data: object) -> None:
         self.serialize(self._node(data))  # type: ignore[attr-defined]
-        self.represented_objects: dict[Any, Any] = {}  # as PyYAML's represent leaves it
-        self.object_keeper: list[Any] = []
+        # as PyYAML's represent leaves them
+        self.represented_objects: dict[int, yaml.Node] = {}
+        self.object_keeper: list[object] = []
         self.alias_key = None
 
-    def _node(self, data: Any) -> yaml.Node:
+    def _node(self, data: object) -> yaml.Node:
         kind = type(data)
         if kind is dict:
-            pairs = [(self._node(key), self._node(value)) for key, value in data.items()]
+            mapping = cast("dict[object, object]", data)
+            pairs = [(self._node(key), self._node(value)) for key, value in mapping.items()]
             return yaml.MappingNode("tag:yaml.org,2002:map", pairs, flow_style=False)
         if kind is list:
-            items = [self._node(item) for item in data]
+            items = [self._node(item) for item in cast("list[object]", data)]
             return yaml.SequenceNode("tag:yaml.org,2002:seq", items, flow_style=False)
         if kind is _Literal:
             return yaml.ScalarNode(_STR, str(data), style="|")
@@ -123,7 +129,7 @@ def _dumper(base: type, nodes: bool = True) -> type:
     :class:`_DocumentNodes` (the same nodes, faster)."""
 
     class Dumper(*((_DocumentNodes,) if nodes else ()), with_known_tags(base)):  # type: ignore[misc]
-        def ignore_aliases(self, data: Any) -> bool:
+        def ignore_aliases(self, data: object) -> bool:
             return True
 
     # str(): libyaml's emitter takes exact str objects only
@@ -141,10 +147,10 @@ PYTHON_DUMPER = _dumper(yaml.SafeDumper)
 DUMPER = _dumper(getattr(yaml, "CSafeDumper", yaml.SafeDumper))
 # Documents of the shapes kubernetes_yaml writes are written by it (the emitters' bytes,
 # tests/test_kubernetes_yaml.py), others by DUMPER; None: every document by DUMPER.
-WRITER: Callable[[list[dict[str, Any]], type], str | None] | None = block_yaml
+WRITER: Callable[[list[Document], type], str | None] | None = block_yaml
 
 
-def render(documents: list[dict[str, Any]], header: str) -> bytes:
+def render(documents: list[Document], header: str) -> bytes:
     """Documents as one YAML stream, keys in the order built, a comment header."""
     body = WRITER(documents, _Literal) if WRITER is not None else None
     if body is None:
@@ -176,7 +182,7 @@ def instance_labels(product_name: str, instance: Instance, name: str) -> dict[st
     }
 
 
-def _resources(cloud: Any) -> dict[str, Any]:
+def _resources(cloud: tsm_types.CloudContainer) -> Document:
     amounts = {}
     if cloud.cpu is not None:
         amounts["cpu"] = str(cloud.cpu)
@@ -195,10 +201,10 @@ def instance_documents(
     name: str,
     launch_xml: bytes,
     bridges: list[CloudBridge],
-) -> list[dict[str, Any]]:
+) -> list[Document]:
     """ConfigMap, Deployment and (with bridges) Service of one cloud instance."""
     labels = instance_labels(product_name, instance, name)
-    metadata = {
+    metadata: Document = {
         "name": name,
         "labels": labels,
         "annotations": {
@@ -211,14 +217,14 @@ def instance_documents(
     sidecars = [bridge_name(n) for n in range(len(bridges))]
     for sidecar, bridge in zip(sidecars, bridges, strict=True):
         data[f"{sidecar}.json5"] = _Literal(bridge.config)
-    config_map = {
+    config_map: Document = {
         "apiVersion": "v1",
         "kind": "ConfigMap",
         "metadata": {"name": name + CONFIG_SUFFIX, "labels": labels},
         "data": data,
     }
     mount = [{"name": "config", "mountPath": CONFIG_DIR, "readOnly": True}]
-    ros = {
+    ros: Document = {
         "name": "ros",
         "image": ROS_IMAGE,
         "args": ["ros2", "launch", f"{CONFIG_DIR}/launch.xml"],
@@ -228,7 +234,7 @@ def instance_documents(
     resources = _resources(instance.container)
     if resources:
         ros["resources"] = resources
-    containers = [ros]
+    containers: list[Document] = [ros]
     for sidecar, bridge in zip(sidecars, bridges, strict=True):
         containers.append(
             {
@@ -241,7 +247,7 @@ def instance_documents(
                 "volumeMounts": mount,
             }
         )
-    deployment = {
+    deployment: Document = {
         "apiVersion": "apps/v1",
         "kind": "Deployment",
         "metadata": metadata,
@@ -257,7 +263,7 @@ def instance_documents(
             },
         },
     }
-    documents = [config_map, deployment]
+    documents: list[Document] = [config_map, deployment]
     if bridges:
         ports = [(port_name(bridge), bridge.port) for bridge in bridges]
         documents.append(_service(name, labels, "ClusterIP", ports))
@@ -276,7 +282,7 @@ def port_name(bridge: CloudBridge) -> str:
 
 def _service(
     name: str, labels: dict[str, str], kind: str, ports: list[tuple[str, int]]
-) -> dict[str, Any]:
+) -> Document:
     return {
         "apiVersion": "v1",
         "kind": "Service",
@@ -302,14 +308,14 @@ def secret_key(variable: str) -> str:
     return variable.lower().replace("_", "-")
 
 
-def router_documents(product_name: str, wiring: Transport) -> list[dict[str, Any]]:
+def router_documents(product_name: str, wiring: Transport) -> list[Document]:
     """The Zenoh router robots connect to, with its users' passwords from a Secret."""
     labels = {
         "app.kubernetes.io/name": ROUTER,
         "app.kubernetes.io/part-of": label_value(product_name),
         **MANAGED_BY,
     }
-    config_map = {
+    config_map: Document = {
         "apiVersion": "v1",
         "kind": "ConfigMap",
         "metadata": {"name": ROUTER + CONFIG_SUFFIX, "labels": labels},
@@ -343,7 +349,7 @@ def router_documents(product_name: str, wiring: Transport) -> list[dict[str, Any
     }
     if env:
         container["env"] = env
-    deployment = {
+    deployment: Document = {
         "apiVersion": "apps/v1",
         "kind": "Deployment",
         "metadata": {"name": ROUTER, "labels": labels},

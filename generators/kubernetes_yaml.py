@@ -15,9 +15,11 @@ compares the two on every shipped product and on generated documents.
 from __future__ import annotations
 
 import re
-from typing import Any
+from typing import cast
 
 import yaml
+
+from spl.generators.json_text import Document
 
 # A string PyYAML writes plain when its implicit tag is str (and single-quoted, as it
 # is, when not): words of printable ASCII separated by single spaces or by colons inside
@@ -42,7 +44,7 @@ class Unsupported(Exception):
     """A value outside the shapes written here."""
 
 
-def block_yaml(documents: list[dict[str, Any]], literal: type) -> str | None:
+def block_yaml(documents: list[Document], literal: type) -> str | None:
     """The YAML stream of ``documents`` as ``yaml.dump_all`` writes it, or None when a
     document holds a value outside the shapes written here; ``literal`` is the str
     subclass of the strings to be written as literal blocks."""
@@ -100,10 +102,10 @@ def _sequence(items: list, indent: int, inline: bool, out: list[str], literal: t
             out.append(_value(item))
 
 
-def _value(value: Any) -> str:
+def _value(value: object) -> str:
     kind = type(value)
     if kind is str:
-        return _scalar(value)
+        return _scalar(cast(str, value))
     if kind is bool:
         return "true" if value else "false"
     if kind is int:

@@ -12,7 +12,7 @@ import math
 import re
 from collections.abc import Iterable
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, cast
 
 import yaml
 from lxml import etree
@@ -21,10 +21,13 @@ from spl import __version__
 from spl.generators.store_contract import client_settings
 from spl.resolver.product import ResolvedProduct
 
+if TYPE_CHECKING:
+    from spl.metamodels import tsm_types
+
 BOOL_TEXT = {"true", "false"}
 
 
-def require_implementation(node: Any) -> tuple[str, str]:
+def require_implementation(node: tsm_types.Node) -> tuple[str, str]:
     """The node's ``(package, executable)``; the resolver guarantees both are set."""
     if not node.package or not node.executable:
         container = node.eContainer()
@@ -35,7 +38,7 @@ def require_implementation(node: Any) -> tuple[str, str]:
     return node.package, node.executable
 
 
-def checked_value(parameter: Any) -> str:
+def checked_value(parameter: tsm_types.Parameter) -> str:
     """The canonical text of a parameter, refused when it does not fit its type.
 
     The parsers check values already; checking again here keeps a hand-built or
@@ -57,7 +60,7 @@ def checked_value(parameter: Any) -> str:
     return text
 
 
-def header_text(product: ResolvedProduct, container: Any) -> str:
+def header_text(product: ResolvedProduct, container: tsm_types.Container) -> str:
     """The provenance comment; no timestamp so the same product gives the same bytes."""
     name = re.sub(r"[^A-Za-z0-9_.]", "_", product.name)
     return (
@@ -85,12 +88,14 @@ class DataClientLaunch:
     parameters: tuple[tuple[str, str, str], ...]
 
 
-def data_client_launch(product: ResolvedProduct, node: Any) -> DataClientLaunch | None:
+def data_client_launch(product: ResolvedProduct, node: tsm_types.Node) -> DataClientLaunch | None:
     """The launch settings of a writer or reader (None for any other node). The bearer
     token is never a parameter: the node reads it from the environment."""
     if node.eClass.name not in ("Writer", "Reader"):
         return None
-    settings = client_settings(node.eContainer(), node, product)
+    client = cast("tsm_types.Writer | tsm_types.Reader", node)
+    settings = client_settings(node.eContainer(), client, product)
+    parameters: tuple[tuple[str, str, str], ...]
     if node.eClass.name == "Writer":
         parameters = (("robot_id", settings["robot_id"], "string"), ("batch_size", "100", "int"))
     else:
@@ -98,9 +103,11 @@ def data_client_launch(product: ResolvedProduct, node: Any) -> DataClientLaunch 
     return DataClientLaunch(settings["url_argument"], settings["default_url"], parameters)
 
 
-def data_client_arguments(product: ResolvedProduct, nodes: Iterable[Any]) -> dict[str, str]:
+def data_client_arguments(
+    product: ResolvedProduct, nodes: Iterable[tsm_types.Node]
+) -> dict[str, str]:
     """The store URL launch arguments of ``nodes``' writers and readers, with defaults."""
-    found = {}
+    found: dict[str, str] = {}
     for node in nodes:
         launch = data_client_launch(product, node)
         if launch is not None:

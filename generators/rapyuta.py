@@ -1,6 +1,6 @@
 """Rapyuta (RoboEarth Cloud Engine) configuration: one rce-ros file per robot container.
 
-Sharing placement (SPEC 5.2) is :mod:`spl.resolver.placement`'s rule: a TSM cloud
+Sharing placement (docs/deployment.md) is :mod:`spl.resolver.placement`'s rule: a TSM cloud
 container ``C`` becomes up to three Rapyuta containers, ``<C>_<robotID>`` for private
 nodes (one per robot), ``<C>_<group>`` for protected nodes (one per group; carries
 ``"group": "<group>"``) and ``<C>_public`` for public nodes.
@@ -32,22 +32,26 @@ import math
 import re
 from collections import defaultdict
 from collections.abc import Iterable
-from typing import Any
+from typing import TYPE_CHECKING, cast
 
 import yaml
 
 from spl.diagnostics import Diagnostic, ModelError, location_of
-from spl.generators.json_text import indented
+from spl.generators.json_text import Document, indented
 from spl.generators.rapyuta_bridges import Bridges
 from spl.generators.rapyuta_rules import check_all
 from spl.resolver.placement import MODES, Place, Placement, sharing_mode
 from spl.resolver.product import ResolvedProduct
 from spl.resolver.ros_names import in_namespace
 
+if TYPE_CHECKING:
+    from spl.metamodels import tsm_types
+
 ENV_VAR = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
+Entry = dict[str, object]  # one entry of a configuration's list (a container, a node, ...)
 
 
-def parameter_value(parameter: Any) -> Any:
+def parameter_value(parameter: tsm_types.Parameter) -> object:
     """The JSON value of a parameter from its canonical text, typed as the engine takes it."""
     kind = parameter.type.name if parameter.type is not None else "string"
     text = parameter.value
@@ -70,13 +74,13 @@ def parameter_value(parameter: Any) -> Any:
     return text
 
 
-def _json_scalar(value: Any) -> bool:
+def _json_scalar(value: object) -> bool:
     if isinstance(value, float):
         return math.isfinite(value)
     return isinstance(value, (str, int, bool))
 
 
-def _credentials(robot: Any, errors: list[Diagnostic]) -> dict[str, str]:
+def _credentials(robot: tsm_types.Container, errors: list[Diagnostic]) -> dict[str, str]:
     endpoint = robot.endpoint
     if endpoint is None:
         errors.append(
@@ -118,16 +122,20 @@ def _credentials(robot: Any, errors: list[Diagnostic]) -> dict[str, str]:
 
 
 def _partition_entries(
-    place: Place, cloud: Any, nodes: Iterable[Any], errors: list[Diagnostic]
-) -> tuple[dict[str, Any], list[dict[str, Any]], list[dict[str, Any]]]:
-    container: dict[str, Any] = {"cTag": place.tag}
+    place: Place,
+    cloud: tsm_types.CloudContainer,
+    nodes: Iterable[tsm_types.Node],
+    errors: list[Diagnostic],
+) -> tuple[Entry, list[Entry], list[Entry]]:
+    container: Entry = {"cTag": place.tag}
     if place.kind == "protected":
         container["group"] = place.owner
     for resource in ("size", "cpu", "memory", "bandwidth"):
         value = getattr(cloud, resource)
         if value is not None:
             container[resource] = value
-    node_entries, parameter_entries = [], []
+    node_entries: list[Entry] = []
+    parameter_entries: list[Entry] = []
     namespace = cloud.namespace
     for node in sorted(nodes, key=lambda n: n.name):
         if not node.package or not node.executable:
@@ -138,7 +146,7 @@ def _partition_entries(
                 )
             )
             continue
-        entry = {
+        entry: Entry = {
             "cTag": place.tag,
             "nTag": node.name,
             "pkg": node.package,
@@ -174,19 +182,21 @@ def _partition_entries(
     return container, node_entries, parameter_entries
 
 
-def configurations(product: ResolvedProduct) -> dict[str, dict[str, Any]]:
+def configurations(product: ResolvedProduct) -> dict[str, Document]:
     """The rce-ros configuration of every robot container, by container name."""
     errors: list[Diagnostic] = []
     placement = Placement(product.system, errors)
     bridges = Bridges(product.flows, placement, errors)
-    documents: dict[str, dict[str, Any]] = {}
+    documents: dict[str, Document] = {}
     for robot in placement.robots:
         robot_id = placement.robot_ids[id(robot)]
-        document: dict[str, Any] = {**_credentials(robot, errors), "robotID": robot_id}
+        document: Document = {**_credentials(robot, errors), "robotID": robot_id}
         declared = {robot_id}
-        containers, nodes, parameters = [], [], []
+        containers: list[Entry] = []
+        nodes: list[Entry] = []
+        parameters: list[Entry] = []
         for cloud in placement.scope(robot):
-            by_mode: dict[str, list[Any]] = defaultdict(list)
+            by_mode: dict[str, list[tsm_types.Node]] = defaultdict(list)
             for node in cloud.nodes:
                 by_mode[sharing_mode(node)].append(node)
             for mode in MODES:
@@ -202,10 +212,10 @@ def configurations(product: ResolvedProduct) -> dict[str, dict[str, Any]]:
                 parameters.extend(parameter_entries)
         interfaces = [spec for key, spec in bridges.interfaces.items() if key[0] in declared]
         connections = [b.as_json() for b in bridges.of_robot[id(robot)]]
-        lists = {
-            "containers": sorted(containers, key=lambda c: c["cTag"]),
-            "nodes": sorted(nodes, key=lambda n: (n["cTag"], n["nTag"])),
-            "parameters": sorted(parameters, key=lambda p: (p["cTag"], p["name"])),
+        lists: dict[str, list[Entry] | list[dict[str, str]]] = {
+            "containers": sorted(containers, key=lambda c: _tags(c, "cTag")),
+            "nodes": sorted(nodes, key=lambda n: _tags(n, "cTag", "nTag")),
+            "parameters": sorted(parameters, key=lambda p: _tags(p, "cTag", "name")),
             "interfaces": sorted(interfaces, key=lambda i: (i["eTag"], i["iTag"])),
             "connections": sorted(connections, key=lambda c: (c["tagA"], c["tagB"])),
         }
@@ -228,7 +238,12 @@ LISTS = {
 }
 
 
-def declare_once(documents: dict[str, dict[str, Any]]) -> None:
+def _tags(entry: Entry, *fields: str) -> tuple[str, ...]:
+    """The tags identifying an entry (text, each), in the order given, to sort by."""
+    return cast("tuple[str, ...]", tuple(entry[field] for field in fields))
+
+
+def declare_once(documents: dict[str, Document]) -> None:
     """Declare what several robots' files share in one file only, in place.
 
     The engine creates a container when the first file naming it is applied and refuses
@@ -242,25 +257,25 @@ def declare_once(documents: dict[str, dict[str, Any]]) -> None:
     rules to refuse. Each user has containers of its own in the engine, so this holds
     among the files of one user (``userID``): robots of two users sharing a partition
     each get their user's instance of it."""
-    users: dict[Any, list[str]] = defaultdict(list)
+    users: dict[object, list[str]] = defaultdict(list)
     for name in sorted(documents):
         users[documents[name].get("userID")].append(name)
     for names in users.values():
         _declare_once(documents, names)
 
 
-def _declare_once(documents: dict[str, dict[str, Any]], order: list[str]) -> None:
+def _declare_once(documents: dict[str, Document], order: list[str]) -> None:
     """:func:`declare_once` over the files ``order`` of one user."""
-    owners: dict[str, str] = {}
+    owners: dict[object, str] = {}
     for name in order:
-        for entry in documents[name].get("containers", ()):
+        for entry in _list(documents[name], "containers"):
             owners.setdefault(entry["cTag"], name)
-    first: dict[tuple, tuple[str, dict[str, Any]]] = {}  # identity -> (file, entry)
-    moved: dict[tuple[str, str], list[dict[str, Any]]] = defaultdict(list)
+    first: dict[tuple[object, ...], tuple[str, Entry]] = {}  # identity -> (file, entry)
+    moved: dict[tuple[str, str], list[Entry]] = defaultdict(list)
     for name in order:
         document = documents[name]
         for key, (fields, owner_field) in LISTS.items():
-            entries = document.get(key)
+            entries = _list(document, key)
             if not entries:
                 continue
             stay = []
@@ -278,22 +293,27 @@ def _declare_once(documents: dict[str, dict[str, Any]], order: list[str]) -> Non
                     stay.append(entry)
             document[key] = stay
     for (owner, key), entries in moved.items():
-        documents[owner].setdefault(key, []).extend(entries)
+        cast("list[Entry]", documents[owner].setdefault(key, [])).extend(entries)
     for name in order:
         document = documents[name]
         for key, (fields, _) in LISTS.items():
             if key in document:
                 if document[key]:
-                    document[key].sort(key=lambda e: tuple(e[f] for f in fields))
+                    _list(document, key).sort(key=lambda e: _tags(e, *fields))
                 else:
                     del document[key]
+
+
+def _list(document: Document, key: str) -> list[Entry]:
+    """One of a configuration's lists (LISTS), empty when it has none."""
+    return cast("list[Entry]", document.get(key, ()))
 
 
 def _unique(errors: list[Diagnostic]) -> list[Diagnostic]:
     return list(dict.fromkeys(errors))
 
 
-def render(document: dict[str, Any]) -> bytes:
+def render(document: Document) -> bytes:
     """Deterministic JSON: sorted keys, indent 2, final newline."""
     return (indented(document, sort_keys=True, allow_nan=False) + "\n").encode()
 

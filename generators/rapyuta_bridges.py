@@ -21,17 +21,20 @@ file that declares them (:func:`spl.generators.rapyuta.declare_once`).
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, cast
 
 from spl.diagnostics import Diagnostic
 from spl.resolver.endpoints import endpoint_name_choices
-from spl.resolver.flows import FlowTable
+from spl.resolver.flows import FlowTable, node_of
 from spl.resolver.placement import Place, Placement
 from spl.resolver.wiring import Crossing, Wiring
 
+if TYPE_CHECKING:
+    from spl.metamodels import tsm_types
+
 # one side of a bridge: the place, the interface tag, its engine entry, and the topic or
 # node server it is for (which qualifies the tag when another interface has it)
-End = tuple[Place, str, dict[str, str], Any]
+End = tuple[Place, str, dict[str, str], "tsm_types.Topic | tsm_types.ServiceServer"]
 
 
 @dataclass(frozen=True, order=True)
@@ -50,7 +53,14 @@ class Bridge:
         }
 
 
-def _end(place: Place, tag: str, role: str, cls: str | None, addr: str, target: Any) -> End:
+def _end(
+    place: Place,
+    tag: str,
+    role: str,
+    cls: str | None,
+    addr: str,
+    target: tsm_types.Topic | tsm_types.ServiceServer,
+) -> End:
     """One side of a bridge: the interface ``tag`` on ``place`` and its engine entry."""
     suffix = "Converter" if place.is_robot else "Interface"
     spec = {
@@ -66,7 +76,8 @@ def _end(place: Place, tag: str, role: str, cls: str | None, addr: str, target: 
 def _ends(crossing: Crossing) -> tuple[End, End]:
     """The two interfaces of the bridge carrying ``crossing``."""
     if crossing.kind == "topic":
-        source_topic, target_topic = crossing.source_element, crossing.target_element
+        source_topic = cast("tsm_types.Topic", crossing.source_element)
+        target_topic = cast("tsm_types.Topic", crossing.target_element)
         return (
             _end(
                 crossing.source,
@@ -85,8 +96,8 @@ def _ends(crossing: Crossing) -> tuple[End, End]:
                 target_topic,
             ),
         )
-    server = crossing.target_element
-    tag = f"{server.eContainer().name}_{server.name}"
+    server = crossing.target_element  # a service crossing's: the node's server
+    tag = f"{node_of(cast('tsm_types.ServiceServer', server)).name}_{server.name}"
     return (
         _end(
             crossing.source,

@@ -22,13 +22,15 @@ from __future__ import annotations
 
 import json
 from collections import OrderedDict
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Hashable, Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from functools import cache
 from importlib.resources import files
-from typing import Any
+from typing import cast
 
 import jsonschema
+
+from spl.generators.json_text import Document
 
 ROLES = ("Publisher", "Subscriber", "ServiceClient", "ServiceProvider")
 CONTAINER_SUFFIXES = ("Interface",)
@@ -55,7 +57,7 @@ class ConfigurationProblem:
 
 
 @cache
-def schema() -> dict[str, Any]:
+def schema() -> Document:
     """The shipped JSON Schema (draft 2020-12) of the rce-ros configuration format."""
     text = files("spl.generators").joinpath("schemas/rapyuta.schema.json").read_text("utf-8")
     return json.loads(text)
@@ -71,7 +73,7 @@ def validator() -> jsonschema.Draft202012Validator:
     both on damaged configurations)."""
     document = schema()
     return jsonschema.Draft202012Validator(
-        inline_references(document, document.get("$defs", {})),
+        inline_references(document, cast("Mapping[str, object]", document.get("$defs", {}))),
         format_checker=jsonschema.Draft202012Validator.FORMAT_CHECKER,
     )
 
@@ -80,7 +82,9 @@ def validator() -> jsonschema.Draft202012Validator:
 _DATA_KEYWORDS = frozenset({"$defs", "enum", "const", "examples", "default"})
 
 
-def inline_references(node: Any, defs: dict[str, Any], within: tuple[str, ...] = ()) -> Any:
+def inline_references(
+    node: object, defs: Mapping[str, object], within: tuple[str, ...] = ()
+) -> object:
     """``node`` with every ``{"$ref": "#/$defs/NAME"}`` (nothing else beside it) replaced
     by that definition, itself inlined; a definition that refers to itself, directly or
     not, stays a reference (``$defs`` is kept for it)."""
@@ -100,7 +104,7 @@ def inline_references(node: Any, defs: dict[str, Any], within: tuple[str, ...] =
     }
 
 
-def schema_problems(config: Any, name: str) -> list[ConfigurationProblem]:
+def schema_problems(config: object, name: str) -> list[ConfigurationProblem]:
     """Schema violations of one file, each at its JSON path."""
     problems = [
         ConfigurationProblem(name, _json_path(error.absolute_path), error.message, "schema")
@@ -109,7 +113,7 @@ def schema_problems(config: Any, name: str) -> list[ConfigurationProblem]:
     return sorted(problems)
 
 
-def check_all(configs: Sequence[Any], names: Sequence[str]) -> list[ConfigurationProblem]:
+def check_all(configs: Sequence[object], names: Sequence[str]) -> list[ConfigurationProblem]:
     """Schema and engine rules together: what a product's file set must pass."""
     key = _content_key(configs, names)
     if key is not None and key in _CLEAN:
@@ -137,20 +141,21 @@ _CLEAN: OrderedDict[str, None] = OrderedDict()
 _JSON_SCALARS = (str, int, float, bool, type(None))
 
 
-def _content_key(configs: Sequence[Any], names: Sequence[str]) -> str | None:
+def _content_key(configs: Sequence[object], names: Sequence[str]) -> str | None:
     """The file set as canonical JSON (keys sorted), or None when it holds anything but
     JSON's own types (a tuple, a subclass, a key that is not a string), whose encoding
     would stand for another value: ``(1,)`` and ``[1]``, ``{1: x}`` and ``{"1": x}``."""
-    pending: list[Any] = [list(configs)]
+    pending: list[object] = [list(configs)]
     while pending:
         value = pending.pop()
         kind = type(value)
         if kind is dict:
-            if any(type(key) is not str for key in value):
+            mapping = cast("dict[object, object]", value)
+            if any(type(key) is not str for key in mapping):
                 return None
-            pending.extend(value.values())
+            pending.extend(mapping.values())
         elif kind is list:
-            pending.extend(value)
+            pending.extend(cast("list[object]", value))
         elif kind not in _JSON_SCALARS:
             return None
     try:
@@ -159,14 +164,14 @@ def _content_key(configs: Sequence[Any], names: Sequence[str]) -> str | None:
         return None
 
 
-def _json_path(parts: Iterable[Any]) -> str:
+def _json_path(parts: Iterable[object]) -> str:
     text = ""
     for part in parts:
         text += f"[{part}]" if isinstance(part, int) else (f".{part}" if text else str(part))
     return text
 
 
-def _entries(config: Any, key: str) -> list[tuple[int, dict[str, Any]]]:
+def _entries(config: object, key: str) -> list[tuple[int, Document]]:
     """The well-formed entries of one list; malformed ones are the schema's to report."""
     items = config.get(key) if isinstance(config, dict) else None
     if not isinstance(items, list):
@@ -174,7 +179,7 @@ def _entries(config: Any, key: str) -> list[tuple[int, dict[str, Any]]]:
     return [(index, item) for index, item in enumerate(items) if isinstance(item, dict)]
 
 
-def _role_and_suffix(i_type: Any) -> tuple[str, str] | None:
+def _role_and_suffix(i_type: object) -> tuple[str, str] | None:
     if not isinstance(i_type, str):
         return None
     for role in ROLES:
@@ -187,12 +192,12 @@ def _role_and_suffix(i_type: Any) -> tuple[str, str] | None:
 class _Declarations:
     """Declarations keyed by identity across the file set: each may be made once."""
 
-    def __init__(self, kind: str, report: Any) -> None:
+    def __init__(self, kind: str, report: Callable[[str, str, str, str], None]) -> None:
         self.kind = kind
         self.report = report
-        self.first: dict[Any, tuple[str, str, Any]] = {}
+        self.first: dict[Hashable, tuple[str, str, Document]] = {}  # (file, path, entry)
 
-    def declare(self, key: Any, file: str, path: str, value: Any, label: str) -> None:
+    def declare(self, key: Hashable, file: str, path: str, value: Document, label: str) -> None:
         known = self.first.get(key)
         if known is None:
             self.first[key] = (file, path, value)
@@ -223,16 +228,16 @@ class _Declarations:
                 f"redeclared-{self.kind}",
             )
 
-    def __contains__(self, key: Any) -> bool:
+    def __contains__(self, key: object) -> bool:
         return key in self.first
 
-    def get(self, key: Any) -> Any:
+    def get(self, key: Hashable) -> Document | None:
         known = self.first.get(key)
         return known[2] if known else None
 
 
 def check_configurations(
-    configs: Sequence[Any], names: Sequence[str]
+    configs: Sequence[object], names: Sequence[str]
 ) -> list[ConfigurationProblem]:
     """The engine's rules over a set of files applied together (one user's robots).
 
@@ -247,7 +252,7 @@ def check_configurations(
     files_ = list(zip(names, configs, strict=True))
     robots: dict[str, str] = {}
     for name, config in files_:
-        robot = config.get("robotID") if isinstance(config, dict) else None
+        robot: object = config.get("robotID") if isinstance(config, dict) else None
         if not isinstance(robot, str):
             continue
         if robot in robots:
@@ -278,7 +283,7 @@ def check_configurations(
                 )
             containers.declare((user[name], c_tag), name, path, entry, f"container {c_tag!r}")
 
-    def check_container_ref(file: str, path: str, c_tag: Any, what: str) -> None:
+    def check_container_ref(file: str, path: str, c_tag: object, what: str) -> None:
         if (user[file], c_tag) not in containers:
             report(
                 file,
@@ -334,12 +339,12 @@ def check_configurations(
                 )
             interfaces.declare((user[name], e_tag, i_tag), name, path, entry, label)
 
-    seen: dict[tuple[Any, frozenset[str]], str] = {}  # connected pairs, across the files
+    seen: dict[tuple[object, frozenset[object]], str] = {}  # connected pairs, across files
     for name, config in files_:
         for index, entry in _entries(config, "connections"):
             path = f"connections[{index}]"
             tags = [entry.get("tagA"), entry.get("tagB")]
-            declared = []
+            ends: list[Document] = []
             for side, tag in zip(("tagA", "tagB"), tags, strict=True):
                 parts = tag.split("/") if isinstance(tag, str) else []
                 if len(parts) != 2:
@@ -361,7 +366,7 @@ def check_configurations(
                         "unresolved-tag",
                     )
                 else:
-                    declared.append(interface)
+                    ends.append(interface)
             if all(isinstance(tag, str) for tag in tags):
                 pair = (user[name], frozenset(tags))
                 if len(pair[1]) == 1:
@@ -375,9 +380,9 @@ def check_configurations(
                     )
                 else:
                     seen[pair] = path if len(files_) == 1 else f"{name}: {path}"
-            if len(declared) != 2:
+            if len(ends) != 2:
                 continue
-            a, b = declared
+            a, b = ends
             kind_a, kind_b = _role_and_suffix(a.get("iType")), _role_and_suffix(b.get("iType"))
             if kind_a and kind_b and frozenset({kind_a[0], kind_b[0]}) not in CONNECTABLE:
                 report(

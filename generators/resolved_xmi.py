@@ -7,7 +7,7 @@ elements pyecore builds, each feature's role in the file (skipped, attribute, re
 containment) looked up once per process: pyecore builds an lxml element per model
 element and asks the metamodel these questions again for every element and reference
 it writes, through its descriptors (a product's model took about 1.2 ms; the text takes
-a half of that). Any other model goes through pyecore's writer itself.
+a half of that). Every other model goes through pyecore's writer itself.
 tests/test_resolved_xmi.py checks the bytes equal to pyecore's own writer's.
 """
 
@@ -15,10 +15,16 @@ from __future__ import annotations
 
 import io
 import re
-from typing import Any
+from typing import TYPE_CHECKING, cast
 
 from pyecore.resources import URI
 from pyecore.resources.xmi import XMI_URL, XSI_URL, XMIResource
+
+if TYPE_CHECKING:  # pyecore's reflective classes: the writer reads any model through them
+    from pyecore.ecore import EClass, EDataType, EObject, EStructuralFeature
+
+    # (feature, role, name, type, default): what the writer asks of a feature
+    Role = tuple[EStructuralFeature, int, str, EDataType | EClass | None, object]
 
 # A feature's role in the file, as pyecore's XMIResource._go_across decides it.
 _SKIP, _ATTRIBUTE, _ATTRIBUTES, _REFERENCE, _REFERENCES, _CHILD, _CHILDREN, _OTHER = range(8)
@@ -35,7 +41,7 @@ class _InMemoryURI(URI):
         return self.buffer
 
 
-def _role(feature: Any) -> tuple[Any, int, str, Any, Any]:
+def _role(feature: EStructuralFeature) -> Role:
     """(feature, role, name, type, default) of a metamodel feature, looked up once per
     process (the feature is kept with it, so its id is never reused)."""
     known = _ROLES.get(id(feature))
@@ -58,7 +64,7 @@ def _role(feature: Any) -> tuple[Any, int, str, Any, Any]:
     return known
 
 
-def _id_attribute(eclass: Any) -> Any:
+def _id_attribute(eclass: EClass) -> EStructuralFeature | None:
     """The class's ID attribute (pyecore refers to an element by it), looked up once."""
     known = _ID_ATTRIBUTES.get(id(eclass))
     if known is None:  # the class is kept with it, so its id is never reused
@@ -66,8 +72,8 @@ def _id_attribute(eclass: Any) -> Any:
     return known[1]
 
 
-_ROLES: dict[int, tuple[Any, int, str, Any, Any]] = {}
-_ID_ATTRIBUTES: dict[int, tuple[Any, Any]] = {}
+_ROLES: dict[int, Role] = {}  # by id(feature)
+_ID_ATTRIBUTES: dict[int, tuple[EClass, EStructuralFeature | None]] = {}  # by id(class)
 
 # Text lxml writes in an attribute escaping only these: characters XML allows (lxml
 # refuses the others, and that refusal is left to it).
@@ -102,16 +108,17 @@ class _XMIText:
     which a referenced element stands for its path (its URI fragment,
     ``//@containers.0/@topics.5``), filled in once every path is known."""
 
-    def __init__(self, root: Any) -> None:
+    def __init__(self, root: EObject) -> None:
         self.package = root.eClass.ePackage
         self.prefix = self.package.nsPrefix
         if not self.package.nsURI or not self.prefix or self.prefix in ("xmi", "xsi"):
             raise _Elsewhere
         self.paths = {id(root): "/"}
         self.typed = False  # an xsi:type written: the root declares the xsi namespace
-        self.out: list[Any] = []
+        # text, or a referenced element standing for its path (None: the root's start tag)
+        self.out: list[str | EObject | None] = []
 
-    def document(self, root: Any) -> bytes:
+    def document(self, root: EObject) -> bytes:
         tag = f"{self.prefix}:{root.eClass.name}"
         out = self.out
         out.append(None)  # the root's start tag, known once its children are written
@@ -135,11 +142,11 @@ class _XMIText:
             raise _Elsewhere from None  # a reference out of the file
         return text.encode()
 
-    def _content(self, obj: Any, path: str) -> list[tuple[Any, str]]:
+    def _content(self, obj: EObject, path: str) -> list[tuple[EObject, str]]:
         """Writes the element's attributes, in the order pyecore writes them (the order
         the features were set); returns its children with their tags, their paths known."""
         out, paths = self.out, self.paths
-        children: list[tuple[Any, str]] = []
+        children: list[tuple[EObject, str]] = []
         for feature in obj._isset:
             _, role, name, etype, default = _ROLES.get(id(feature)) or _role(feature)
             if role == _SKIP:
@@ -151,7 +158,8 @@ class _XMIText:
                 continue
             if role == _ATTRIBUTE:
                 if value != default:
-                    out.append(f' {name}="{_quoted(etype.to_string(value))}"')
+                    text = cast("EDataType", etype).to_string(value)  # an attribute's type
+                    out.append(f' {name}="{_quoted(text)}"')
             elif role == _REFERENCE:
                 out.extend((f' {name}="', _referable(value), '"'))
             elif role == _REFERENCES:
@@ -169,7 +177,7 @@ class _XMIText:
                     children.append((child, name))
         return children
 
-    def _children(self, children: list[tuple[Any, str]], depth: int) -> None:
+    def _children(self, children: list[tuple[EObject, str]], depth: int) -> None:
         out, indent = self.out, "  " * depth
         for obj, tag in children:
             eclass = obj.eClass
@@ -189,15 +197,16 @@ class _XMIText:
                 out.append("/>\n")
 
 
-def _referable(target: Any) -> Any:
+def _referable(target: EObject) -> EObject:
     """The referenced element, standing for its path; one with an ID attribute is
-    referred to by its ID, which is left to pyecore."""
+    referred to by its ID, which is left to pyecore (so is a reference pyecore holds as
+    text, an href it never resolved)."""
     if type(target) is str or _id_attribute(target.eClass):
         raise _Elsewhere
     return target
 
 
-def resolved_xmi(system: Any) -> bytes:
+def resolved_xmi(system: EObject) -> bytes:
     """The model under ``system`` as XMI bytes (for another model than spl's, the model
     is put in a resource for pyecore's write and taken out again)."""
     if system.eContainer() is None and system.eResource is None:

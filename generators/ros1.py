@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import json
 from collections.abc import Iterable
-from typing import Any
+from typing import TYPE_CHECKING
 
 from lxml import etree
 
@@ -32,6 +32,9 @@ from spl.generators.launch_xml import (
 from spl.resolver.product import ResolvedProduct
 from spl.resolver.ros_names import remappings
 
+if TYPE_CHECKING:
+    from spl.metamodels import tsm_types
+
 __all__ = ["generate", "launch_document", "launch_file"]
 
 ROS1_TYPES = {"string": "str", "int": "int", "double": "double", "bool": "bool", "yaml": "yaml"}
@@ -43,7 +46,7 @@ def _plain(text: str, what: str) -> str:
     return text
 
 
-def _parameter_element(node_element: Any, parameter: Any) -> None:
+def _parameter_element(node_element: etree._Element, parameter: tsm_types.Parameter) -> None:
     if parameter.value is None:
         node_element.append(
             etree.Comment(f" parameter {parameter.name}: left to the node's default ")
@@ -62,8 +65,8 @@ def _parameter_element(node_element: Any, parameter: Any) -> None:
 
 def launch_document(
     product: ResolvedProduct,
-    container: Any,
-    nodes: Iterable[Any] | None = None,
+    container: tsm_types.Container,
+    nodes: Iterable[tsm_types.Node] | None = None,
     header: str | None = None,
 ) -> etree._Element:
     """The ``<launch>`` tree of one container: its nodes (or only ``nodes`` of it, as a
@@ -104,8 +107,8 @@ def launch_document(
 
 def launch_file(
     product: ResolvedProduct,
-    container: Any,
-    nodes: Iterable[Any] | None = None,
+    container: tsm_types.Container,
+    nodes: Iterable[tsm_types.Node] | None = None,
     header: str | None = None,
 ) -> bytes:
     return serialize(launch_document(product, container, nodes, header))

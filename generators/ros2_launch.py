@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import Iterable
-from typing import Any
+from typing import TYPE_CHECKING
 
 import yaml
 from lxml import etree
@@ -35,6 +35,9 @@ from spl.generators.launch_xml import (
 from spl.resolver.product import ResolvedProduct
 from spl.resolver.ros_names import remappings
 
+if TYPE_CHECKING:
+    from spl.metamodels import tsm_types
+
 __all__ = ["escape_substitutions", "launch_document", "launch_file"]
 
 ROS2_TYPES = {"string": "str", "int": "int", "double": "float", "bool": "bool", "yaml": "yaml"}
@@ -49,16 +52,18 @@ def escape_substitutions(text: str) -> str:
     return text if _SPECIAL.search(text) is None else _SPECIAL.sub(r"\\\1", text)
 
 
-def _set(element: Any, attribute: str, value: str) -> None:
+def _set(element: etree._Element, attribute: str, value: str) -> None:
     element.set(attribute, escape_substitutions(value))
 
 
-def _yaml_text(value: Any) -> str:
+def _yaml_text(value: object) -> str:
     text = yaml.safe_dump(value, default_flow_style=True, width=2**31, allow_unicode=True)
     return text.removesuffix("\n...\n").strip()
 
 
-def _yaml_parameter(parent: Any, name: str, value: Any, parameter: Any) -> None:
+def _yaml_parameter(
+    parent: etree._Element, name: str, value: object, parameter: tsm_types.Parameter
+) -> None:
     """A yaml parameter: mappings become nested ``<param>`` (ROS 2 has no dict values)."""
     if value is None or value == {}:
         where = f"{parameter.eContainer().name}.{parameter.name}"
@@ -75,8 +80,8 @@ def _yaml_parameter(parent: Any, name: str, value: Any, parameter: Any) -> None:
 
 def launch_document(
     product: ResolvedProduct,
-    container: Any,
-    nodes: Iterable[Any] | None = None,
+    container: tsm_types.Container,
+    nodes: Iterable[tsm_types.Node] | None = None,
     header: str | None = None,
 ) -> etree._Element:
     """The ``<launch>`` tree of one container: its nodes (or only ``nodes`` of it, as a
@@ -130,8 +135,8 @@ def launch_document(
 
 def launch_file(
     product: ResolvedProduct,
-    container: Any,
-    nodes: Iterable[Any] | None = None,
+    container: tsm_types.Container,
+    nodes: Iterable[tsm_types.Node] | None = None,
     header: str | None = None,
 ) -> bytes:
     return serialize(launch_document(product, container, nodes, header))

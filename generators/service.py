@@ -11,7 +11,7 @@ first.
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING
 
 from spl.diagnostics import Diagnostic, ModelError, location_of
 from spl.generators.bundle_paths import BundleFiles
@@ -29,6 +29,9 @@ from spl.resolver.stores import (
     store_tables,
     table_indexes,
 )
+
+if TYPE_CHECKING:
+    from spl.metamodels import tsm_types
 
 # the types of a posted record's fields (model.py.j2 defines Int64 and StoredText: what the
 # columns and PostgreSQL can hold, so a record that could never be stored is a 400)
@@ -60,7 +63,7 @@ PACKAGE_FILES = (
 TOP_FILES = ("README.md", "pyproject.toml", "requirements.txt")
 
 
-def _check_names(system: Any) -> None:
+def _check_names(system: tsm_types.System) -> None:
     """Every name that reaches generated code must be an identifier (hostile input)."""
     problems = []
     system_name = getattr(system, "name", None)  # None: a .tsm without a system line
@@ -69,7 +72,7 @@ def _check_names(system: Any) -> None:
     ):
         problems.append(Diagnostic(location_of(system), f"invalid system name {system_name!r}"))
 
-    def need(element: Any, name: Any, what: str) -> None:
+    def need(element: tsm_types.Located, name: object, what: str) -> None:
         if not isinstance(name, str) or not IDENTIFIER.match(name):
             problems.append(Diagnostic(location_of(element), f"invalid {what} name {name!r}"))
 
@@ -86,7 +89,7 @@ def _check_names(system: Any) -> None:
         raise ModelError(problems)
 
 
-def _service_errors(system: Any) -> list[Diagnostic]:
+def _service_errors(system: tsm_types.System) -> list[Diagnostic]:
     """Names the service itself takes: a refined collection named like one of the store's
     own sub-resources, a table or index of the service named like one the store uses."""
     problems = []
@@ -121,7 +124,7 @@ def _service_errors(system: Any) -> list[Diagnostic]:
     return problems
 
 
-def _fields(data_type: Any) -> list[dict[str, str]]:
+def _fields(data_type: tsm_types.DataType) -> list[dict[str, str]]:
     return [
         {
             "name": f.name,
@@ -135,7 +138,9 @@ def _fields(data_type: Any) -> list[dict[str, str]]:
     ]
 
 
-def _refinement_context(slug: str, store: Any, refinement: Any) -> dict[str, Any]:
+def _refinement_context(
+    slug: str, store: tsm_types.Store, refinement: tsm_types.Refinement
+) -> dict[str, object]:
     neighbours = neighbours_used(refinement.transform)
     output = refinement.output
     table = store_tables(slug, store).refined[output.name]
@@ -153,7 +158,7 @@ def _refinement_context(slug: str, store: Any, refinement: Any) -> dict[str, Any
     }
 
 
-def generate_store(store: Any, product: ResolvedProduct) -> dict[str, bytes]:
+def generate_store(store: tsm_types.Store, product: ResolvedProduct) -> dict[str, bytes]:
     names = store_context(store, product)
     context = {
         "product": product.name,
@@ -168,7 +173,7 @@ def generate_store(store: Any, product: ResolvedProduct) -> dict[str, bytes]:
         "refinements": [_refinement_context(names["slug"], store, r) for r in store.refinements],
     }
     root = f"services/{names['name']}"
-    package = f"{root}/{context['store']['package']}"
+    package = f"{root}/{names['package']}"  # the context's store is these names
     files = {f"{root}/{name}": render(f"service/{name}.j2", **context) for name in TOP_FILES}
     for name in PACKAGE_FILES:
         files[f"{package}/{name}"] = render(f"service/package/{name}.j2", **context)

@@ -9,7 +9,7 @@ database URL must be the same in all of them, so they are derived here once.
 from __future__ import annotations
 
 import re
-from typing import Any
+from typing import TYPE_CHECKING, TypedDict
 
 from spl.resolver.generated_names import snake_case
 from spl.resolver.product import ResolvedProduct
@@ -21,10 +21,49 @@ from spl.resolver.stores import (
     table_indexes,
 )
 
+if TYPE_CHECKING:
+    from spl.metamodels import tsm_types
+
 POSTGRES_DEFAULT_URL = "postgresql://spl@localhost:5432/spl"
 
 
-def store_context(store: Any, product: ResolvedProduct) -> dict[str, Any]:
+class StoreContext(TypedDict):
+    """The names of :func:`store_context` (the templates read them by these keys)."""
+
+    name: str
+    name_repr: str
+    slug: str
+    dns: str
+    package: str
+    distribution: str
+    prefix: str
+    token_env: str
+    protect_reads_env: str
+    period_env: str
+    tls_cert_env: str
+    tls_key_env: str
+    callback_hosts_env: str
+    default_database_url: str
+    raw_table: str
+    raw_table_repr: str
+    raw_indexes: tuple[str, str]
+    watermark_table_repr: str
+    error_table: str
+    error_table_repr: str
+    key_index: str
+    subscription_table: str
+
+
+class ClientSettings(TypedDict):
+    """What :func:`client_settings` gives a writer's or reader's packages and launch."""
+
+    url_argument: str
+    default_url: str
+    robot_id: str
+    period: float
+
+
+def store_context(store: tsm_types.Store, product: ResolvedProduct) -> StoreContext:
     """The names one store's service, clients and deployment files agree on (unique
     across the product's stores: :func:`spl.resolver.stores.store_names`)."""
     key, slug, dns = store_names(product.system)[id(store)]
@@ -66,7 +105,11 @@ DEFAULT_STORE_URL = "http://localhost:8000"
 ROBOT_ID = re.compile(r"[A-Za-z0-9_.\-]{1,64}\Z")
 
 
-def client_settings(container: Any, node: Any, product: ResolvedProduct) -> dict[str, Any]:
+def client_settings(
+    container: tsm_types.Container,
+    node: tsm_types.Writer | tsm_types.Reader,
+    product: ResolvedProduct,
+) -> ClientSettings:
     """What a writer's or reader's packages and the launch files starting it agree on:
     the launch argument naming its store's URL, the default URL, the robot id a writer
     stamps its records with, and a reader's poll period."""
@@ -76,5 +119,5 @@ def client_settings(container: Any, node: Any, product: ResolvedProduct) -> dict
         "url_argument": f"{slug}_url",
         "default_url": DEFAULT_STORE_URL,
         "robot_id": robot_id if ROBOT_ID.match(robot_id) else snake_case(container.name),
-        "period": float(node.period) if getattr(node, "period", None) else 1.0,
+        "period": float(period) if (period := getattr(node, "period", None)) else 1.0,
     }

@@ -33,6 +33,7 @@ from __future__ import annotations
 import re
 from collections import defaultdict
 from dataclasses import dataclass, field
+from typing import cast
 
 from spl.resolver.flows import Flow
 from spl.resolver.placement import Place
@@ -123,13 +124,14 @@ def _robot_namespaces(robot_ids: list[str], crossings: list, routes: Routes) -> 
             if c.target.is_robot and c.target.owner == robot_id:
                 wanted.add(_prefix(c.source_name, c.target_name))
         wanted.discard(None)  # reported with the crossing
-        if len(wanted) > 1:
+        namespaces = cast("set[str]", wanted)
+        if len(namespaces) > 1:
             routes.problems.append(
                 f"the renames at robot {robot_id} need the bridge namespaces "
-                f"{' and '.join(sorted(wanted))}, and a bridge has one"
+                f"{' and '.join(sorted(namespaces))}, and a bridge has one"
             )
         default = "/" + re.sub(r"[^A-Za-z0-9_]", "_", robot_id)
-        routes.robot_namespaces[robot_id] = min(wanted) if wanted else default
+        routes.robot_namespaces[robot_id] = min(namespaces) if namespaces else default
 
 
 def _ends(routes: Routes, source: Place, target: Place, a: str, b: str) -> tuple | None:
@@ -138,6 +140,8 @@ def _ends(routes: Routes, source: Place, target: Place, a: str, b: str) -> tuple
     belongs to a robot (the robot, or its private instance) takes that robot's
     namespace; the other end the one that makes the keys equal."""
     spaces = routes.robot_namespaces
+    first: str | None
+    second: str | None
     if source.is_robot or (not target.is_robot and source.kind == "private"):
         first = spaces[source.owner]
         key = first + a

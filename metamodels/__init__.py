@@ -12,11 +12,14 @@ from __future__ import annotations
 from functools import cache
 from pathlib import Path
 from types import SimpleNamespace
-from typing import Any
+from typing import TYPE_CHECKING, Any, cast
 
 from pyecore.ecore import EClass, EEnum, EPackage
 
 from spl.metamodels.ecore_files import read_packages
+
+if TYPE_CHECKING:  # the model classes for the type checker (scripts/ecore_types.py)
+    from spl.metamodels import fm_types, rm_types, tsm_types
 
 __all__ = ["fm", "load", "packages", "resource_set", "rm", "tsm"]
 
@@ -56,13 +59,13 @@ def load(name: str) -> SimpleNamespace:
     return SimpleNamespace(package=package, **members)
 
 
-def tsm() -> SimpleNamespace:
-    return load("tsm")
+def tsm() -> tsm_types.Metamodel:
+    return cast("tsm_types.Metamodel", load("tsm"))
 
 
-def fm() -> SimpleNamespace:
-    return load("fm")
+def fm() -> fm_types.Metamodel:
+    return cast("fm_types.Metamodel", load("fm"))
 
 
-def rm() -> SimpleNamespace:
-    return load("rm")
+def rm() -> rm_types.Metamodel:
+    return cast("rm_types.Metamodel", load("rm"))

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import xml.etree.ElementTree as ElementTree
 from pathlib import Path
+from typing import cast
 
 from pyecore import ecore
 from pyecore.ecore import (
@@ -23,6 +24,7 @@ from pyecore.ecore import (
     EClass,
     EEnum,
     EEnumLiteral,
+    EModelElement,
     EPackage,
     EReference,
 )
@@ -36,7 +38,7 @@ def read_packages(paths: list[Path]) -> dict[str, EPackage]:
     """The packages of the ``.ecore`` files (by file name), references across them resolved."""
     roots = {path.name: ElementTree.parse(path).getroot() for path in paths}
     packages: dict[str, EPackage] = {}
-    classifiers: dict[tuple[str, str], object] = {}
+    classifiers: dict[tuple[str, str | None], object] = {}
     for file, root in roots.items():  # first every classifier, so references resolve
         package = EPackage(root.get("name"), nsURI=root.get("nsURI"), nsPrefix=root.get("nsPrefix"))
         _annotate(package, root)
@@ -76,7 +78,7 @@ def _classifier(element: ElementTree.Element) -> object:
 def _feature(element: ElementTree.Element, file: str, classifiers: dict) -> object:
     kind = element.get(_XSI_TYPE)
     name = element.get("name")
-    etype = _resolve(element.get("eType"), file, classifiers)
+    etype = _resolve(cast(str, element.get("eType")), file, classifiers)  # every feature has one
     lower = int(element.get("lowerBound", "0"))
     upper = int(element.get("upperBound", "1"))
     if kind == "ecore:EAttribute":
@@ -106,7 +108,7 @@ def _resolve(reference: str, file: str, classifiers: dict) -> object:
     return classifiers[(where or file, name)]
 
 
-def _annotate(owner: object, element: ElementTree.Element) -> None:
+def _annotate(owner: EModelElement, element: ElementTree.Element) -> None:
     for child in element.findall("eAnnotations"):
         annotation = EAnnotation(source=child.get("source"))
         for detail in child.findall("details"):

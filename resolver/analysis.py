@@ -22,7 +22,7 @@ ones left: the models found filter its candidates before the solver is asked.
 from __future__ import annotations
 
 from collections.abc import Iterator
-from typing import Any
+from typing import TYPE_CHECKING
 
 from pysat.solvers import Solver
 
@@ -37,13 +37,16 @@ from spl.resolver.operations.product_count import (
     product_count,
 )
 
+if TYPE_CHECKING:
+    from spl.dsl.fm_plain import FmModel
+
 SOLVER_NAME = "glucose4"
 
 
 class FeatureModelFormula:
     """A feature model and one incremental SAT solver over its CNF; reuse it for queries."""
 
-    def __init__(self, model: Any, solver_name: str = SOLVER_NAME) -> None:
+    def __init__(self, model: FmModel, solver_name: str = SOLVER_NAME) -> None:
         self.model = model
         with without_cyclic_gc():  # the encoding allocates only acyclic tuples
             self.cnf: FeatureModelCNF = encode(model)
@@ -122,32 +125,34 @@ class FeatureModelFormula:
                 solver.add_clause([-lit for lit in model])
 
 
-def formula_of(model_or_formula: Any) -> FeatureModelFormula:
+def formula_of(model_or_formula: FmModel | FeatureModelFormula) -> FeatureModelFormula:
     if isinstance(model_or_formula, FeatureModelFormula):
         return model_or_formula
     return FeatureModelFormula(model_or_formula)
 
 
-def is_satisfiable(model: Any) -> bool:
+def is_satisfiable(model: FmModel | FeatureModelFormula) -> bool:
     """Whether the feature model (or :class:`FeatureModelFormula`) has a product."""
     return formula_of(model).satisfiable()
 
 
-def core_features(model: Any) -> list[str]:
+def core_features(model: FmModel | FeatureModelFormula) -> list[str]:
     return formula_of(model).core_features()
 
 
-def dead_features(model: Any) -> list[str]:
+def dead_features(model: FmModel | FeatureModelFormula) -> list[str]:
     return formula_of(model).dead_features()
 
 
-def false_optional_features(model: Any) -> list[str]:
+def false_optional_features(model: FmModel | FeatureModelFormula) -> list[str]:
     return formula_of(model).false_optional_features()
 
 
-def count_products(model: Any, seconds: float | None = COUNT_SECONDS) -> ProductCount:
+def count_products(
+    model: FmModel | FeatureModelFormula, seconds: float | None = COUNT_SECONDS
+) -> ProductCount:
     return formula_of(model).count(seconds)
 
 
-def enumerate_products(model: Any) -> Iterator[frozenset[str]]:
+def enumerate_products(model: FmModel | FeatureModelFormula) -> Iterator[frozenset[str]]:
     return formula_of(model).products()

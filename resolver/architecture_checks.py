@@ -1,4 +1,4 @@
-"""Checks of a resolved architecture (SPEC 5.1 step 8) against its flow table.
+"""Checks of a resolved architecture (docs/resolution.md, step 7) against its flow table.
 
 A product can be valid for the feature model and still not work: a message type that
 differs across a connection is an error; a subscriber no flow feeds or a service
@@ -9,20 +9,23 @@ the one every output follows.
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, cast
 
-from spl.diagnostics import Diagnostic, location_of
+from spl.diagnostics import Diagnostic, Severity, location_of
 from spl.metamodels import tsm
 from spl.resolver.context import qualified
 from spl.resolver.flows import CutRoute, FlowTable
 from spl.resolver.product import topic_ros_name
+
+if TYPE_CHECKING:
+    from spl.metamodels import tsm_types
 
 UNFED = "SPL045"
 UNSERVED = "SPL046"
 TWICE = "SPL051"
 
 
-def unfed_reason(interface: Any, cut_routes: tuple[CutRoute, ...]) -> str:
+def unfed_reason(interface: tsm_types.Subscriber, cut_routes: tuple[CutRoute, ...]) -> str:
     """Why no flow reaches a subscriber: nothing publishes, or only through a robot that
     passes on no data but its own."""
     cut = next((c for c in cut_routes if c.subscriber is interface), None)
@@ -35,14 +38,14 @@ def unfed_reason(interface: Any, cut_routes: tuple[CutRoute, ...]) -> str:
 
 
 def check_architecture(
-    system: Any, flows: FlowTable, cut: tuple[CutRoute, ...] = ()
+    system: tsm_types.System, flows: FlowTable, cut: tuple[CutRoute, ...] = ()
 ) -> list[Diagnostic]:
     """The problems of a resolved architecture; ``cut`` are the template's routes that a
     robot relay would have needed (what the endpoint rewiring left out, and why)."""
     T = tsm()
     problems: list[Diagnostic] = []
 
-    def report(element: Any, message: str, severity: str, code: str) -> None:
+    def report(element: tsm_types.Located, message: str, severity: Severity, code: str) -> None:
         problems.append(Diagnostic(location_of(element), message, severity, code))
 
     unserved = {id(c) for c in flows.unserved}
@@ -73,7 +76,7 @@ def check_architecture(
                         "SPL043",
                     )
             for interface in node.interfaces:
-                topic = getattr(interface, "topic", None)
+                topic: tsm_types.Topic | None = getattr(interface, "topic", None)
                 if topic is not None and interface.type and interface.type != topic.type:
                     report(
                         interface,
@@ -87,7 +90,7 @@ def check_architecture(
                     report(
                         interface,
                         f"{qualified(interface)} subscribes {qualified(topic)}, "
-                        + unfed_reason(interface, flows.cut + cut),
+                        + unfed_reason(cast("tsm_types.Subscriber", interface), flows.cut + cut),
                         "warning",
                         UNFED,
                     )
@@ -109,7 +112,7 @@ def check_architecture(
                             "SPL044",
                         )
     for container in system.containers:  # a topic a .rm statement created, too
-        by_ros_name: dict[str, Any] = {}
+        by_ros_name: dict[str, tsm_types.Topic] = {}
         for topic in container.topics:
             first = by_ros_name.setdefault(topic_ros_name(topic), topic)
             if first is not topic and first.type != topic.type:

@@ -1,4 +1,5 @@
-"""Feature selection from a robot's capabilities (seeds/003, section VII).
+"""Feature selection from a robot's capabilities (docs/fleets.md, "Capability-driven
+selection"; the mapping paper's section VII, docs/index.md).
 
 A robot capability file describes what a robot *is* (YAML, every key a capability;
 nested mappings are reached with dotted names)::
@@ -22,7 +23,7 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, cast
 
 import yaml
 
@@ -33,6 +34,10 @@ from spl.resolver.located_yaml import read_yaml
 
 KEY = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 Scalar = str | int | float | bool
+Capability = Scalar | list[Scalar]  # a capability's value in a robot's file
+
+if TYPE_CHECKING:
+    from spl.metamodels import fm_types
 
 
 @dataclass
@@ -40,7 +45,7 @@ class RobotCapabilities:
     """The capabilities of one robot: dotted name -> scalar or list of scalars."""
 
     source: str
-    values: dict[str, Any] = field(default_factory=dict)
+    values: dict[str, Capability] = field(default_factory=dict)
     locations: dict[str, Location] = field(default_factory=dict)
 
     @property
@@ -56,7 +61,7 @@ class CapabilityChoice:
     selected: bool
     condition: str  # as the .fm writes it: base = "youbot"
     key: str  # the capability deciding
-    value: Any  # its value in the robot's file
+    value: Capability  # its value in the robot's file
     where: Location  # of the capability in the robot's file
     rule: Location | None  # of the condition in the feature model
 
@@ -110,26 +115,28 @@ def load_capabilities(path: str | Path) -> RobotCapabilities:
             if not items or not all(_scalar(item) for item in items):
                 sink.error(at(value_node), expected)
                 continue
-            capabilities.values[name] = value
+            capabilities.values[name] = cast("Capability", value)  # scalars, checked
 
     read(root, "")
     sink.raise_if_errors()
     return capabilities
 
 
-def _scalar(value: Any) -> bool:
+def _scalar(value: object) -> bool:
     if isinstance(value, float):
         return value == value and value not in (float("inf"), float("-inf"))
     return isinstance(value, Scalar) and value is not None
 
 
-def _shown(value: Any) -> str:
+def _shown(value: object) -> str:
     return (
         yaml.safe_dump(value, default_flow_style=True, width=2**31).removesuffix("\n...\n").strip()
     )
 
 
-def choose_features(fm: Any, capabilities: RobotCapabilities) -> list[CapabilityChoice]:
+def choose_features(
+    fm: fm_types.FeatureModel, capabilities: RobotCapabilities
+) -> list[CapabilityChoice]:
     """The features the robot's capabilities select or deselect, in tree order; a
     condition comparing a capability with a value of another kind is a located error."""
     sink = DiagnosticSink()
@@ -147,7 +154,12 @@ def choose_features(fm: Any, capabilities: RobotCapabilities) -> list[Capability
     return choices
 
 
-def _choice(feature: Any, selected: bool, condition: Any, capabilities: RobotCapabilities):
+def _choice(
+    feature: fm_types.Feature,
+    selected: bool,
+    condition: fm_types.CapabilityCondition,
+    capabilities: RobotCapabilities,
+) -> CapabilityChoice:
     return CapabilityChoice(
         feature.name,
         selected,
@@ -159,7 +171,9 @@ def _choice(feature: Any, selected: bool, condition: Any, capabilities: RobotCap
     )
 
 
-def _holds(condition: Any, capabilities: RobotCapabilities, sink: DiagnosticSink) -> bool | None:
+def _holds(
+    condition: fm_types.CapabilityCondition, capabilities: RobotCapabilities, sink: DiagnosticSink
+) -> bool | None:
     """True or False, or None when the robot does not declare the capability."""
     key = condition.key
     if key not in capabilities.values:
@@ -195,10 +209,12 @@ def _holds(condition: Any, capabilities: RobotCapabilities, sink: DiagnosticSink
         return value == literal
     if operator == "!=":
         return value != literal
-    return value >= literal if operator == ">=" else value <= literal
+    # values of one kind (numbers, or strings) compare
+    ordered, bound = cast("float", value), cast("float", literal)
+    return ordered >= bound if operator == ">=" else ordered <= bound
 
 
-def _literal(condition: Any) -> Scalar:
+def _literal(condition: fm_types.CapabilityCondition) -> Scalar:
     kind, text = condition.valueType.name, condition.value
     if kind == "bool":
         return text == "true"
@@ -209,7 +225,7 @@ def _literal(condition: Any) -> Scalar:
     return text
 
 
-def _same_kind(value: Any, literal: Scalar) -> bool:
+def _same_kind(value: object, literal: Scalar) -> bool:
     if isinstance(literal, bool) or isinstance(value, bool):
         return isinstance(literal, bool) and isinstance(value, bool)
     if isinstance(literal, int | float):

@@ -9,18 +9,19 @@ constraint), so an unsatisfiable selection can be explained in the author's word
 Tree and groups are encoded here; a cross-tree constraint's clauses come from
 :mod:`spl.resolver.constraint_clauses`.
 
-Semantics (SPEC section 3, metamodels/fm.ecore): the root is selected; a child implies
-its parent; a mandatory child is equivalent to its parent; an ``alternative`` group
-needs exactly one member when its parent is selected, ``or`` at least one, a
-``cardinality [l..u]`` group between ``l`` and ``u`` (``u = -1``: no upper bound).
+Semantics (docs/fm.md, "The tree" and "Constraints"; metamodels/fm.ecore): the root is
+selected; a child implies its parent; a mandatory child is equivalent to its parent; an
+``alternative`` group needs exactly one member when its parent is selected, ``or`` at
+least one, a ``cardinality [l..u]`` group between ``l`` and ``u`` (``u = -1``: no upper
+bound).
 """
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 from functools import cached_property
-from typing import Any
+from typing import TYPE_CHECKING, cast
 
 from pysat.card import CardEnc, EncType
 
@@ -30,6 +31,10 @@ from spl.dsl.fm_printer import format_formula
 from spl.resolver.constraint_clauses import constraint_clauses
 from spl.resolver.fm_rules import Rule, group_bounds, group_kind
 from spl.resolver.formula_trees import formula_features, formula_tree
+
+if TYPE_CHECKING:
+    from spl.dsl.fm_plain import FmConstraint, FmFeature, FmGroup, FmModel
+    from spl.metamodels import fm_types
 
 Clause = tuple[int, ...]
 
@@ -75,36 +80,38 @@ class FeatureModelCNF:
 
 
 class _Builder:
-    def __init__(self, model: Any) -> None:
+    def __init__(self, model: FmModel) -> None:
         self.model = model
         self.rule_data: list[tuple] = []
         self.rule_clauses: list[list[Clause]] = []
         self.modelled_mandatory: set[str] = set()
         # one pass over the pyecore tree (attribute access there is the slow part)
-        root = model.root
+        root = cast("FmFeature", model.root)  # a model read has its root
         self.root = root
         self.names: list[str] = []
         self.parent: dict[str, str | None] = {}
-        self.groups: list[tuple[str, Any, list[Any], list[str]]] = []
-        stack: list[tuple[Any, str | None]] = [(root, None)]
+        self.groups: list[tuple[str, FmGroup, list[FmFeature], list[str]]] = []
+        stack: list[tuple[FmFeature, str | None]] = [(root, None)]
         if isinstance(model, PlainFeatureModel):
             groups_ref = None
         else:
             # reading an unset many-valued reference makes pyecore create an empty
             # collection; asking first spares that for every leaf of a freshly loaded model
-            groups_ref = root.eClass.findEStructuralFeature("groups")
+            groups_ref = cast("fm_types.Feature", root).eClass.findEStructuralFeature("groups")
         while stack:
             feature, parent = stack.pop()
             name = feature.name
             self.names.append(name)
             self.parent[name] = parent
-            pushed = []
+            pushed: list[tuple[FmFeature, str]] = []
+            groups: Iterable[FmGroup]
             if groups_ref is None:
                 groups = feature.groups
             else:
-                groups = feature.groups if feature.eIsSet(groups_ref) else ()
+                ecore = cast("fm_types.Feature", feature)
+                groups = ecore.groups if ecore.eIsSet(groups_ref) else ()
             for group in groups:
-                children = list(group.features)
+                children: list[FmFeature] = list(group.features)
                 members = [child.name for child in children]
                 self.groups.append((name, group, children, members))
                 pushed.extend(zip(children, [name] * len(children), strict=True))
@@ -114,7 +121,7 @@ class _Builder:
         if len(self.var) != len(self.names):  # the builders refuse this; a model made in
             self._refuse_duplicates(root)  # code may not have gone through them
 
-    def _refuse_duplicates(self, root: Any) -> None:
+    def _refuse_duplicates(self, root: FmFeature) -> None:
         seen: set[str] = set()
         problems = []
         stack = [root]
@@ -132,7 +139,7 @@ class _Builder:
     def rule(
         self,
         kind: str,
-        element: Any,
+        element: FmFeature | FmGroup | FmConstraint,
         features: tuple[str, ...],
         clauses: list[Clause],
         bounds: tuple[int, int] = (0, -1),
@@ -178,7 +185,7 @@ class _Builder:
         }
 
     def encode_group(
-        self, parent: str, group: Any, children: list[Any], members: list[str]
+        self, parent: str, group: FmGroup, children: list[FmFeature], members: list[str]
     ) -> None:
         p = self.var[parent]
         var = self.var
@@ -228,7 +235,7 @@ class _Builder:
         self.top = max(self.top, enc.nv)
         return [tuple(c) for c in enc.clauses]
 
-    def encode_constraint(self, constraint: Any) -> None:
+    def encode_constraint(self, constraint: FmConstraint) -> None:
         formula = constraint.formula
         tree = formula if isinstance(formula, tuple) else formula_tree(formula)
         features = formula_features(tree)
@@ -248,7 +255,7 @@ class _Builder:
         self.rule("constraint", constraint, features, clauses, (0, -1), tree)
 
 
-def encode(model: Any) -> FeatureModelCNF:
+def encode(model: FmModel) -> FeatureModelCNF:
     """The CNF of a feature model: an ``spl.metamodels.fm`` FeatureModel (pyecore) or the
     same model held in plain objects (:mod:`spl.dsl.fm_plain`, formulas as tuple trees,
     which the encoding uses as they are)."""

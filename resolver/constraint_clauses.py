@@ -1,7 +1,7 @@
 """The clauses of one cross-tree constraint, from its formula tree.
 
 Most real constraints (``requires``, ``excludes``, ``A => B``, ...) are one two-literal
-clause and are written as such. Any other formula goes to negation normal form and is
+clause and are written as such. Every other formula goes to negation normal form and is
 distributed into clauses directly while that stays under :data:`DIRECT_CNF_LIMIT`
 clauses (no auxiliary variables: they cost every solver call); a bigger one is split at
 its top-level conjunction and each part too big to distribute gets a Tseitin variable.

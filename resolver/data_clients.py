@@ -12,10 +12,13 @@ lands in one ``clients/`` folder (and one ROS workspace): two robot containers' 
 from __future__ import annotations
 
 import keyword
-from typing import Any
+from typing import TYPE_CHECKING
 
 from spl.metamodels import tsm
 from spl.resolver.generated_names import lower_identifier, unique_names
+
+if TYPE_CHECKING:
+    from spl.metamodels import tsm_types
 
 
 def client_package_name(node_name: str) -> str:
@@ -26,11 +29,11 @@ def client_package_name(node_name: str) -> str:
     return f"{package}_client" if keyword.iskeyword(package) else package
 
 
-def _package_form(node: Any, name: str) -> set[str]:
+def _package_form(node: tsm_types.Node, name: str) -> set[str]:
     return {client_package_name(name)}
 
 
-def client_packages(system: Any) -> dict[int, str]:
+def client_packages(system: tsm_types.System) -> dict[int, str]:
     """The generated package of every writer and reader of ``system`` that the models
     leave unimplemented (by ``id``), unique across the system and apart from the
     packages other writers and readers name."""
@@ -50,7 +53,7 @@ def client_packages(system: Any) -> dict[int, str]:
     }
 
 
-def implement_data_clients(system: Any) -> None:
+def implement_data_clients(system: tsm_types.System) -> None:
     """Writers and readers run the ROS package generated for them (clients/<package>)."""
     packages = client_packages(system)
     for container in system.containers:

@@ -33,7 +33,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, cast
 
 from spl.diagnostics import Location, location_of
 from spl.metamodels import tsm
@@ -43,7 +43,18 @@ from spl.resolver.product import topic_ros_name
 from spl.resolver.transformations import kind_of, sharing_targets, touched_elements
 from spl.resolver.transformations.migration import PLACEMENT
 
-Active = Callable[[Any], bool]  # is this resolution element active?
+if TYPE_CHECKING:
+    from spl.metamodels import rm_types, tsm_types
+    from spl.resolver.product import AttributeValue, ResolvedProduct
+    from spl.resolver.product_line import ProductLine
+
+    # an aspect's value: a name (container, sharing mode, implementation, ROS name...),
+    # a client's server (predicted: its id and where its node runs), or None (unset)
+    Value = str | tuple[str, str] | tsm_types.ServiceServer | None
+    # what an element sets an aspect to: a value, or a function of a robot's settings
+    EffectValue = Value | Callable[["Settings"], str]
+
+Active = Callable[["rm_types.ResolutionElement"], bool]  # is this resolution element active?
 SHARING = "sharing mode"
 
 
@@ -52,10 +63,10 @@ class Settings:
     """What a robot's product decides besides features: sharing overrides, attributes."""
 
     sharing: tuple[tuple[str, str], ...] = ()  # feature -> mode
-    attributes: tuple[tuple[str, Any], ...] = ()  # "Feature.attr" -> value
+    attributes: tuple[tuple[str, AttributeValue], ...] = ()  # "Feature.attr" -> value
 
     @classmethod
-    def of(cls, sharing: dict[str, str], attributes: dict[str, Any]) -> Settings:
+    def of(cls, sharing: dict[str, str], attributes: dict[str, AttributeValue]) -> Settings:
         return cls(tuple(sorted(sharing.items())), tuple(sorted(attributes.items())))
 
 
@@ -63,18 +74,18 @@ class Settings:
 class Effect:
     """An active ``element`` sets the aspect to ``value``; ``where`` is its statement."""
 
-    element: Any
-    value: Any  # a value, or a function of the robot's Settings
+    element: rm_types.ResolutionElement
+    value: EffectValue  # a value, or a function of the robot's Settings
     where: Location | None
 
-    def value_for(self, settings: Settings) -> Any:
+    def value_for(self, settings: Settings) -> Value:
         return self.value(settings) if callable(self.value) else self.value
 
 
 @dataclass
 class Aspect:
     name: str
-    default: Any
+    default: Value
     default_where: Location | None
     effects: list[Effect] = field(default_factory=list)
 
@@ -82,7 +93,7 @@ class Aspect:
         """The active effect deciding the aspect (None: the template value stays)."""
         return next((e for e in self.effects if active(e.element)), None)
 
-    def value(self, active: Active, settings: Settings) -> Any:
+    def value(self, active: Active, settings: Settings) -> Value:
         effect = self.effective(active)
         return self.default if effect is None else effect.value_for(settings)
 
@@ -91,9 +102,10 @@ class Aspect:
 class NodeEffects:
     """Everything the resolution model can do to one template node."""
 
-    node: Any
+    node: tsm_types.Node
     origin: str  # the template container
-    keepers: list[Any] = field(default_factory=list)  # elements making it present
+    # elements making it present
+    keepers: list[rm_types.ResolutionElement] = field(default_factory=list)
     aspects: dict[str, Aspect] = field(default_factory=dict)
     servers: dict[str, Aspect] = field(default_factory=dict)  # client -> template server
 
@@ -112,7 +124,7 @@ class NodeEffects:
 class LineEffects:
     """The effects of a product line's resolution model on every node of its template."""
 
-    def __init__(self, line: Any) -> None:
+    def __init__(self, line: ProductLine) -> None:
         T = tsm()
         self.line = line
         self.nodes: dict[tuple[str, str], NodeEffects] = {}
@@ -153,7 +165,7 @@ class LineEffects:
         for element in line.rm.elements:
             self._add(element)
 
-    def _add(self, element: Any) -> None:
+    def _add(self, element: rm_types.ResolutionElement) -> None:
         for touched in dict.fromkeys(touched_elements(element)):
             if id(touched) in self.by_node:
                 self.by_node[id(touched)].keepers.append(element)
@@ -166,18 +178,21 @@ class LineEffects:
             def mode(settings: Settings, feature: str = feature, default: str = default) -> str:
                 return dict(settings.sharing).get(feature, default)
 
-            for node in dict.fromkeys(sharing_targets(element)):
-                self.effect(node, SHARING, element, mode, location_of(element))
+            for node in dict.fromkeys(sharing_targets(element)):  # a store: no node's
+                self.effect(
+                    cast("tsm_types.Node", node), SHARING, element, mode, location_of(element)
+                )
 
     # -- what a statement does (TransformationKind.predict) ----------------------------
-    def topic_value(self, connect: Any) -> str:
+    def topic_value(self, connect: rm_types.ConnectToTopic | rm_types.ConnectToNewTopic) -> str:
         """The ROS name a connect statement binds its interface to. A `to topic` names the
         topic by (container, name) and is looked up when it runs (docs/semantics.md); the
         prediction reads it in the named container, else the node's own, else any topic of
         that name the template or an earlier `new topic` declares."""
         ref = connect.topic
         if ref.eClass.name != "TopicReference":  # a `new topic` holds the topic itself
-            return topic_ros_name(ref)
+            return topic_ros_name(cast("tsm_types.Topic", ref))
+        ref = cast("rm_types.TopicReference", ref)
         home = ref.container or connect.interface.eContainer().eContainer()
         topics = [*home.topics, *(t for c in self._system.containers for t in c.topics)]
         created = (
@@ -191,13 +206,26 @@ class LineEffects:
                 return topic_ros_name(topic)
         return f"/{ref.name}"
 
-    def effect(self, node: Any, aspect: str, element: Any, value: Any, where: Any) -> None:
+    def effect(
+        self,
+        node: tsm_types.Node,
+        aspect: str,
+        element: rm_types.ResolutionElement,
+        value: EffectValue,
+        where: Location | None,
+    ) -> None:
         """``element``, when active, sets ``aspect`` of ``node`` to ``value``."""
         effects = self.by_node.get(id(node))
         if effects is not None and aspect in effects.aspects:
             effects.aspects[aspect].effects.append(Effect(element, value, where))
 
-    def server(self, client: Any, element: Any, server: Any, where: Any) -> None:
+    def server(
+        self,
+        client: tsm_types.ServiceClient,
+        element: rm_types.ResolutionElement,
+        server: tsm_types.ServiceServer,
+        where: Location | None,
+    ) -> None:
         """``element``, when active, binds ``client`` to ``server``."""
         node = self.by_node.get(id(client.eContainer()))
         if node is not None:
@@ -206,18 +234,20 @@ class LineEffects:
     # -- prediction ------------------------------------------------------------------
     def server_value(
         self, node: NodeEffects, client: str, active: Active, settings: Settings
-    ) -> Any:
+    ) -> tuple[str, str] | None:
         """What the client calls: (server, where its node runs), or None."""
-        server = node.servers[client].value(active, settings)
+        server = cast(
+            "tsm_types.ServiceServer | None", node.servers[client].value(active, settings)
+        )
         if server is None:
             return None
         server_node = self.by_node.get(id(server.eContainer()))
         if server_node is None or not server_node.present(active):
             return None
-        placement = server_node.aspects[PLACEMENT].value(active, settings)
+        placement = cast("str", server_node.aspects[PLACEMENT].value(active, settings))
         return (server_id(server_node.origin, server_node.name, server.name), placement)
 
-    def predict(self, node: NodeEffects, active: Active, settings: Settings) -> dict[str, Any]:
+    def predict(self, node: NodeEffects, active: Active, settings: Settings) -> dict[str, Value]:
         """Every aspect of a present node in the product where ``active`` holds."""
         values = {name: aspect.value(active, settings) for name, aspect in node.aspects.items()}
         for client in node.servers:
@@ -230,16 +260,17 @@ def server_id(container: str, node: str, server: str) -> str:
 
 
 def active_in(features: set[str] | frozenset[str]) -> Active:
-    """The activation rule of the engine (SPEC 5.1 step 4) for a completed selection."""
+    """The activation rule of the engine (docs/resolution.md, step 3) for a completed
+    selection."""
     return lambda element: (element.feature.name in features) == element.activeIfSelected
 
 
-def observed(node: Any, product: Any) -> dict[str, Any]:
+def observed(node: tsm_types.Node, product: ResolvedProduct) -> dict[str, Value]:
     """The aspects of a node of a resolved product, in the values :class:`LineEffects`
     predicts (so predictions and resolutions compare)."""
     T = tsm()
     container = node.eContainer()
-    values: dict[str, Any] = {
+    values: dict[str, Value] = {
         PLACEMENT: container.name,
         SHARING: sharing_mode(node),
         "implementation": f"{node.package}/{node.executable}" if node.package else None,
@@ -256,7 +287,7 @@ def observed(node: Any, product: Any) -> dict[str, Any]:
             if server is None:
                 values[f"server of {interface.name}"] = None
                 continue
-            server_node = server.eContainer()
+            server_node = cast("tsm_types.Node", server.eContainer())  # a node's server
             here = server_node.eContainer().name
             migration = product.migrated(server_node.name)
             origin = migration.source if migration is not None else here
@@ -267,13 +298,15 @@ def observed(node: Any, product: Any) -> dict[str, Any]:
     return values
 
 
-def origin_of(node: Any, product: Any) -> str:
+def origin_of(node: tsm_types.Node, product: ResolvedProduct) -> str:
     """The template container of a node of a resolved product (before any migration)."""
     migration = product.migrated(node.name)
     return migration.source if migration is not None else node.eContainer().name
 
 
-def real_server(server: Any, system: Any) -> Any:
+def real_server(
+    server: tsm_types.ServiceServer | None, system: tsm_types.System
+) -> tsm_types.ServiceServer | None:
     """The node's ServiceServer behind any chain of endpoint stand-ins (None: unserved)."""
     T = tsm()
     seen: set[int] = set()

@@ -14,7 +14,7 @@ client is never bound to another container's server.
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, cast
 
 from spl.dsl.tsm import (
     endpoint_client_name,
@@ -25,6 +25,13 @@ from spl.dsl.tsm import (
 )
 from spl.metamodels import tsm
 
+if TYPE_CHECKING:
+    from spl.metamodels import tsm_types
+
+    # what an endpoint interface is for: the topic it carries, or the node server it
+    # calls or stands in for
+    Target = tsm_types.Topic | tsm_types.ServiceServer
+
 
 class EndpointWiring:
     """Creates endpoint interfaces and connections of one system, each at most once.
@@ -33,7 +40,7 @@ class EndpointWiring:
     thousands of dictionary look-ups, not a scan of every endpoint per bridge.
     """
 
-    def __init__(self, system: Any) -> None:
+    def __init__(self, system: tsm_types.System) -> None:
         self.system = system
         self.interfaces = {
             (id(c), i.eClass.name, i.name): i
@@ -43,28 +50,34 @@ class EndpointWiring:
         self.connections = {(id(c.source), id(c.target)) for c in system.connections}
         # what each endpoint interface is for: its topic, or the node server it calls or
         # stands in for (a stand-in knows it through its connection)
-        self.targets = {
-            id(c.source): c.target.server
+        self.targets: dict[int, Target | None] = {
+            id(c.source): cast("tsm_types.ServiceClient", c.target).server
             for c in system.connections
             if c.source.eClass.name == "ServiceServer"
         }
 
-    def _target(self, interface: Any) -> Any:
+    def _target(self, interface: tsm_types.Interface) -> Target | None:
         if interface.eClass.name in ("Subscriber", "Publisher"):
-            return interface.topic
+            return cast("tsm_types.Publisher | tsm_types.Subscriber", interface).topic
         if interface.eClass.name == "ServiceClient":
-            return interface.server
+            return cast("tsm_types.ServiceClient", interface).server
         return self.targets.get(id(interface))
 
     def _find_or_add(
-        self, container: Any, kind: str, name: str, target: Any, **features: Any
-    ) -> Any:
+        self,
+        container: tsm_types.Container,
+        kind: str,
+        name: str,
+        target: Target,
+        **features: object,
+    ) -> tsm_types.Interface:
         """The endpoint interface of ``container`` for ``target``: the one made before,
         else a new one under the first of its names no other interface has."""
         for choice in endpoint_name_choices(name, target):
             interface = self.interfaces.get((id(container), kind, choice))
             if interface is None:
-                interface = getattr(tsm(), kind)(name=choice, **features)
+                made: tsm_types.Interface = getattr(tsm(), kind)(name=choice, **features)
+                interface = made
                 self.interfaces[id(container), kind, choice] = interface
                 self.targets[id(interface)] = target
                 container.endpoint.interfaces.append(interface)
@@ -73,16 +86,16 @@ class EndpointWiring:
                 return interface
         raise AssertionError("endpoint_name_choices never ends")
 
-    def connect(self, source: Any, target: Any) -> None:
+    def connect(self, source: tsm_types.Interface, target: tsm_types.Interface) -> None:
         """The EndpointConnection source -> target, created once."""
         if (id(source), id(target)) not in self.connections:
             self.connections.add((id(source), id(target)))
             self.system.connections.append(tsm().EndpointConnection(source=source, target=target))
 
-    def topic_bridge(self, source_topic: Any, target_topic: Any) -> None:
+    def topic_bridge(self, source_topic: tsm_types.Topic, target_topic: tsm_types.Topic) -> None:
         """Data published on ``source_topic`` reaches ``target_topic`` in another container."""
         subscriber = self._find_or_add(
-            source_topic.eContainer(),
+            cast("tsm_types.Container", source_topic.eContainer()),  # a topic of the system
             "Subscriber",
             endpoint_subscriber_name(source_topic),
             source_topic,
@@ -90,7 +103,7 @@ class EndpointWiring:
             type=source_topic.type,
         )
         publisher = self._find_or_add(
-            target_topic.eContainer(),
+            cast("tsm_types.Container", target_topic.eContainer()),
             "Publisher",
             endpoint_publisher_name(target_topic),
             target_topic,
@@ -99,7 +112,9 @@ class EndpointWiring:
         )
         self.connect(subscriber, publisher)
 
-    def service_bridge(self, client: Any, server: Any) -> None:
+    def service_bridge(
+        self, client: tsm_types.ServiceClient, server: tsm_types.ServiceServer
+    ) -> None:
         """Serve ``server`` to ``client``, a node interface in another container."""
         stand_in = self._find_or_add(
             client.eContainer().eContainer(),
@@ -117,18 +132,22 @@ class EndpointWiring:
             server=server,
             type=server.type,
         )
-        client.server = stand_in
+        client.server = cast("tsm_types.ServiceServer", stand_in)
         self.connect(stand_in, caller)
 
 
-def topic_bridge(system: Any, source_topic: Any, target_topic: Any) -> None:
+def topic_bridge(
+    system: tsm_types.System, source_topic: tsm_types.Topic, target_topic: tsm_types.Topic
+) -> None:
     """One bridge on its own (a model built by hand); for many, keep an EndpointWiring."""
     EndpointWiring(system).topic_bridge(source_topic, target_topic)
 
 
-def service_bridge(system: Any, client: Any, server: Any) -> None:
+def service_bridge(
+    system: tsm_types.System, client: tsm_types.ServiceClient, server: tsm_types.ServiceServer
+) -> None:
     EndpointWiring(system).service_bridge(client, server)
 
 
-def is_endpoint_interface(interface: Any) -> bool:
+def is_endpoint_interface(interface: tsm_types.Interface) -> bool:
     return isinstance(interface.eContainer(), tsm().Endpoint)

@@ -1,4 +1,5 @@
-"""The Resolution Engine: one product's architecture from the product line (SPEC 5.1).
+"""The Resolution Engine: one product's architecture from the product line
+(docs/resolution.md).
 
 Each step is a function over the model; this module only runs them in order:
 selection checked and completed (SAT), template copied, active resolution elements
@@ -9,8 +10,9 @@ endpoint rewiring, architecture checks.
 from __future__ import annotations
 
 import math
+from collections.abc import Iterator
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, cast
 
 from spl.diagnostics import DiagnosticSink, Location, ModelError, location_of
 from spl.dsl import literals
@@ -24,13 +26,16 @@ from spl.resolver.context import ResolutionContext, describe
 from spl.resolver.data_clients import implement_data_clients
 from spl.resolver.flows import FlowTable
 from spl.resolver.placement import shared_across_users, unlinked_clouds
-from spl.resolver.product import ResolvedProduct, node_keys
+from spl.resolver.product import AttributeValue, ResolvedProduct, node_keys
 from spl.resolver.product_line import ProductLine
 from spl.resolver.product_selection import CommandLineValue, ProductSelection, typed_text
 from spl.resolver.selection import SelectionCheck, check_selection
 from spl.resolver.trace import Trace
 from spl.resolver.transformations import kind_of, sharing_targets
 from spl.resolver.wiring import cross_robot_flows
+
+if TYPE_CHECKING:
+    from spl.metamodels import fm_types, rm_types, tsm_types
 
 
 @dataclass
@@ -58,7 +63,7 @@ def _resolve(line: ProductLine, selection: ProductSelection) -> Resolution:
         features, deselected, locations = merge_choices(
             choices, features, deselected, locations, Location(selection.source, 1, 1)
         )
-    completion = check_selection(  # step 2: an invalid or open selection is refused
+    completion = check_selection(  # step 1: an invalid or open selection is refused
         line.formula, features, deselected, locations, Location(selection.source, 1, 1)
     )
     completion.raise_unless_complete()
@@ -67,36 +72,38 @@ def _resolve(line: ProductLine, selection: ProductSelection) -> Resolution:
     attributes = product_attributes(line.fm, selected, selection, sink)
     sink.raise_if_errors()
 
-    system, copies = copy_with_map(line.tsm)  # step 3
+    system, copies = copy_with_map(line.tsm)  # step 2
     trace = Trace()
     for feature in completion.added:
         trace.record(feature, "selected", "added by completion of the selection (feature model)")
     _apply_deployment(system, selection, sink)
     ctx = ResolutionContext(system, copies, trace, sink, attributes)
 
-    active = []
-    for element in line.rm.elements:  # step 4, file order
+    active: list[rm_types.ResolutionElement] = []
+    for element in line.rm.elements:  # step 3, file order
         if (element.feature.name in selected) != element.activeIfSelected:
             continue
         active.append(element)
         ctx.element = element
         for required in element.required:
-            ctx.keep(copies[id(required)], f"required by {describe(element)}", location_of(element))
+            ctx.keep(
+                ctx.copy_of(required), f"required by {describe(element)}", location_of(element)
+            )
         for transformation in element.transformations:
             kind_of(transformation).apply(transformation, ctx)
-    sink.raise_if_errors()  # step 5: conflicts found while applying
+    sink.raise_if_errors()  # step 3: conflicts found while applying
 
-    _apply_sharing(ctx, active, selection)  # step 6
+    _apply_sharing(ctx, active, selection)  # step 4
     sink.raise_if_errors()
 
     before = node_keys(system)  # pruning removes nodes: named as the template names them
-    pruning.prune_unkept(system, ctx.kept, trace)  # step 7
+    pruning.prune_unkept(system, ctx.kept, trace)  # step 5
     implement_data_clients(system)
     warnings, cut = rewiring.rewire(system, trace, ctx.displaced)
     left_out = pruning.prune_unused(system, trace)
 
     flows = FlowTable.of(system)  # who talks to whom, for the checks and every output
-    problems = check_architecture(system, flows, cut) + warnings  # step 8
+    problems = check_architecture(system, flows, cut) + warnings  # step 7
     problems += shared_across_users(system) + unlinked_clouds(system)
     problems += cross_robot_flows(system, flows, trace)
     errors = [p for p in problems if p.severity == "error"]
@@ -120,10 +127,10 @@ def _resolve(line: ProductLine, selection: ProductSelection) -> Resolution:
 
 
 def product_attributes(
-    fm: Any, selected: set[str], selection: ProductSelection, sink: DiagnosticSink
-) -> dict[str, Any]:
+    fm: fm_types.FeatureModel, selected: set[str], selection: ProductSelection, sink: DiagnosticSink
+) -> dict[str, AttributeValue]:
     """Attribute values of the product: defaults, overridden by the selection."""
-    attributes: dict[str, tuple[Any, str]] = {}
+    attributes: dict[str, tuple[AttributeValue, str]] = {}
     for feature in _features(fm.root):
         for attribute in feature.attributes:
             key = f"{feature.name}.{attribute.name}"
@@ -149,11 +156,12 @@ def product_attributes(
                 where, f"attribute {key} is set but feature {key.split('.')[0]} is not selected"
             )
             continue
-        values[key] = float(value) if kind == "double" else value
+        fitting = cast("AttributeValue", value)  # it fits its attribute's type
+        values[key] = float(cast("float", fitting)) if kind == "double" else fitting
     return {k: v for k, v in sorted(values.items()) if k.split(".")[0] in selected}
 
 
-def _shown(value: Any) -> str:
+def _shown(value: object) -> str:
     """A selection file's value as its YAML reads, not as Python writes it."""
     if isinstance(value, bool):
         return "true" if value else "false"
@@ -164,14 +172,14 @@ def _shown(value: Any) -> str:
     return f"a {type(value).__name__} ({value})"
 
 
-def _features(feature: Any):
+def _features(feature: fm_types.Feature) -> Iterator[fm_types.Feature]:
     yield feature
     for group in feature.groups:
         for child in group.features:
             yield from _features(child)
 
 
-def _typed(text: str | None, kind: str) -> Any:
+def _typed(text: str | None, kind: str) -> AttributeValue:
     if text is None:
         return None
     if kind == "int":
@@ -183,7 +191,7 @@ def _typed(text: str | None, kind: str) -> Any:
     return text
 
 
-def _fits(value: Any, kind: str) -> bool:
+def _fits(value: object, kind: str) -> bool:
     if isinstance(value, bool) or kind == "bool":
         return isinstance(value, bool) and kind == "bool"
     if kind == "int":
@@ -193,7 +201,9 @@ def _fits(value: Any, kind: str) -> bool:
     return isinstance(value, str) and not any(ord(c) < 32 for c in value)
 
 
-def _apply_deployment(system: Any, selection: ProductSelection, sink: DiagnosticSink) -> None:
+def _apply_deployment(
+    system: tsm_types.System, selection: ProductSelection, sink: DiagnosticSink
+) -> None:
     robots = {c.name: c for c in system.containers if c.eClass.name == "RobotContainer"}
     for name, settings in sorted(selection.deployment.items()):
         container = robots.get(name)
@@ -208,7 +218,9 @@ def _apply_deployment(system: Any, selection: ProductSelection, sink: Diagnostic
             container.endpoint.url = settings["url"]
 
 
-def _apply_sharing(ctx: ResolutionContext, active: list[Any], selection: ProductSelection) -> None:
+def _apply_sharing(
+    ctx: ResolutionContext, active: list[rm_types.ResolutionElement], selection: ProductSelection
+) -> None:
     """The sharing mode of a feature's functionality goes to the nodes its elements use."""
     T = tsm()
     features_with_sharing = set()
@@ -220,13 +232,14 @@ def _apply_sharing(ctx: ResolutionContext, active: list[Any], selection: Product
         features_with_sharing.add(feature)
         mode = selection.sharing.get(feature, config.mode.name)
         origin = "product selection" if feature in selection.sharing else "feature model default"
-        targets = [ctx.copies[id(target)] for target in sharing_targets(element)]
+        targets = [ctx.copy_of(target) for target in sharing_targets(element)]
         for node in targets:
             if not isinstance(node, T.Node):
                 continue
             ctx.element = element
             if ctx.decide("sharing mode", node, mode, location_of(element)):
-                node.sharing = T.SharingMode.getEEnumLiteral(mode)
+                # a mode of the feature model's or the selection's, both checked
+                node.sharing = cast("tsm_types.SharingMode", T.SharingMode.getEEnumLiteral(mode))
                 ctx.trace.record(
                     node.name,
                     "sharing",

@@ -18,15 +18,19 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, cast
 
 from spl.diagnostics import location_of
 from spl.metamodels import tsm
 from spl.resolver.context import qualified
-from spl.resolver.flows import SERVICE, TOPIC
+from spl.resolver.flows import SERVICE, TOPIC, node_of
 from spl.resolver.placement import Placement
 from spl.resolver.product import ResolvedProduct, topic_ros_name
-from spl.resolver.trace import Trace
+from spl.resolver.trace import Trace, TraceEntry
+
+if TYPE_CHECKING:
+    from spl.metamodels import tsm_types
+    from spl.metamodels.model_types import EObject
 
 
 @dataclass(frozen=True)
@@ -34,11 +38,11 @@ class NamedElement:
     """One element of a system with the names a user may ask about it by."""
 
     name: str  # qualified, as in the trace
-    element: Any
+    element: tsm_types.NamedElement
     aliases: tuple[str, ...]  # bare topic/store name, Container.-prefixed node names
 
 
-def named_elements(system: Any) -> Iterator[NamedElement]:
+def named_elements(system: tsm_types.System) -> Iterator[NamedElement]:
     """Every container, topic, store, node, parameter and interface of ``system``."""
     for container in system.containers:
         prefix = f"{container.name}."
@@ -59,7 +63,7 @@ MOVED_OR_GONE = frozenset({"migrated", "removed"})
 
 
 def explanation(
-    template: Any, resolved: ResolvedProduct, trace: Trace, name: str
+    template: tsm_types.System, resolved: ResolvedProduct, trace: Trace, name: str
 ) -> list[str] | None:
     """The lines explaining the elements ``name`` means, product's first, then those only
     the template has; None when neither model has an element of that name. Each element
@@ -77,7 +81,8 @@ def explanation(
     for element_name in dict.fromkeys(meant):  # a node by its old container: where it is now
         present = [e.element for e in in_product if e.name == element_name]
         written = next((e.element for e in in_template if e.name == element_name), None)
-        owners = {qualified(o) for o in _holders(present[0] if present else written)}
+        meant_element = present[0] if present else cast("tsm_types.NamedElement", written)
+        owners = {qualified(o) for o in _holders(meant_element)}
         own = [e for e in trace.entries if _is_about(e.subject, element_name)]
         own += [e for element in present for e in _bridging(element, product, trace)]
         held = [e for e in trace.entries if e.subject in owners and e.decision in MOVED_OR_GONE]
@@ -97,7 +102,9 @@ def explanation(
     return lines
 
 
-def _bridging(element: Any, system: Any, trace: Trace) -> list[Any]:
+def _bridging(
+    element: tsm_types.NamedElement, system: tsm_types.System, trace: Trace
+) -> list[TraceEntry]:
     """For an endpoint interface, the trace entries of the bridges it belongs to: the
     rewiring records a topic bridge under its source topic, a service bridge under the
     client it serves."""
@@ -130,7 +137,7 @@ VERBS = {
 }
 
 
-def _flows(element: Any, product: ResolvedProduct, trace: Trace) -> list[str]:
+def _flows(element: tsm_types.NamedElement, product: ResolvedProduct, trace: Trace) -> list[str]:
     """The flows at an interface, or carried by an endpoint interface, in words."""
     T = tsm()
     if not isinstance(element, T.Interface):
@@ -147,14 +154,14 @@ def _flows(element: Any, product: ResolvedProduct, trace: Trace) -> list[str]:
     lines = []
     for flow in flows.at(element):
         mine = element is flow.source
-        other = flow.target if mine else flow.source
+        other: tsm_types.Interface = flow.target if mine else flow.source
         if flow.route:
             where = "through " + " -> ".join(c.name for c in flow.hops())
         else:
             where = f"in {flow.source_container.name}"
         twice = " (by two routes: each message arrives twice)" if flow.routes > 1 else ""
         moved = next(
-            (e for e in trace.entries if e.subject == other.eContainer().name
+            (e for e in trace.entries if e.subject == node_of(other).name
              and e.decision == "migrated"),
             None,
         )  # fmt: skip
@@ -167,16 +174,16 @@ def _flows(element: Any, product: ResolvedProduct, trace: Trace) -> list[str]:
     return lines
 
 
-def _end(interface: Any) -> str:
+def _end(interface: tsm_types.Interface) -> str:
     """A node interface as ``Container.Node.interface``."""
-    node = interface.eContainer()
+    node = node_of(interface)
     return f"{node.eContainer().name}.{node.name}.{interface.name}"
 
 
 INSTANCES = {"private": "one per robot", "protected": "one per group", "public": "one for all"}
 
 
-def _instances(element: Any, product: ResolvedProduct) -> list[str]:
+def _instances(element: tsm_types.NamedElement, product: ResolvedProduct) -> list[str]:
     """Where a cloud node runs once deployed: one instance per robot (private), per group
     (protected) or one for all (public)."""
     T = tsm()
@@ -192,7 +199,9 @@ def _instances(element: Any, product: ResolvedProduct) -> list[str]:
     ]
 
 
-def qualified_candidates(template: Any, product: Any, name: str) -> list[str]:
+def qualified_candidates(
+    template: tsm_types.System, product: tsm_types.System, name: str
+) -> list[str]:
     """The qualified names of the interfaces and parameters whose own name is ``name``."""
     T = tsm()
     return sorted(
@@ -213,22 +222,22 @@ def _is_about(subject: str, name: str) -> bool:
     return subject == name or subject.startswith(f"{name}.")
 
 
-def _holders(element: Any) -> list[Any]:
+def _holders(element: tsm_types.NamedElement) -> list[tsm_types.NamedElement]:
     """The node and container holding ``element`` (an endpoint's, its container)."""
     T = tsm()
-    holders = []
-    owner = element.eContainer()
+    holders: list[tsm_types.NamedElement] = []
+    owner: EObject | None = element.eContainer()
     while owner is not None and not isinstance(owner, T.System):
         if not isinstance(owner, T.Endpoint):
-            holders.append(owner)
+            holders.append(cast("tsm_types.NamedElement", owner))  # a node or a container
         owner = owner.eContainer()
     return holders
 
 
-def _standing(element: Any) -> str:
+def _standing(element: tsm_types.NamedElement) -> str:
     """How an element present in the product stands there, in one phrase."""
     T = tsm()
-    owner = element.eContainer()
+    owner = cast("tsm_types.NamedElement", element.eContainer())  # in a system
     if isinstance(element, T.Container):
         return f"{'robot' if isinstance(element, T.RobotContainer) else 'cloud'} container present"
     if isinstance(element, T.Node):
@@ -245,10 +254,10 @@ def _standing(element: Any) -> str:
         return _bound("subscribes to topic", element.topic)
     if isinstance(element, T.ServiceServer):
         return f"serves {element.rosName or '/' + element.name} ({element.type})"
-    return _bound("calls", element.server)
+    return _bound("calls", cast("tsm_types.ServiceClient", element).server)
 
 
-def _bound(verb: str, target: Any) -> str:
+def _bound(verb: str, target: tsm_types.NamedElement | None) -> str:
     if target is None:
         return f"{verb.split()[0]} nothing: not connected in this product"
     return f"{verb} {qualified(target)}"

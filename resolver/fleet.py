@@ -1,4 +1,5 @@
-"""Fleets: robots of one product line sharing cloud node instances (seeds/003, sec. VII).
+"""Fleets: robots of one product line sharing cloud node instances (docs/fleets.md; the
+mapping paper's section VII, docs/index.md).
 
 Each robot's product is resolved as usual. A cloud node whose sharing mode is
 ``protected`` runs once per group, ``public`` once for everybody
@@ -26,14 +27,19 @@ from __future__ import annotations
 
 import copy
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, cast
 
 from spl.diagnostics import Diagnostic, Location, ModelError, location_of
 from spl.resolver.context import describe
 from spl.resolver.effects import (
     PLACEMENT,
     SHARING,
+    Active,
+    Aspect,
+    Effect,
     LineEffects,
+    NodeEffects,
+    Settings,
     active_in,
 )
 from spl.resolver.engine import Resolution, resolve
@@ -56,6 +62,10 @@ from spl.resolver.placement import (
 from spl.resolver.product_line import ProductLine, load_product_line
 from spl.resolver.product_selection import ProductSelection
 
+if TYPE_CHECKING:
+    from spl.metamodels import tsm_types
+    from spl.resolver.product import ResolvedProduct
+
 CONFLICT = "SPL040"
 ROBOT_ID_TAKEN = "SPL041"
 
@@ -66,7 +76,7 @@ class RobotProduct:
     resolution: Resolution
 
     @property
-    def product(self) -> Any:
+    def product(self) -> ResolvedProduct:
         return self.resolution.product
 
 
@@ -110,7 +120,8 @@ def check_fleet(fleet: Fleet, line: ProductLine | None = None) -> FleetCheck:
     """Resolve every robot and compare what robots sharing an instance ask of it."""
     line = line or load_product_line(fleet.product_line)
     check = FleetCheck(fleet, line, LineEffects(line))
-    resolved: dict[Any, Resolution] = {}  # robotIDs aside, equal selections resolve alike
+    # robotIDs aside, equal selections resolve alike (by what the selection decides)
+    resolved: dict[tuple[object, ...], Resolution] = {}
     owners: dict[str, str] = {}
     places: dict[str, tuple[Place, str]] = {}  # instance tag -> (its place, first robot)
     robot_containers = {c.name for c in line.tsm.containers if c.eClass.name == "RobotContainer"}
@@ -195,7 +206,7 @@ def _about(robot: FleetRobot, diagnostic: Diagnostic) -> Diagnostic:
     return Diagnostic(where, f"robot {robot.name}: {message}", diagnostic.severity, diagnostic.code)
 
 
-def _resolution_key(selection: ProductSelection) -> tuple:
+def _resolution_key(selection: ProductSelection) -> tuple[object, ...]:
     capabilities = selection.capabilities.source if selection.capabilities else None
     deployment = {
         c: {k: v for k, v in s.items() if k != "robot_id"} for c, s in selection.deployment.items()
@@ -295,11 +306,13 @@ def conflict(
     )
 
 
-def why(effects: LineEffects, node: Any, entry: RobotProduct, aspect: str) -> str:
+def why(effects: LineEffects, node: NodeEffects, entry: RobotProduct, aspect: str) -> str:
     """The feature and resolution element that gave the robot's node this value."""
     active = active_in(set(entry.product.features))
+    none = cast("Settings", None)  # a server is no function of a robot's settings
     if aspect.startswith(SERVER_INSTANCE):  # the server's sharing mode decides it
-        server = node.servers[aspect.removeprefix(SERVER_INSTANCE)].value(active, None)
+        value = node.servers[aspect.removeprefix(SERVER_INSTANCE)].value(active, none)
+        server = cast("tsm_types.ServiceServer | None", value)
         server_node = effects.by_node.get(id(server.eContainer())) if server else None
         if server_node is None:
             return "the server's sharing mode"
@@ -309,26 +322,26 @@ def why(effects: LineEffects, node: Any, entry: RobotProduct, aspect: str) -> st
     if aspect.startswith("server of "):
         chosen = node.servers[aspect.removeprefix("server of ")]
         reason = _decided(chosen, active, entry)
-        server = chosen.value(active, None)
+        server = cast("tsm_types.ServiceServer | None", chosen.value(active, none))
         if server is not None:
             server_node = effects.by_node.get(id(server.eContainer()))
             if server_node is not None and not server_node.present(active):
                 return f"{reason}; {server_node.name} is not in this product"
             moved = server_node.aspects[PLACEMENT].effective(active) if server_node else None
-            if moved is not None:
+            if moved is not None and server_node is not None:  # moved: a node's
                 reason += f"; {server_node.name} {_by(moved, entry, PLACEMENT)}"
         return reason
     return _decided(node.aspects[aspect], active, entry)
 
 
-def _decided(aspect: Any, active: Any, entry: RobotProduct) -> str:
+def _decided(aspect: Aspect, active: Active, entry: RobotProduct) -> str:
     effect = aspect.effective(active)
     if effect is None:
         return f"as the template has it ({aspect.default_where})"
     return _by(effect, entry, aspect.name)
 
 
-def _by(effect: Any, entry: RobotProduct, aspect: str) -> str:
+def _by(effect: Effect, entry: RobotProduct, aspect: str) -> str:
     element = effect.element
     feature = element.feature.name
     text = f"{'migrated ' if aspect == PLACEMENT else ''}by feature {feature}: {describe(element)}"

@@ -7,11 +7,16 @@ two robots' asks, which the fleet check reports as conflicts (:mod:`spl.resolver
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, cast
 
 from spl.resolver.effects import PLACEMENT, SHARING, observed, origin_of, real_server
 from spl.resolver.fleet_file import FleetRobot
 from spl.resolver.placement import SHARED_MODES, Placement, sharing_mode
+
+if TYPE_CHECKING:
+    from spl.metamodels import tsm_types
+    from spl.resolver.effects import Value
+    from spl.resolver.product import ResolvedProduct
 
 AMBIGUOUS_SERVER = "SPL049"  # a shared node whose client reaches a server per group/robot
 
@@ -27,13 +32,13 @@ class Ask:
     placement: str  # the container the node runs in
     on_robot: bool
     tag: str  # the instance (placement rule), e.g. MappingCloud_lab
-    values: tuple[tuple[str, Any], ...]  # implementation, parameters, topics, servers
+    values: tuple[tuple[str, Value], ...]  # implementation, parameters, topics, servers
 
     @property
     def node(self) -> str:
         return self.key[1]
 
-    def value(self, aspect: str) -> Any:
+    def value(self, aspect: str) -> Value:
         if aspect == PLACEMENT:
             return self.placement
         if aspect == SHARING:
@@ -47,7 +52,7 @@ class Ask:
         return f"{self.tag}, {self.mode} for {scope}"
 
 
-def shared_asks(robot: FleetRobot, product: Any, placement: Placement) -> list[Ask]:
+def shared_asks(robot: FleetRobot, product: ResolvedProduct, placement: Placement) -> list[Ask]:
     """What ``robot`` asks of every node it runs as protected or public."""
     asks = []
     for container in product.system.containers:
@@ -78,7 +83,9 @@ def shared_asks(robot: FleetRobot, product: Any, placement: Placement) -> list[A
 SERVER_INSTANCE = "server instance of "
 
 
-def _server_instances(robot: FleetRobot, node: Any, product: Any, placement: Placement) -> dict:
+def _server_instances(
+    robot: FleetRobot, node: tsm_types.Node, product: ResolvedProduct, placement: Placement
+) -> dict[str, str]:
     """The instance each cloud server the shared node calls runs in, for this robot: one
     shared instance cannot call two (a public node's protected server is its group's, a
     private one the robot's own)."""
@@ -86,10 +93,10 @@ def _server_instances(robot: FleetRobot, node: Any, product: Any, placement: Pla
     for interface in node.interfaces:
         if interface.eClass.name != "ServiceClient":
             continue
-        server = real_server(interface.server, product.system)
+        server = real_server(cast("tsm_types.ServiceClient", interface).server, product.system)
         if server is None or placement.is_robot(server.eContainer().eContainer()):
             continue
-        server_node = server.eContainer()
+        server_node = cast("tsm_types.Node", server.eContainer())  # a node's server
         mode = sharing_mode(server_node)
         if mode == "private":  # robotIDs aside, equal selections share one resolution
             where = f"{server_node.eContainer().name}, private to robot {robot.name}"

@@ -12,11 +12,15 @@ nodes they share, so the instance is generated from the reference's nodes.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, cast
 
 from spl.diagnostics import ModelError
 from spl.resolver.engine import resolve
 from spl.resolver.fleet import FleetCheck, RobotProduct, robot_selection
 from spl.resolver.placement import sharing_mode
+
+if TYPE_CHECKING:
+    from spl.metamodels import tsm_types
 
 
 @dataclass(frozen=True)
@@ -37,10 +41,10 @@ class FleetDeployment:
     robots: list[RobotProduct]
     shared: list[SharedInstance]
 
-    def reference(self, instance: SharedInstance) -> list[tuple[RobotProduct, object]]:
+    def reference(self, instance: SharedInstance) -> list[tuple[RobotProduct, tsm_types.Node]]:
         """(robot, node) for every node of the instance, each from the first robot that
         runs it there."""
-        chosen: dict[str, tuple[RobotProduct, object]] = {}
+        chosen: dict[str, tuple[RobotProduct, tsm_types.Node]] = {}
         for entry in self.robots:
             if entry.robot.name not in instance.robots:
                 continue
@@ -62,7 +66,7 @@ def deploy(check: FleetCheck) -> FleetDeployment:
         resolution = resolve(check.line, robot_selection(robot, check.line))
         for container in resolution.product.system.containers:
             if container.eClass.name == "CloudContainer":
-                container.group = robot.group
+                cast("tsm_types.CloudContainer", container).group = robot.group
         robots.append(RobotProduct(robot, resolution))
     shared = []
     for tag, asks in check.instances().items():

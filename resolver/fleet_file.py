@@ -22,6 +22,7 @@ import os
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import cast
 
 import yaml
 
@@ -67,6 +68,7 @@ def load_fleet(path: str | Path) -> Fleet:
             Location(filename, 1, 1), "a fleet file is a mapping (fleet, product_line, robots)"
         )
         sink.raise_if_errors()
+    root = cast("yaml.MappingNode", root)  # (else raised above)
     given: dict[str, yaml.Node] = {}
     for key_node, value_node in root.value:
         key = key_node.value

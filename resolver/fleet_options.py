@@ -23,7 +23,7 @@ excludes them.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, cast
 
 from pysat.solvers import Solver
 
@@ -31,10 +31,17 @@ from spl.diagnostics import Diagnostic, Location, ModelError
 from spl.dsl.fm import all_features
 from spl.resolver.capabilities import choose_features
 from spl.resolver.context import describe
-from spl.resolver.effects import PLACEMENT, SHARING, NodeEffects, Settings
+from spl.resolver.effects import PLACEMENT, SHARING, Aspect, Effect, NodeEffects, Settings
 from spl.resolver.fleet import FleetCheck, check_fleet
 from spl.resolver.fleet_asks import SERVER_INSTANCE, Ask, shown
 from spl.resolver.fleet_file import DEFAULT_GROUP, Fleet
+from spl.resolver.flows import node_of
+
+if TYPE_CHECKING:
+    from spl.metamodels import fm_types, rm_types, tsm_types
+    from spl.resolver.effects import Value
+    from spl.resolver.product import AttributeValue
+    from spl.resolver.product_selection import ProductSelection
 
 TRUE, FALSE = ("const", True), ("const", False)
 
@@ -62,8 +69,8 @@ def _not(formula: tuple) -> tuple:
 @dataclass(frozen=True)
 class Requirement:
     text: str
-    effects: tuple[tuple[Any, Any], ...] = ()  # (effect, value) that break it
-    fixed: Any = None  # the value that meets it
+    effects: tuple[tuple[Effect, Value], ...] = ()  # (effect, value) that break it
+    fixed: Value = None  # the value that meets it
 
 
 @dataclass(frozen=True)
@@ -130,11 +137,11 @@ class _Encoding:
         self.cache[formula] = v
         return v
 
-    def active(self, element: Any) -> tuple:
+    def active(self, element: rm_types.ResolutionElement) -> tuple:
         v = self.cnf.var[element.feature.name]
         return ("lit", v if element.activeIfSelected else -v)
 
-    def equals(self, aspect: Any, value: Any) -> tuple:
+    def equals(self, aspect: Aspect, value: Value) -> tuple:
         """The aspect has ``value`` in the robot's product."""
         effects = aspect.effects
         parts = [self.active(e.element) for e in effects if e.value_for(self.settings) == value]
@@ -145,21 +152,23 @@ class _Encoding:
     def present(self, node: NodeEffects) -> tuple:
         return TRUE if not node.node.optional else _or([self.active(e) for e in node.keepers])
 
-    def value_equals(self, node: NodeEffects, aspect: str, value: Any) -> tuple:
+    def value_equals(self, node: NodeEffects, aspect: str, value: Value) -> tuple:
         if not aspect.startswith("server of "):
             return self.equals(node.aspects[aspect], value)
         chosen = node.servers[aspect.removeprefix("server of ")]
+        wanted = cast("tuple[str, str] | None", value)  # (server id, placement), or none
         cases = []
-        for server in {
-            id(s): s for s in [chosen.default, *(e.value for e in chosen.effects)]
-        }.values():
+        servers = [chosen.default, *(e.value for e in chosen.effects)]
+        for server in {id(s): cast("tsm_types.ServiceServer | None", s) for s in servers}.values():
             picked = self.equals(chosen, server)
             server_node = self.effects.by_node.get(id(server.eContainer())) if server else None
-            if value is None:
+            if wanted is None:
                 gone = TRUE if server_node is None else _not(self.present(server_node))
                 cases.append(_and([picked, gone]))
-            elif server_node is not None and value[0] == _server_id(server_node, server):
-                placed = self.equals(server_node.aspects[PLACEMENT], value[1])
+            elif server_node is not None and wanted[0] == _server_id(
+                server_node, cast("tsm_types.ServiceServer", server)
+            ):
+                placed = self.equals(server_node.aspects[PLACEMENT], wanted[1])
                 cases.append(_and([picked, self.present(server_node), placed]))
         return _or(cases)
 
@@ -193,11 +202,11 @@ class _Encoding:
         return core
 
 
-def _server_id(server_node: NodeEffects, server: Any) -> str:
+def _server_id(server_node: NodeEffects, server: tsm_types.ServiceServer) -> str:
     return f"{server_node.origin}.{server_node.name}.{server.name}"
 
 
-def _sharing_problems(fm: Any, sharing: dict[str, str]) -> list[Diagnostic]:
+def _sharing_problems(fm: fm_types.FeatureModel, sharing: dict[str, str]) -> list[Diagnostic]:
     """``--sharing`` overrides of features that have no sharing mode to override (as a
     resolve refuses them; unchecked, a misspelt feature gave a confident answer)."""
     modes = {f.name: f.sharing is not None for f in all_features(fm)}
@@ -232,7 +241,8 @@ def fleet_options(
     selection = entry.selection if entry is not None else None
     settings = Settings.of(
         {**(selection.sharing if selection else {}), **(sharing or {})},
-        selection.attributes if selection else {},
+        # the robot's attributes, checked as its product resolved
+        cast("dict[str, AttributeValue]", selection.attributes) if selection else {},
     )
     encoding, fixed_by = _build(check, selection, group, settings)
     core, dead = check.line.formula.backbone()
@@ -267,7 +277,7 @@ def fleet_options(
 
 
 def _build(
-    check: FleetCheck, selection: Any, group: str, settings: Settings
+    check: FleetCheck, selection: ProductSelection | None, group: str, settings: Settings
 ) -> tuple[_Encoding, list[str]]:
     """The encoding with every requirement: shared nodes, and the robot's capabilities."""
     encoding = _Encoding(check, settings)
@@ -280,7 +290,7 @@ def _build(
 
 
 def _sharing_alternatives(
-    check: FleetCheck, selection: Any, group: str, settings: Settings
+    check: FleetCheck, selection: ProductSelection | None, group: str, settings: Settings
 ) -> tuple[str, ...]:
     """The sharing overrides (one feature, one mode) with which the robot could join."""
     found = []
@@ -323,7 +333,7 @@ def _requirements(encoding: _Encoding, asks: list[Ask], group: str) -> list[str]
         on_board = _or([encoding.equals(node.aspects[PLACEMENT], r) for r in robot_containers])
         exempt = _or([_not(comparable), on_board if ask.on_robot else FALSE])
         suffix = f", as {ask.robot} fixed it ({ask.where()})"
-        wanted = [(PLACEMENT, ask.placement), (SHARING, ask.mode)]
+        wanted: list[tuple[str, Value]] = [(PLACEMENT, ask.placement), (SHARING, ask.mode)]
         if not ask.on_robot:  # a server's instance is a warning of the check, not a rule
             wanted += [(a, v) for a, v in ask.values if not a.startswith(SERVER_INSTANCE)]
         for aspect, value in wanted:
@@ -342,19 +352,23 @@ def _requirements(encoding: _Encoding, asks: list[Ask], group: str) -> list[str]
     return list(dict.fromkeys(robots))
 
 
-def _breaking(encoding: _Encoding, node: NodeEffects, aspect: str, value: Any) -> tuple:
+def _breaking(
+    encoding: _Encoding, node: NodeEffects, aspect: str, value: Value
+) -> tuple[tuple[Effect, Value], ...]:
     """The effects that would give the aspect another value than ``value``."""
     if aspect.startswith("server of "):
         chosen = node.servers[aspect.removeprefix("server of ")]
-        found = []
+        found: list[tuple[Effect, Value]] = []
+        server_wanted = cast("tuple[str, str] | None", value)  # (server id, placement)
         for effect in chosen.effects:
-            server_node = encoding.effects.by_node.get(id(effect.value.eContainer()))
-            given = _server_id(server_node, effect.value) if server_node else None
-            if value is None or given != value[0]:
-                found.append((effect, f"{effect.value.eContainer().name}.{effect.value.name}"))
+            server = cast("tsm_types.ServiceServer", effect.value)  # a statement's server
+            server_node = encoding.effects.by_node.get(id(server.eContainer()))
+            given = _server_id(server_node, server) if server_node else None
+            if server_wanted is None or given != server_wanted[0]:
+                found.append((effect, f"{node_of(server).name}.{server.name}"))
         return tuple(found)
-    given = [(e, e.value_for(encoding.settings)) for e in node.aspects[aspect].effects]
-    return tuple((e, v) for e, v in given if v != value)
+    values = [(e, e.value_for(encoding.settings)) for e in node.aspects[aspect].effects]
+    return tuple((e, v) for e, v in values if v != value)
 
 
 def _explained(encoding: _Encoding, feature: str, status: str, literal: int) -> FeatureOption:
@@ -378,5 +392,5 @@ def _explained(encoding: _Encoding, feature: str, status: str, literal: int) -> 
     return FeatureOption(feature, status, tuple(reasons))
 
 
-def _value_text(value: Any) -> str:
+def _value_text(value: Value) -> str:
     return "none" if value is None else str(value)

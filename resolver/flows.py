@@ -28,11 +28,16 @@ to whom.
 from __future__ import annotations
 
 from collections import defaultdict
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
-from typing import Any, NamedTuple
+from typing import TYPE_CHECKING, NamedTuple, cast
 
 from spl.metamodels import tsm
+
+if TYPE_CHECKING:
+    from spl.metamodels import tsm_types
+
+Route = tuple["tsm_types.EndpointConnection", ...]
 
 
 class NodeInterfaces(NamedTuple):
@@ -40,14 +45,16 @@ class NodeInterfaces(NamedTuple):
     of every data-flow walk (rewiring, Rapyuta bridges). Endpoint interfaces are not
     node interfaces and are not included."""
 
-    publishers: tuple[Any, ...]  # bound to a topic
-    subscribers: tuple[Any, ...]  # bound to a topic
-    clients: tuple[Any, ...]  # every service client, bound to a server or not
+    publishers: tuple[tsm_types.Publisher, ...]  # bound to a topic
+    subscribers: tuple[tsm_types.Subscriber, ...]  # bound to a topic
+    clients: tuple[tsm_types.ServiceClient, ...]  # every service client, bound or not
 
     @classmethod
-    def of(cls, containers: Any) -> NodeInterfaces:
+    def of(cls, containers: Iterable[tsm_types.Container]) -> NodeInterfaces:
         T = tsm()
-        publishers, subscribers, clients = [], [], []
+        publishers: list[tsm_types.Publisher] = []
+        subscribers: list[tsm_types.Subscriber] = []
+        clients: list[tsm_types.ServiceClient] = []
         for container in containers:
             for node in container.nodes:
                 for interface in node.interfaces:
@@ -62,9 +69,24 @@ class NodeInterfaces(NamedTuple):
 
 TOPIC = "topic"
 SERVICE = "service"
+# id(topic) -> (endpoint connection, the topic it puts the data on), for each connection
+# whose endpoint subscriber is on the topic
+Edges = dict[int, list[tuple["tsm_types.EndpointConnection", "tsm_types.Topic"]]]
+Callers = dict[int, list["tsm_types.EndpointConnection"]]  # id(stand-in server) -> connections
+Reached = tuple["tsm_types.Topic", "tsm_types.Container"]  # a topic, the robot relaying to it
 
 
-def container_of(interface: Any) -> Any:
+def topic_of(interface: tsm_types.Publisher | tsm_types.Subscriber) -> tsm_types.Topic:
+    """The topic of an interface bound to one (those :class:`NodeInterfaces` lists)."""
+    return cast("tsm_types.Topic", interface.topic)
+
+
+def node_of(interface: tsm_types.Interface) -> tsm_types.Node:
+    """The node of a node interface (a flow's ends are node interfaces)."""
+    return cast("tsm_types.Node", interface.eContainer())
+
+
+def container_of(interface: tsm_types.Interface) -> tsm_types.Container:
     """The container of a node interface or of an endpoint interface."""
     return interface.eContainer().eContainer()
 
@@ -78,20 +100,20 @@ class Flow:
     reaches its subscriber twice (two chains of bridges carry the same message)."""
 
     kind: str  # TOPIC or SERVICE
-    source: Any
-    target: Any
-    route: tuple[Any, ...]  # the EndpointConnections crossed, in travel order
+    source: tsm_types.Publisher | tsm_types.ServiceClient
+    target: tsm_types.Subscriber | tsm_types.ServiceServer
+    route: Route  # the EndpointConnections crossed, in travel order
     routes: int = 1
 
     @property
-    def source_container(self) -> Any:
+    def source_container(self) -> tsm_types.Container:
         return container_of(self.source)
 
     @property
-    def target_container(self) -> Any:
+    def target_container(self) -> tsm_types.Container:
         return container_of(self.target)
 
-    def hops(self) -> list[Any]:
+    def hops(self) -> list[tsm_types.Container]:
         """The containers the flow passes, from the source's to the target's."""
         return [self.source_container, *(container_of(c.target) for c in self.route)]
 
@@ -103,16 +125,18 @@ class Flow:
         return f"{arrow} via {', '.join(_bridge(c) for c in self.route)}"
 
 
-def _name(interface: Any) -> str:
-    return f"{container_of(interface).name}.{interface.eContainer().name}.{interface.name}"
+def _name(interface: tsm_types.Interface) -> str:
+    return f"{container_of(interface).name}.{node_of(interface).name}.{interface.name}"
 
 
-def _bridge(connection: Any) -> str:
+def _bridge(connection: tsm_types.EndpointConnection) -> str:
     source, target = connection.source, connection.target
-    if getattr(source, "topic", None) is not None and getattr(target, "topic", None) is not None:
+    source_topic: tsm_types.Topic | None = getattr(source, "topic", None)
+    target_topic: tsm_types.Topic | None = getattr(target, "topic", None)
+    if source_topic is not None and target_topic is not None:
         return (
-            f"{container_of(source).name}.{source.topic.name} -> "
-            f"{container_of(target).name}.{target.topic.name}"
+            f"{container_of(source).name}.{source_topic.name} -> "
+            f"{container_of(target).name}.{target_topic.name}"
         )
     return f"{container_of(source).name} -> {container_of(target).name}"
 
@@ -123,9 +147,9 @@ class CutRoute:
     container's data: ``publisher``'s data reaches ``subscriber`` only through
     ``robot``."""
 
-    publisher: Any
-    subscriber: Any
-    robot: Any
+    publisher: tsm_types.Publisher
+    subscriber: tsm_types.Subscriber
+    robot: tsm_types.Container
 
 
 class FlowTable:
@@ -133,7 +157,9 @@ class FlowTable:
     by the order their topics are reached, then by subscriber; service flows by client),
     with look-ups by interface and by endpoint connection."""
 
-    def __init__(self, flows: list[Flow], cut: list[CutRoute], unserved: list[Any]) -> None:
+    def __init__(
+        self, flows: list[Flow], cut: list[CutRoute], unserved: list[tsm_types.ServiceClient]
+    ) -> None:
         self.flows = tuple(flows)
         self.cut = tuple(cut)
         self.unserved = tuple(unserved)  # clients whose chain of stand-ins reaches no server
@@ -151,16 +177,16 @@ class FlowTable:
     def __len__(self) -> int:
         return len(self.flows)
 
-    def at(self, interface: Any) -> list[Flow]:
+    def at(self, interface: tsm_types.Interface) -> list[Flow]:
         """The flows with ``interface`` at one end."""
         return self._at.get(id(interface), [])
 
-    def feeding(self, interface: Any) -> list[Flow]:
+    def feeding(self, interface: tsm_types.Interface) -> list[Flow]:
         """The flows an input depends on: those delivering to a subscriber, or the one
         taking a client's calls to its server."""
         return [f for f in self.at(interface) if interface is f.target or f.kind == SERVICE]
 
-    def through(self, connection: Any) -> list[Flow]:
+    def through(self, connection: tsm_types.EndpointConnection) -> list[Flow]:
         """The flows an endpoint connection carries."""
         return self._through.get(id(connection), [])
 
@@ -169,14 +195,14 @@ class FlowTable:
         return [f for f in self.flows if f.routes > 1]
 
     @classmethod
-    def of(cls, system: Any) -> FlowTable:
+    def of(cls, system: tsm_types.System) -> FlowTable:
         """The flow table of ``system`` as its connections stand now. Node interfaces
         may still point at topics of the container their node left (the template's
         flows, which the endpoint rewiring keeps): a route starts at the topic the
         publisher is bound to, wherever that is."""
         T = tsm()
-        edges: dict[int, list[tuple[Any, Any]]] = defaultdict(list)  # topic -> (conn, topic)
-        callers: dict[int, list[Any]] = defaultdict(list)  # stand-in server -> connections
+        edges: Edges = defaultdict(list)  # topic -> (conn, topic)
+        callers: Callers = defaultdict(list)  # stand-in server -> connections
         for connection in system.connections:
             source, target = connection.source, connection.target
             if isinstance(source, T.Subscriber) and isinstance(target, T.Publisher):
@@ -185,7 +211,7 @@ class FlowTable:
             elif isinstance(source, T.ServiceServer) and isinstance(target, T.ServiceClient):
                 callers[id(source)].append(connection)
         publishers, subscribers, clients = NodeInterfaces.of(system.containers)
-        subscribers_of: dict[int, list[Any]] = defaultdict(list)
+        subscribers_of: dict[int, list[tsm_types.Subscriber]] = defaultdict(list)
         for subscriber in subscribers:
             subscribers_of[id(subscriber.topic)].append(subscriber)
 
@@ -195,7 +221,8 @@ class FlowTable:
         for publisher in publishers:
             walk = walks.get(id(publisher.topic))
             if walk is None:
-                walk = walks[id(publisher.topic)] = _Walk(publisher.topic, edges, T)
+                start = cast("tsm_types.Topic", publisher.topic)  # bound: NodeInterfaces
+                walk = walks[id(start)] = _Walk(start, edges, T)
             for topic in walk.order:
                 for subscriber in subscribers_of.get(id(topic), ()):
                     flows.append(
@@ -216,10 +243,12 @@ class FlowTable:
         return cls(flows, cut, unserved)
 
 
-def _answering(server: Any, callers: dict[int, list[Any]], T: Any) -> tuple[Any, tuple]:
+def _answering(
+    server: tsm_types.ServiceServer | None, callers: Callers, T: tsm_types.Metamodel
+) -> tuple[tsm_types.ServiceServer | None, Route]:
     """The node server behind a chain of endpoint stand-ins and the connections the calls
     cross; ``(None, ())`` when the chain ends without one (or its node was pruned)."""
-    route: list[Any] = []
+    route: list[tsm_types.EndpointConnection] = []
     seen: set[int] = set()
     while server is not None and not isinstance(server.eContainer(), T.Node):
         if id(server) in seen or not callers.get(id(server)):
@@ -227,7 +256,7 @@ def _answering(server: Any, callers: dict[int, list[Any]], T: Any) -> tuple[Any,
         seen.add(id(server))
         connection = callers[id(server)][0]
         route.append(connection)
-        server = connection.target.server
+        server = cast("tsm_types.ServiceClient", connection.target).server
     if server is None or server.eContainer().eContainer() is None:
         return None, ()
     return server, tuple(route)
@@ -238,13 +267,16 @@ class _Walk:
     order every earlier consumer of the routes used), the first route to each, and how
     many routes reach each (counted up to 2 over the routes that revisit no topic)."""
 
-    def __init__(self, start: Any, edges: dict[int, list[tuple[Any, Any]]], T: Any) -> None:
+    def __init__(self, start: tsm_types.Topic, edges: Edges, T: tsm_types.Metamodel) -> None:
         home = start.eContainer()
         robot = T.RobotContainer
-        self.parent: dict[int, tuple[Any, Any] | None] = {id(start): None}  # topic -> (conn, prev)
+        # topic -> (connection, previous topic)
+        self.parent: dict[int, tuple[tsm_types.EndpointConnection, tsm_types.Topic] | None] = {
+            id(start): None
+        }
         found = {id(start): start}
         frontier = [start]
-        beyond: dict[int, tuple[Any, Any]] = {}  # topic reached only through a robot relay
+        beyond: dict[int, Reached] = {}  # topic reached only through a robot relay
         self.relaying: set[int] = set()  # reached topics whose container passes data on
         while frontier:
             topic = frontier.pop()
@@ -256,7 +288,7 @@ class _Walk:
                 if id(target) in found:
                     continue
                 if not relays:
-                    beyond.setdefault(id(target), (target, container))
+                    beyond.setdefault(id(target), (target, cast("tsm_types.Container", container)))
                     continue
                 found[id(target)] = target
                 self.parent[id(target)] = (connection, topic)
@@ -267,10 +299,10 @@ class _Walk:
 
     @staticmethod
     def _unreached(
-        beyond: dict[int, tuple[Any, Any]], found: dict[int, Any], edges: dict
-    ) -> list[tuple[Any, Any]]:
+        beyond: dict[int, Reached], found: dict[int, tsm_types.Topic], edges: Edges
+    ) -> list[Reached]:
         """The topics only a robot relay would reach, each with the first such robot."""
-        cut: dict[int, tuple[Any, Any]] = {}
+        cut: dict[int, Reached] = {}
         frontier = [pair for key, pair in beyond.items() if key not in found]
         for topic, robot in frontier:
             cut.setdefault(id(topic), (topic, robot))
@@ -282,7 +314,7 @@ class _Walk:
                     frontier.append((target, robot))
         return list(cut.values())
 
-    def route(self, topic: Any) -> tuple[Any, ...]:
+    def route(self, topic: tsm_types.Topic) -> Route:
         hops = []
         step = self.parent[id(topic)]
         while step is not None:
@@ -291,10 +323,12 @@ class _Walk:
             step = self.parent[id(previous)]
         return tuple(reversed(hops))
 
-    def count(self, topic: Any) -> int:
+    def count(self, topic: tsm_types.Topic) -> int:
         return self._counts.get(id(topic), 1)
 
-    def _count_routes(self, start: Any, found: dict[int, Any], edges: dict) -> dict[int, int]:
+    def _count_routes(
+        self, start: tsm_types.Topic, found: dict[int, tsm_types.Topic], edges: Edges
+    ) -> dict[int, int]:
         """Routes from ``start`` to each reached topic over the edges the walk took (between
         reached topics, leaving a relaying container), capped at 2. An edge back to a
         topic on the current depth-first path closes a loop and is no route."""
@@ -306,7 +340,9 @@ class _Walk:
         order: list[int] = []
         state: dict[int, int] = {}  # 1 on the path, 2 done
         keep: dict[int, list[int]] = defaultdict(list)
-        stack: list[tuple[int, Iterator[Any]]] = [(id(start), iter(inside.get(id(start), ())))]
+        stack: list[tuple[int, Iterator[tsm_types.Topic]]] = [
+            (id(start), iter(inside.get(id(start), ())))
+        ]
         state[id(start)] = 1
         while stack:
             key, targets = stack[-1]

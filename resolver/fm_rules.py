@@ -9,10 +9,13 @@ rules it violates, in the words the author wrote them.
 
 from __future__ import annotations
 
-from typing import Any, NamedTuple
+from typing import TYPE_CHECKING, NamedTuple, cast
 
 from spl.diagnostics import Location, location_of
 from spl.dsl.fm_printer import format_formula
+
+if TYPE_CHECKING:
+    from spl.dsl.fm_plain import FmConstraint, FmFeature, FmGroup
 
 
 class Rule(NamedTuple):
@@ -25,9 +28,9 @@ class Rule(NamedTuple):
     reads.
     """
 
-    index: int
+    index: int  # type: ignore[assignment]  # the rule's number (shadows tuple.index)
     kind: str  # root | parent | mandatory | group | constraint
-    element: Any
+    element: FmFeature | FmGroup | FmConstraint  # a group's for a group, ...
     features: tuple[str, ...] = ()
     bounds: tuple[int, int] = (0, -1)  # a group's (lower, upper as written, -1 = *)
     formula: tuple | None = None  # constraints: the formula as a tree of tuples
@@ -37,7 +40,7 @@ class Rule(NamedTuple):
         """Where the rule is written (looked up on demand: most rules are never reported)."""
         where = location_of(self.element)
         if where is None and self.kind == "constraint":
-            where = location_of(self.element.formula)
+            where = location_of(cast("FmConstraint", self.element).formula)
         return where
 
     @property
@@ -50,8 +53,8 @@ class Rule(NamedTuple):
         if kind == "mandatory":
             return f"{names[0]} is mandatory in {names[1]}"
         if kind == "constraint":
-            return format_formula(self.element.formula)
-        group = self.element
+            return format_formula(cast("FmConstraint", self.element).formula)
+        group = cast("FmGroup", self.element)
         parent, listed = names[0], ", ".join(names[1:])
         lower, upper = self.bounds
         if group_kind(group) == "alternative":
@@ -66,12 +69,12 @@ class Rule(NamedTuple):
         return f"{self.text} ({self.location})" if self.location else self.text
 
 
-def group_kind(group: Any) -> str:
+def group_kind(group: FmGroup) -> str:
     kind = group.kind
     return kind.name if hasattr(kind, "name") else str(kind)
 
 
-def group_bounds(group: Any, kind: str | None = None, n: int | None = None) -> tuple[int, int]:
+def group_bounds(group: FmGroup, kind: str | None = None, n: int | None = None) -> tuple[int, int]:
     """(lower, upper) of a group, upper ``-1`` meaning unbounded."""
     n = len(group.features) if n is None else n
     kind = group_kind(group) if kind is None else kind

@@ -10,17 +10,21 @@ which everything reading trees by index ignores.
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, cast
+
+if TYPE_CHECKING:
+    from spl.metamodels import fm_types
 
 
-def formula_tree(formula: Any) -> tuple:
+def formula_tree(formula: fm_types.Formula) -> tuple:
     """A constraint formula (pyecore) as plain tuples."""
     cls = type(formula).__name__
     if cls == "FeatureRef":
-        return ("ref", formula.feature.name)
+        return ("ref", cast("fm_types.FeatureRef", formula).feature.name)
     if cls == "Not":
-        return ("not", formula_tree(formula.operand))
-    return (formula.operator, formula_tree(formula.left), formula_tree(formula.right))
+        return ("not", formula_tree(cast("fm_types.Not", formula).operand))
+    binary = cast("fm_types.BinaryFormula", formula)
+    return (binary.operator, formula_tree(binary.left), formula_tree(binary.right))
 
 
 def formula_features(tree: tuple) -> tuple[str, ...]:

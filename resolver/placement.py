@@ -1,4 +1,4 @@
-"""Where each node of a resolved architecture runs, by sharing mode (SPEC 5.2).
+"""Where each node of a resolved architecture runs, by sharing mode (docs/deployment.md).
 
 A TSM cloud container ``C`` is a template: deployed, it becomes up to three instances,
 by the sharing mode of its nodes:
@@ -26,10 +26,13 @@ from __future__ import annotations
 import re
 from collections import defaultdict
 from dataclasses import dataclass
-from typing import Any, NamedTuple
+from typing import TYPE_CHECKING, NamedTuple, cast
 
 from spl.diagnostics import Diagnostic, location_of
 from spl.metamodels import tsm
+
+if TYPE_CHECKING:
+    from spl.metamodels import tsm_types
 
 TAG = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_-]*")
 MODES = ("private", "protected", "public")
@@ -64,23 +67,23 @@ class Instance(NamedTuple):
     nodes it runs (in model order) and the robotIDs using it (in model order)."""
 
     place: Place
-    container: Any
-    nodes: tuple[Any, ...]
+    container: tsm_types.CloudContainer
+    nodes: tuple[tsm_types.Node, ...]
     robots: tuple[str, ...]
 
 
-def sharing_mode(node: Any) -> str:
+def sharing_mode(node: tsm_types.Node) -> str:
     """A node's sharing mode (``private`` when the model leaves it unset)."""
     return node.sharing.name if node.sharing is not None else "private"
 
 
-def container_of(interface: Any) -> Any:
+def container_of(interface: tsm_types.Interface | None) -> tsm_types.Container | None:
     """The container of an endpoint interface or of a node interface."""
     owner = interface.eContainer() if interface is not None else None
     return owner.eContainer() if owner is not None else None
 
 
-def links(system: Any) -> defaultdict[int, set[int]]:
+def links(system: tsm_types.System) -> defaultdict[int, set[int]]:
     """The containers (by ``id``) each container exchanges data with through endpoint
     connections, in both directions."""
     neighbours: defaultdict[int, set[int]] = defaultdict(set)
@@ -92,7 +95,7 @@ def links(system: Any) -> defaultdict[int, set[int]]:
     return neighbours
 
 
-def rapyuta_user(container: Any) -> str | None:
+def rapyuta_user(container: tsm_types.Container) -> str | None:
     """The Rapyuta user a robot container logs in as (None: a cloud container, or none
     given)."""
     endpoint = container.endpoint if container.eClass.name == "RobotContainer" else None
@@ -106,14 +109,18 @@ class Placement:
     one tag) are appended to ``errors``, located in the model.
     """
 
-    def __init__(self, system: Any, errors: list[Diagnostic], group: str | None = None) -> None:
+    def __init__(
+        self, system: tsm_types.System, errors: list[Diagnostic], group: str | None = None
+    ) -> None:
         """``group``, when given, is the group of every cloud container: a fleet robot's
         group, which decides whose protected instances it shares."""
         T = tsm()
         self.T = T
         self.system = system
         self.errors = errors
-        self.robots = [c for c in system.containers if isinstance(c, T.RobotContainer)]
+        self.robots: list[tsm_types.Container] = [
+            c for c in system.containers if isinstance(c, T.RobotContainer)
+        ]
         self.robot_ids = {id(r): self._robot_id(r) for r in self.robots}
         self.groups = {
             id(c): self._group(c, group)
@@ -128,7 +135,7 @@ class Placement:
         for robot in self.robots:  # robots first: a container tag may not take their ids
             self.place(robot, "private", robot)
 
-    def _robot_id(self, robot: Any) -> str:
+    def _robot_id(self, robot: tsm_types.Container) -> str:
         robot_id = robot.endpoint.robotId if robot.endpoint is not None else None
         if not robot_id or not TAG.fullmatch(robot_id):
             problem = (
@@ -146,7 +153,7 @@ class Placement:
             return robot.name
         return robot_id
 
-    def _group(self, cloud: Any, group: str | None) -> str:
+    def _group(self, cloud: tsm_types.CloudContainer, group: str | None) -> str:
         group = group or cloud.group or cloud.name
         if not TAG.fullmatch(group):
             self.errors.append(
@@ -159,10 +166,10 @@ class Placement:
             return cloud.name
         return group
 
-    def is_robot(self, container: Any) -> bool:
+    def is_robot(self, container: tsm_types.Container) -> bool:
         return isinstance(container, self.T.RobotContainer)
 
-    def scope(self, robot: Any) -> list[Any]:
+    def scope(self, robot: tsm_types.Container) -> list[tsm_types.CloudContainer]:
         """The cloud containers ``robot`` uses: linked directly or through other clouds."""
         seen: set[int] = set()
         frontier = [id(robot)]
@@ -172,9 +179,13 @@ class Placement:
                 if neighbour not in seen and not self.is_robot(self.by_id[neighbour]):
                     seen.add(neighbour)
                     frontier.append(neighbour)
-        return [self.by_id[i] for i in sorted(seen, key=lambda i: self.by_id[i].name)]
+        clouds = [self.by_id[i] for i in sorted(seen, key=lambda i: self.by_id[i].name)]
+        return cast("list[tsm_types.CloudContainer]", clouds)  # no robot relays
 
-    def place(self, container: Any, mode: str, robot: Any) -> Place:
+    def place(
+        self, container: tsm_types.Container, mode: str, robot: tsm_types.Container | None
+    ) -> Place:
+        # (``robot`` None: seen from no robot in particular, for a node that is not private)
         """The instance of ``container`` holding its ``mode`` nodes, as ``robot`` sees it."""
         if self.is_robot(container):
             robot_id = self.robot_ids[id(container)]
@@ -204,7 +215,7 @@ class Placement:
             )
         return place
 
-    def _clash(self, container: Any, message: str) -> None:
+    def _clash(self, container: tsm_types.Container, message: str) -> None:
         clash = Diagnostic(location_of(container), message)
         self.errors.append(clash)
         self.clashes.append(clash)
@@ -226,7 +237,7 @@ class Placement:
                     found[place.tag] = known._replace(robots=(*known.robots, robot_id))
         return [found[tag] for tag in sorted(found)]
 
-    def node_place(self, node: Any, robot: Any) -> Place:
+    def node_place(self, node: tsm_types.Node, robot: tsm_types.Container | None) -> Place:
         """The instance ``node`` runs in for ``robot``."""
         return self.place(node.eContainer(), sharing_mode(node), robot)
 
@@ -234,7 +245,7 @@ class Placement:
 SHARED_ACROSS_USERS = "SPL047"
 
 
-def shared_across_users(system: Any) -> list[Diagnostic]:
+def shared_across_users(system: tsm_types.System) -> list[Diagnostic]:
     """A warning for each shared cloud instance that robots of two Rapyuta users use.
 
     The model says they share one instance, and Kubernetes and Zenoh deploy one; but the
@@ -271,7 +282,7 @@ def shared_across_users(system: Any) -> list[Diagnostic]:
 UNLINKED_CLOUD = "SPL048"
 
 
-def unlinked_clouds(system: Any) -> list[Diagnostic]:
+def unlinked_clouds(system: tsm_types.System) -> list[Diagnostic]:
     """A warning at each cloud container with nodes that no robot container reaches
     through endpoint connections (directly or through other clouds).
 

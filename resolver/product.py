@@ -11,10 +11,17 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from functools import cached_property
-from typing import Any
+from typing import TYPE_CHECKING
 
 from spl.diagnostics import Diagnostic, Location
 from spl.resolver.flows import FlowTable
+
+if TYPE_CHECKING:
+    from spl.metamodels import tsm_types
+
+# a feature attribute's value in a product, typed as the attribute is declared (int,
+# double, bool, string; None: declared without a default and given none)
+AttributeValue = int | float | bool | str | None
 
 
 @dataclass(frozen=True)
@@ -30,9 +37,9 @@ class NodeMigration:
 @dataclass
 class ResolvedProduct:
     name: str
-    system: Any  # tsm.System, the resolved architecture
+    system: tsm_types.System  # the resolved architecture
     features: tuple[str, ...]  # the completed selection, sorted
-    attributes: dict[str, Any] = field(default_factory=dict)  # "Feature.attr" -> value
+    attributes: dict[str, AttributeValue] = field(default_factory=dict)  # "Feature.attr" ->
     migrations: tuple[NodeMigration, ...] = ()
     warnings: tuple[Diagnostic, ...] = ()
     # (container, reason) of every container pruning left out: no file of the bundle
@@ -49,7 +56,7 @@ class ResolvedProduct:
         return FlowTable.of(self.system)
 
 
-def node_keys(system: Any) -> dict[int, str]:
+def node_keys(system: tsm_types.System) -> dict[int, str]:
     """How reports name each node of ``system`` (by ``id``): its name, or
     ``CONTAINER.NODE`` when two containers hold a node of that name (docs/semantics.md
     allows it), so a manifest or summary never folds two nodes into one entry."""
@@ -63,6 +70,6 @@ def node_keys(system: Any) -> dict[int, str]:
     }
 
 
-def topic_ros_name(topic: Any) -> str:
+def topic_ros_name(topic: tsm_types.Topic) -> str:
     """The ROS name a topic is published under; ``/Name`` when the model leaves it open."""
     return topic.rosName or f"/{topic.name}"

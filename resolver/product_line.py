@@ -6,10 +6,14 @@ from __future__ import annotations
 from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING
 
 from spl.diagnostics import Diagnostic, Location, ModelError
 from spl.dsl import rm
+
+if TYPE_CHECKING:
+    from spl.metamodels import fm_types, rm_types, tsm_types
+    from spl.resolver.analysis import FeatureModelFormula
 
 
 @dataclass(eq=False)
@@ -18,19 +22,19 @@ class ProductLine:
     models: rm.ResolutionModelFiles
 
     @property
-    def tsm(self) -> Any:
+    def tsm(self) -> tsm_types.System:
         return self.models.tsm
 
     @property
-    def fm(self) -> Any:
+    def fm(self) -> fm_types.FeatureModel:
         return self.models.fm
 
     @property
-    def rm(self) -> Any:
+    def rm(self) -> rm_types.ResolutionModel:
         return self.models.rm
 
     @cached_property
-    def formula(self) -> Any:
+    def formula(self) -> FeatureModelFormula:
         """The feature model's CNF in an incremental solver, built once for every product."""
         from spl.resolver.analysis import formula_of
 

@@ -1,4 +1,5 @@
-"""Product selections: the YAML file of SPEC section 4, or ``--features A,B,C`` inline.
+"""Product selections: the YAML file of docs/resolution.md ("Selections"), or
+``--features A,B,C`` inline.
 
 A selection is user input like any model, so it is validated with located errors:
 the YAML is composed (not just loaded) to keep the line and column of every key, and
@@ -11,7 +12,7 @@ import re
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, cast
 
 import yaml
 
@@ -21,6 +22,7 @@ from spl.resolver.located_yaml import read_yaml
 
 if TYPE_CHECKING:
     from spl.resolver.capabilities import RobotCapabilities
+    from spl.resolver.product import AttributeValue
 
 IDENT = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 ROBOT_ID = re.compile(r"[A-Za-z][A-Za-z0-9_-]{0,63}")
@@ -44,7 +46,8 @@ class ProductSelection:
     features: list[str]
     deselected: list[str] = field(default_factory=list)
     sharing: dict[str, str] = field(default_factory=dict)  # feature -> mode
-    attributes: dict[str, Any] = field(default_factory=dict)  # "Feature.attr" -> value
+    # "Feature.attr" -> value, as the file gives it (checked against its type by resolve)
+    attributes: dict[str, object] = field(default_factory=dict)
     deployment: dict[str, dict[str, str]] = field(default_factory=dict)  # container -> settings
     capabilities: RobotCapabilities | None = None  # chooses features (resolver.capabilities)
     # where each name was given (feature name / "Feature.attr" / sharing feature), for errors
@@ -100,6 +103,7 @@ def load_selection_file(path: str | Path) -> ProductSelection:
     if not isinstance(root, yaml.MappingNode):
         sink.error(Location(filename, 1, 1), "a product selection is a mapping (product, features)")
         sink.raise_if_errors()
+    root = cast("yaml.MappingNode", root)  # (else raised above)
     for key_node, value_node in read_selection(root.value, at, sink, selection, ("product",)):
         if isinstance(value_node, yaml.ScalarNode) and IDENT.fullmatch(value_node.value):
             selection.name = value_node.value
@@ -122,7 +126,7 @@ def read_selection(
 ) -> list[tuple[yaml.Node, yaml.Node]]:
     """Read the product-selection keys of a YAML mapping into ``selection`` (a product file,
     or a robot entry of a fleet file); return the pairs of ``extra_keys`` for the caller.
-    Any other key is a located error naming the keys allowed."""
+    Every other key is a located error naming the keys allowed."""
     allowed = tuple(k for k in TOP_LEVEL_KEYS if k != "product" or k in extra_keys)
     allowed += tuple(k for k in extra_keys if k not in TOP_LEVEL_KEYS)
     _refuse_duplicate_keys(pairs, at, sink)
@@ -232,7 +236,7 @@ class CommandLineValue(str):
 _NUMBER = re.compile(r"[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?")
 
 
-def typed_text(text: str, kind: str) -> Any:
+def typed_text(text: str, kind: str) -> AttributeValue:
     """``text`` read as a value of attribute type ``kind`` (``string`` takes it as it is),
     or None when it is not one: ``true``/``false``, a decimal int, a decimal number."""
     if kind == "string":
@@ -246,7 +250,7 @@ def typed_text(text: str, kind: str) -> Any:
     return None
 
 
-def _value(text: str) -> tuple[Any, str | None]:
+def _value(text: str) -> tuple[object, str | None]:
     """(value, None) for a YAML scalar, or (None, why not): an unknown tag or a tagged
     value that does not convert (``!!float x``) is the user's error, not ours."""
     try:

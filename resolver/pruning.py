@@ -1,4 +1,4 @@
-"""Pruning (SPEC 5.1 step 7): what a product does not use leaves its architecture.
+"""Pruning (docs/resolution.md, step 5): what a product does not use leaves its architecture.
 
 Elements go in two passes around the endpoint rewiring: optional nodes and stores
 nobody kept go first (so their interfaces stop feeding or calling anything), then,
@@ -16,30 +16,40 @@ explain``).
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, TypeVar
 
 from spl.diagnostics import location_of
 from spl.resolver.context import qualified
 from spl.resolver.trace import Trace
 
+if TYPE_CHECKING:
+    from spl.metamodels import tsm_types
+    from spl.metamodels.model_types import Many
 
-def prune_unkept(system: Any, kept: set[int], trace: Trace) -> None:
+Optional = TypeVar("Optional", "tsm_types.Node", "tsm_types.Store")  # what a product may drop
+
+
+def prune_unkept(system: tsm_types.System, kept: set[int], trace: Trace) -> None:
     """Optional elements nobody kept leave; the kept ones are no longer optional, since a
     product has no variability left (its resolved.tsm, resolved again, is itself)."""
     for container in system.containers:
-        for collection, what in ((container.nodes, "node"), (container.stores, "store")):
-            for element in list(collection):
-                if element.optional and id(element) in kept:
-                    element.optional = False
-                elif element.optional:
-                    subject = qualified(element) if what == "store" else element.name
-                    collection.remove(element)  # named first: qualified needs its container
-                    trace.record(
-                        subject,
-                        "removed",
-                        f"optional {what} that no active resolution element requires or transforms",
-                        location_of(element),
-                    )
+        _prune(container.nodes, "node", kept, trace)
+        _prune(container.stores, "store", kept, trace)
+
+
+def _prune(collection: Many[Optional], what: str, kept: set[int], trace: Trace) -> None:
+    for element in list(collection):
+        if element.optional and id(element) in kept:
+            element.optional = False
+        elif element.optional:
+            subject = qualified(element) if what == "store" else element.name
+            collection.remove(element)  # named first: qualified needs its container
+            trace.record(
+                subject,
+                "removed",
+                f"optional {what} that no active resolution element requires or transforms",
+                location_of(element),
+            )
 
 
 LEFT_OUT = {
@@ -48,14 +58,16 @@ LEFT_OUT = {
 }
 
 
-def prune_unused(system: Any, trace: Trace) -> tuple[tuple[str, str], ...]:
+def prune_unused(system: tsm_types.System, trace: Trace) -> tuple[tuple[str, str], ...]:
     """Remove unused topics and empty containers; returns ``(container, reason)`` for
     every container left out, in model order."""
     used: set[int] = set()
     for container in system.containers:
         interfaces = [i for node in container.nodes for i in node.interfaces]
         interfaces += list(container.endpoint.interfaces)
-        used.update(id(i.topic) for i in interfaces if getattr(i, "topic", None) is not None)
+        used.update(
+            id(topic) for i in interfaces if (topic := getattr(i, "topic", None)) is not None
+        )
     for container in system.containers:
         for topic in list(container.topics):
             if id(topic) not in used:

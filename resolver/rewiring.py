@@ -1,4 +1,4 @@
-"""Endpoint rewiring after node migration (SPEC 5.3), minimal by construction.
+"""Endpoint rewiring after node migration (docs/resolution.md), minimal by construction.
 
 Rather than patching bridges migration by migration, the wiring across containers is
 derived once from the data flows of the template:
@@ -26,7 +26,7 @@ can deliver are reported: SPL031 (peers in one container on two topics) and SPL0
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, cast
 
 import networkx as nx
 
@@ -34,8 +34,16 @@ from spl.diagnostics import Diagnostic, location_of
 from spl.metamodels import tsm
 from spl.resolver import endpoints
 from spl.resolver.context import Cause, qualified
-from spl.resolver.flows import SERVICE, TOPIC, CutRoute, FlowTable, NodeInterfaces
+from spl.resolver.flows import SERVICE, TOPIC, CutRoute, FlowTable, NodeInterfaces, topic_of
 from spl.resolver.trace import Trace
+
+if TYPE_CHECKING:
+    from spl.metamodels import tsm_types
+
+    Bound = tsm_types.Publisher | tsm_types.Subscriber  # a node interface bound to a topic
+    TopicFlow = tuple[tsm_types.Publisher, tsm_types.Subscriber]
+    # (id(source topic), id(target topic)) -> the flows a bridge between them carries
+    Bridges = dict[tuple[int, int], list[TopicFlow]]
 
 
 class Causes:
@@ -47,7 +55,7 @@ class Causes:
     def __init__(self, displaced: dict[int, Cause]) -> None:
         self.displaced = displaced
 
-    def of(self, *interfaces: Any) -> Cause | None:
+    def of(self, *interfaces: tsm_types.Interface) -> Cause | None:
         """The first cause among ``interfaces`` (their own, else their node's)."""
         for interface in interfaces:
             for element in (interface, interface.eContainer()):
@@ -56,7 +64,7 @@ class Causes:
         return None
 
     def record(
-        self, trace: Trace, subject: str, decision: str, text: str, *interfaces: Any
+        self, trace: Trace, subject: str, decision: str, text: str, *interfaces: tsm_types.Interface
     ) -> None:
         """A trace entry ``text``, with the cause among ``interfaces`` and its location."""
         cause = self.of(*interfaces)
@@ -67,7 +75,7 @@ class Causes:
 
 
 def rewire(
-    system: Any, trace: Trace, displaced: dict[int, Cause]
+    system: tsm_types.System, trace: Trace, displaced: dict[int, Cause]
 ) -> tuple[list[Diagnostic], tuple[CutRoute, ...]]:
     """Rebuild the cross-container wiring; ``displaced`` says why interfaces left the
     container of their template flows (ResolutionContext.displaced). Returns the
@@ -76,16 +84,23 @@ def rewire(
     causes = Causes(displaced)
     template = FlowTable.of(system)  # interfaces still point at their template topics
     local_before = {
-        id(f.source) for f in template if f.kind == SERVICE and f.source.server is f.target
+        id(f.source)
+        for f in template
+        if f.kind == SERVICE and cast("tsm_types.ServiceClient", f.source).server is f.target
     }
     publishers, subscribers, clients = NodeInterfaces.of(system.containers)
-    order = {id(i): n for n, i in enumerate(publishers + subscribers)}
-    served_by = {id(f.source): f.target for f in template if f.kind == SERVICE}
-    flows = [(f.source, f.target) for f in template if f.kind == TOPIC]
+    bound: list[Bound] = [*publishers, *subscribers]
+    order = {id(i): n for n, i in enumerate(bound)}
+    served_by = {
+        id(f.source): cast("tsm_types.ServiceServer", f.target)
+        for f in template
+        if f.kind == SERVICE
+    }
+    flows = [cast("TopicFlow", (f.source, f.target)) for f in template if f.kind == TOPIC]
     flows.sort(key=lambda flow: (order[id(flow[0])], order[id(flow[1])]))
-    _bind_moved(publishers + subscribers, flows, trace, causes)
+    _bind_moved(bound, flows, trace, causes)
 
-    bridges: dict[tuple[int, int], list[tuple[Any, Any]]] = {}
+    bridges: Bridges = {}
     warnings: list[Diagnostic] = []
     for publisher, subscriber in flows:
         if _container(publisher) is not _container(subscriber):
@@ -98,8 +113,8 @@ def rewire(
                     location_of(subscriber),
                     f"{qualified(subscriber)} was fed by {qualified(publisher)} through "
                     f"another container; both now live in {_container(publisher).name} "
-                    f"on different topics ({qualified(publisher.topic)}, "
-                    f"{qualified(subscriber.topic)}): connect them to one topic",
+                    f"on different topics ({qualified(topic_of(publisher))}, "
+                    f"{qualified(topic_of(subscriber))}): connect them to one topic",
                     "warning",
                     "SPL031",
                 )
@@ -118,15 +133,15 @@ def rewire(
     for key in sorted(minimal, key=lambda k: (position[k[0]], position[k[1]])):
         shared = minimal[key]
         publisher, subscriber = shared[0]
-        wiring.topic_bridge(publisher.topic, subscriber.topic)
+        wiring.topic_bridge(topic_of(publisher), topic_of(subscriber))
         ends = [end for flow in shared for end in flow]
         if causes.of(*ends) is not None:
             carried = ", ".join(f"{qualified(p)} -> {qualified(s)}" for p, s in shared)
             causes.record(
                 trace,
-                qualified(publisher.topic),
+                qualified(topic_of(publisher)),
                 "bridged",
-                f"to {qualified(subscriber.topic)} through the endpoints, carrying {carried}",
+                f"to {qualified(topic_of(subscriber))} through the endpoints, carrying {carried}",
                 *ends,
             )
     for client in clients:
@@ -161,13 +176,11 @@ def rewire(
     return warnings, template.cut
 
 
-def _container(interface: Any) -> Any:
+def _container(interface: tsm_types.Interface) -> tsm_types.Container:
     return interface.eContainer().eContainer()
 
 
-def _minimal_bridges(
-    bridges: dict[tuple[int, int], list], trace: Trace, warnings: list[Diagnostic]
-) -> dict:
+def _minimal_bridges(bridges: Bridges, trace: Trace, warnings: list[Diagnostic]) -> Bridges:
     """The bridges to build: no loop, and none that a chain of others makes redundant.
 
     Bridges are taken in flow order; one that would close a loop (data bridged from a
@@ -191,8 +204,8 @@ def _minimal_bridges(
                     Diagnostic(
                         location_of(subscriber),
                         f"{qualified(subscriber)} is no longer fed by {qualified(publisher)}: "
-                        f"bridging {qualified(publisher.topic)} to "
-                        f"{qualified(subscriber.topic)} would send data round a loop of "
+                        f"bridging {qualified(topic_of(publisher))} to "
+                        f"{qualified(topic_of(subscriber))} would send data round a loop of "
                         "bridges back to where it came from",
                         "warning",
                         "SPL032",
@@ -203,16 +216,16 @@ def _minimal_bridges(
         if (source, target) not in looping and not kept.has_edge(source, target):
             publisher, subscriber = flows[0]
             trace.record(
-                qualified(publisher.topic),
+                qualified(topic_of(publisher)),
                 "not bridged",
-                f"to {qualified(subscriber.topic)} directly: its data already arrives there "
+                f"to {qualified(topic_of(subscriber))} directly: its data already arrives there "
                 "through other bridges",
             )
     return {key: flows for key, flows in bridges.items() if kept.has_edge(*key)}
 
 
 def _bind_moved(
-    interfaces: list[Any], flows: list[tuple[Any, Any]], trace: Trace, causes: Causes
+    interfaces: list[Bound], flows: list[TopicFlow], trace: Trace, causes: Causes
 ) -> None:
     """Bind each interface of a migrated node (or one connected to a topic of another
     container) to a topic of its own container.
@@ -224,7 +237,7 @@ def _bind_moved(
     members use two topics, no single topic serves them all: each moved interface keeps
     the ROS-name rule and the flows that cannot be delivered are reported (SPL031).
     """
-    moved = [i for i in interfaces if i.topic.eContainer() is not _container(i)]
+    moved = [i for i in interfaces if topic_of(i).eContainer() is not _container(i)]
     if not moved:
         return
     position = {id(i): n for n, i in enumerate(interfaces)}
@@ -237,11 +250,11 @@ def _bind_moved(
     moved_ids = {id(i) for i in moved}
     indexes: dict[int, TopicIndex] = {}
     for first in moved:
-        if first.topic.eContainer() is _container(first):
+        if topic_of(first).eContainer() is _container(first):
             continue  # bound with an earlier member of its group
         group = sorted(nx.node_connected_component(peers, id(first)), key=position.__getitem__)
         members = [by_id[k] for k in group]
-        fixed = list(dict.fromkeys(m.topic for m in members if id(m) not in moved_ids))
+        fixed = list(dict.fromkeys(topic_of(m) for m in members if id(m) not in moved_ids))
         container = _container(first)
         if id(container) not in indexes:
             indexes[id(container)] = TopicIndex(container, causes)
@@ -271,16 +284,16 @@ def _bind_moved(
 class TopicIndex:
     """The topics of one container by (ROS name, type) and by name, kept up to date."""
 
-    def __init__(self, container: Any, causes: Causes) -> None:
+    def __init__(self, container: tsm_types.Container, causes: Causes) -> None:
         self.container = container
         self.causes = causes
         self.by_ros_name = {(t.rosName, t.type): t for t in container.topics}
         self.names = {t.name for t in container.topics}
 
-    def local_topic(self, interface: Any, trace: Trace) -> Any:
+    def local_topic(self, interface: Bound, trace: Trace) -> tsm_types.Topic:
         """The topic standing for ``interface``'s template topic: reused when one with
         the same ROS name and type exists, created otherwise (and shared from then on)."""
-        template = interface.topic
+        template = topic_of(interface)
         topic = self.by_ros_name.get((template.rosName, template.type))
         if topic is not None:
             self.causes.record(

@@ -8,13 +8,18 @@ product must agree, so the naming rules live here, once.
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, cast
 
 from spl.metamodels import tsm
 from spl.resolver.product import topic_ros_name
 
+if TYPE_CHECKING:
+    from spl.metamodels import tsm_types
 
-def _endpoint_caller_of(stand_in: Any, system: Any) -> Any | None:
+
+def _endpoint_caller_of(
+    stand_in: tsm_types.ServiceServer, system: tsm_types.System
+) -> tsm_types.ServiceClient | None:
     """The endpoint client that forwards calls arriving at an endpoint stand-in server."""
     for connection in system.connections:
         if connection.source is stand_in and isinstance(connection.target, tsm().ServiceClient):
@@ -22,7 +27,7 @@ def _endpoint_caller_of(stand_in: Any, system: Any) -> Any | None:
     return None
 
 
-def server_ros_name(server: Any, system: Any) -> str:
+def server_ros_name(server: tsm_types.ServiceServer, system: tsm_types.System) -> str:
     """The ROS name under which ``server`` is offered in its container.
 
     An endpoint stand-in without a name of its own offers the service under the name
@@ -31,7 +36,7 @@ def server_ros_name(server: Any, system: Any) -> str:
     relative to the container namespace.
     """
     seen: set[int] = set()
-    current = server
+    current: tsm_types.ServiceServer | None = server
     while current is not None and id(current) not in seen:
         seen.add(id(current))
         if current.rosName:
@@ -43,7 +48,7 @@ def server_ros_name(server: Any, system: Any) -> str:
     return server.name
 
 
-def remappings(node: Any, system: Any) -> list[tuple[str, str]]:
+def remappings(node: tsm_types.Node, system: tsm_types.System) -> list[tuple[str, str]]:
     """``(interface name, ROS name)`` for every connected interface, in model order."""
     T = tsm()
     rules = []
@@ -66,11 +71,14 @@ def in_namespace(name: str, namespace: str | None) -> str:
     return f"/{namespace.strip('/')}/{name}"
 
 
-def resolved_topic_name(topic: Any) -> str:
+def resolved_topic_name(topic: tsm_types.Topic) -> str:
     """The topic's ROS name as the launch files remap to it, in its container's namespace."""
-    return in_namespace(topic_ros_name(topic), topic.eContainer().namespace)
+    container = cast("tsm_types.Container", topic.eContainer())  # a topic of the system
+    return in_namespace(topic_ros_name(topic), container.namespace)
 
 
-def resolved_service_name(server: Any, container: Any, system: Any) -> str:
+def resolved_service_name(
+    server: tsm_types.ServiceServer, container: tsm_types.Container, system: tsm_types.System
+) -> str:
     """The ROS name a server (or endpoint stand-in) is called by in ``container``."""
     return in_namespace(server_ros_name(server, system), container.namespace)

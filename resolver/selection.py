@@ -1,4 +1,4 @@
-"""Checking a product selection against the feature model (SPEC section 5.1, step 2).
+"""Checking a product selection against the feature model (docs/resolution.md, step 1).
 
 A selection names features the user wants (and optionally features they do not want).
 It is one of three things:
@@ -18,9 +18,9 @@ It is one of three things:
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Literal, cast
 
 from pysat.solvers import Solver
 
@@ -28,6 +28,9 @@ from spl.diagnostics import Diagnostic, Location, ModelError
 from spl.resolver.analysis import FeatureModelFormula, formula_of
 from spl.resolver.fm_rules import Rule
 from spl.resolver.formula_trees import evaluate
+
+if TYPE_CHECKING:
+    from spl.dsl.fm_plain import FmModel
 
 Status = Literal["complete", "incomplete", "invalid"]
 
@@ -86,7 +89,7 @@ SUGGESTED = 20
 
 
 def check_selection(
-    model: Any,
+    model: FmModel | FeatureModelFormula,
     selected: Iterable[str],
     deselected: Iterable[str] = (),
     locations: Mapping[str, Location] | None = None,
@@ -205,7 +208,7 @@ def _open_choices(
             if parent in chosen and sum(m in chosen for m in members) < lower:
                 candidates = tuple(m for m in members if m in undecided)
                 choices.append(OpenChoice(rule, candidates))
-        elif rule.kind == "constraint" and not evaluate(rule.formula, chosen):
+        elif rule.kind == "constraint" and not evaluate(cast(tuple, rule.formula), chosen):
             candidates = tuple(
                 n for n in formula.cnf.names if n in undecided and n in rule.features
             )
@@ -218,7 +221,7 @@ def _invalid(
     selected: tuple[str, ...],
     deselected: tuple[str, ...],
     assumptions: list[int],
-    where: Any,
+    where: Callable[[str | None], Location | None],
 ) -> SelectionCheck:
     cnf = formula.cnf
     base = cnf.num_vars

@@ -9,7 +9,7 @@ generated file, so they are decided here once.
 from __future__ import annotations
 
 import hashlib
-from typing import Any, NamedTuple
+from typing import TYPE_CHECKING, NamedTuple, cast
 
 from spl.diagnostics import Diagnostic, location_of
 from spl.dsl.transform_types import check_system
@@ -24,11 +24,17 @@ from spl.resolver.generated_names import (
 from spl.resolver.placement import Placement
 from spl.resolver.product import ResolvedProduct
 
+if TYPE_CHECKING:
+    from spl.metamodels import tsm_types
+
+    # what a table or an index of a store comes from
+    Source = tsm_types.Store | tsm_types.Refinement
+
 DATABASE_ATTRIBUTE = "database"  # a selected feature's attribute, one of DATABASES
 DATABASES = ("sqlite", "postgresql")
 
 
-def cloud_stores(system: Any) -> list[Any]:
+def cloud_stores(system: tsm_types.System) -> list[tsm_types.Store]:
     """The stores of the cloud containers, in model order."""
     return [
         store
@@ -73,7 +79,7 @@ class StoreTables(NamedTuple):
     refined: dict[str, str]  # refined data type name -> its table
 
 
-def store_tables(slug: str, store: Any) -> StoreTables:
+def store_tables(slug: str, store: tsm_types.Store) -> StoreTables:
     refined = {
         r.output.name: relation_name(f"{slug}_{snake_case(r.output.name)}")
         for r in store.refinements
@@ -92,11 +98,15 @@ def table_indexes(table: str) -> tuple[str, str]:
     return relation_name(f"{table}_time"), relation_name(f"{table}_robot_time")
 
 
-def store_relations(slug: str, store: Any) -> list[tuple[str, Any]]:
+def store_relations(slug: str, store: tsm_types.Store) -> list[tuple[str, Source]]:
     """Every table and index name of a store, with the element it comes from (the
     store, or the refinement of a refined table), in order."""
     tables = store_tables(slug, store)
-    found = [(tables.raw, store), (tables.watermarks, store), (tables.errors, store)]
+    found: list[tuple[str, Source]] = [
+        (tables.raw, store),
+        (tables.watermarks, store),
+        (tables.errors, store),
+    ]
     found += [(index, store) for index in table_indexes(tables.raw)]
     for refinement in store.refinements:
         if refinement.output is not None:
@@ -110,13 +120,13 @@ def _names(key: str) -> StoreNames:
     return StoreNames(key, slug, dns_name(slug))
 
 
-def _forms(store: Any, key: str) -> set[str]:
+def _forms(store: tsm_types.Store, key: str) -> set[str]:
     names = _names(key)
     relations = {f"table:{name}" for name, _ in store_relations(names.slug, store)}
     return {f"dir:{key.lower()}", f"py:{names.slug}", f"dns:{names.dns}"} | relations
 
 
-def store_names(system: Any) -> dict[int, StoreNames]:
+def store_names(system: tsm_types.System) -> dict[int, StoreNames]:
     """The names of every cloud store (by ``id``), unique across the product: a store
     is named after itself, or after its container and itself where two stores of the
     product would otherwise share a folder, package, table or Kubernetes name (two
@@ -149,7 +159,7 @@ def database_kind(product: ResolvedProduct) -> str:
     return "sqlite"
 
 
-def store_errors(system: Any) -> list[Diagnostic]:
+def store_errors(system: tsm_types.System) -> list[Diagnostic]:
     """What keeps the stores of ``system`` from being generated: ill-typed transforms,
     reserved field names, refinements that do not fit their store, a refined type whose
     table or index would take a name the store already uses (``Raw``, ``Errors``...).
@@ -158,13 +168,17 @@ def store_errors(system: Any) -> list[Diagnostic]:
     problems = [d for d in check_system(system) if d.severity == "error"]
     names = store_names(system)
     for store in cloud_stores(system):
-        seen: dict[str, Any] = {}
+        seen: dict[str, Source] = {}
         refused: set[int] = set()  # one error per refined type, at its first clash
         for name, element in store_relations(names[id(store)].slug, store):
             first = seen.setdefault(name, element)
             if first is not element and id(element) not in refused:
                 refused.add(id(element))
-                what = f"refined type {element.output.name}" if element is not store else "it"
+                what = (
+                    f"refined type {cast('tsm_types.Refinement', element).output.name}"
+                    if element is not store
+                    else "it"
+                )
                 problems.append(
                     Diagnostic(
                         location_of(element) or location_of(store),

@@ -1,4 +1,4 @@
-"""Which flows of a resolved architecture cross a deployment boundary (SPEC 5.2).
+"""Which flows of a resolved architecture cross a deployment boundary (docs/deployment.md).
 
 :mod:`spl.resolver.flows` says who talks to whom in the architecture, one row per
 delivery; :mod:`spl.resolver.placement` says where each node runs: on a robot, or in
@@ -23,15 +23,18 @@ from __future__ import annotations
 from collections import defaultdict
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, cast
 
 from spl.diagnostics import Diagnostic, location_of
 from spl.metamodels import tsm
 from spl.resolver.context import qualified
-from spl.resolver.flows import TOPIC, Flow, FlowTable, container_of
+from spl.resolver.flows import TOPIC, Flow, FlowTable, container_of, node_of
 from spl.resolver.placement import Place, Placement, sharing_mode
 from spl.resolver.ros_names import resolved_service_name, resolved_topic_name
 from spl.resolver.trace import Trace
+
+if TYPE_CHECKING:
+    from spl.metamodels import tsm_types
 
 
 @dataclass(frozen=True)
@@ -43,8 +46,10 @@ class Crossing:
     kind: str
     source: Place
     target: Place
-    source_element: Any  # topic: the Topic published on; service: the calling ServiceClient
-    target_element: Any  # topic: the Topic subscribed to; service: the real ServiceServer
+    # topic: the Topic published on; service: the calling ServiceClient
+    source_element: tsm_types.Topic | tsm_types.ServiceClient
+    # topic: the Topic subscribed to; service: the real ServiceServer
+    target_element: tsm_types.Topic | tsm_types.ServiceServer
     source_name: str  # the ROS name at the source, in its container's namespace
     target_name: str  # the ROS name at the target, in its container's namespace
     flow: Flow = field(compare=False)  # the flow table's row it carries
@@ -62,7 +67,7 @@ class Wiring:
         self.placement = placement
         self.errors = errors
 
-    def view(self, robot: Any) -> list[Any]:
+    def view(self, robot: tsm_types.Container) -> list[tsm_types.Container]:
         """The containers ``robot``'s deployment sees: itself, the clouds it uses and the
         robots linked to those."""
         placement = self.placement
@@ -75,7 +80,7 @@ class Wiring:
             }
         return [c for c in placement.by_id.values() if id(c) in allowed]
 
-    def deliveries(self, robot: Any) -> Iterator[Delivery]:
+    def deliveries(self, robot: tsm_types.Container) -> Iterator[Delivery]:
         """Every flow between two containers of ``robot``'s view, placed, in table
         order; ``withheld`` when a private partition would serve another robot."""
         placement = self.placement
@@ -88,14 +93,14 @@ class Wiring:
         for flow in self.flows:
             if id(flow.source_container) not in allowed or id(flow.target_container) not in allowed:
                 continue
-            source = placement.node_place(flow.source.eContainer(), robot)
-            target = placement.node_place(flow.target.eContainer(), robot)
+            source = placement.node_place(node_of(flow.source), robot)
+            target = placement.node_place(node_of(flow.target), robot)
             withheld = (foreign(source) and target.kind == "private") or (
                 foreign(target) and source.kind == "private"
             )
             yield Delivery(flow, source, target, withheld)
 
-    def crossings(self, robot: Any) -> Iterator[Crossing]:
+    def crossings(self, robot: tsm_types.Container) -> Iterator[Crossing]:
         """The crossings of the system instantiated for ``robot``: topics first (by
         publisher, then subscriber, in model order), then service calls (by client)."""
         system = self.placement.system
@@ -104,7 +109,11 @@ class Wiring:
             if delivery.withheld:
                 continue
             if flow.kind == TOPIC:
-                source_topic, target_topic = flow.source.topic, flow.target.topic
+                publisher = cast("tsm_types.Publisher", flow.source)
+                subscriber = cast("tsm_types.Subscriber", flow.target)
+                # a topic flow's ends are bound (spl.resolver.flows)
+                source_topic = cast("tsm_types.Topic", publisher.topic)
+                target_topic = cast("tsm_types.Topic", subscriber.topic)
                 source_name = resolved_topic_name(source_topic)
                 target_name = resolved_topic_name(target_topic)
                 if producer == consumer and source_name == target_name:
@@ -113,8 +122,8 @@ class Wiring:
                     self.errors.append(
                         Diagnostic(
                             location_of(flow.target),
-                            f"{flow.source.eContainer().name}.{flow.source.name} feeds "
-                            f"{flow.target.eContainer().name}.{flow.target.name} with "
+                            f"{node_of(flow.source).name}.{flow.source.name} feeds "
+                            f"{node_of(flow.target).name}.{flow.target.name} with "
                             f"{source_topic.type} but it expects {target_topic.type}",
                         )
                     )
@@ -124,14 +133,18 @@ class Wiring:
                     source_name, target_name, flow,
                 )  # fmt: skip
             elif producer != consumer:
-                client, server = flow.source, flow.target
+                client = cast("tsm_types.ServiceClient", flow.source)
+                server = cast("tsm_types.ServiceServer", flow.target)
                 yield Crossing(
                     "service",
                     producer,
                     consumer,
                     client,
                     server,
-                    resolved_service_name(client.server, container_of(client), system),
+                    # (a service flow's client is bound: to the server or a stand-in)
+                    resolved_service_name(
+                        cast("tsm_types.ServiceServer", client.server), container_of(client), system
+                    ),
                     resolved_service_name(server, container_of(server), system),
                     flow,
                 )
@@ -156,27 +169,30 @@ class CutOff:
     instance for that robot takes nothing from it, while other robots' data reaches the
     node: ``feeders`` are those robots, each with the flow its data takes in."""
 
-    taker: Any
-    giver: Any
-    robot: Any
-    feeders: tuple[tuple[Any, Flow], ...]
+    taker: tsm_types.Interface
+    giver: tsm_types.Interface
+    robot: tsm_types.Container
+    feeders: tuple[tuple[tsm_types.Container, Flow], ...]
 
 
-def cut_off(flows: FlowTable, private: Callable[[Any], bool]) -> list[CutOff]:
+def cut_off(flows: FlowTable, private: Callable[[tsm_types.Node], bool]) -> list[CutOff]:
     """Every :class:`CutOff` of a flow table, ``private`` saying which cloud nodes are
     private (one instance per robot), in table order, once per taker and node."""
     T = tsm()
 
-    def on_robot(interface: Any) -> Any:
+    def on_robot(interface: tsm_types.Interface) -> tsm_types.Container | None:
         owner = container_of(interface)
         return owner if isinstance(owner, T.RobotContainer) else None
 
-    def alone(interface: Any) -> bool:
-        return on_robot(interface) is None and private(interface.eContainer())
+    def alone(interface: tsm_types.Interface) -> bool:
+        return on_robot(interface) is None and private(node_of(interface))
 
     # who gives data to whom: a publisher to a subscriber, a server's answers to its client
-    given = [(f, f.source, f.target) if f.kind == TOPIC else (f, f.target, f.source) for f in flows]
-    feeders: dict[int, dict[int, tuple[Any, Flow]]] = defaultdict(dict)  # node -> robot -> why
+    given: list[tuple[Flow, tsm_types.Interface, tsm_types.Interface]] = [
+        (f, f.source, f.target) if f.kind == TOPIC else (f, f.target, f.source) for f in flows
+    ]
+    # id(node) -> id(robot) -> (robot, why)
+    feeders: dict[int, dict[int, tuple[tsm_types.Container, Flow]]] = defaultdict(dict)
     for flow, giver, taker in given:
         robot = on_robot(giver)
         if robot is not None and alone(taker):
@@ -188,8 +204,8 @@ def cut_off(flows: FlowTable, private: Callable[[Any], bool]) -> list[CutOff]:
             if alone(giver) and alone(taker):
                 into = feeders[id(taker.eContainer())]
                 before = len(into)
-                for robot, why in list(feeders[id(giver.eContainer())].items()):
-                    into.setdefault(robot, why)
+                for robot_id, why in list(feeders[id(giver.eContainer())].items()):
+                    into.setdefault(robot_id, why)
                 changed |= len(into) != before
     found: dict[tuple[int, int], CutOff] = {}
     for _, giver, taker in given:
@@ -200,7 +216,7 @@ def cut_off(flows: FlowTable, private: Callable[[Any], bool]) -> list[CutOff]:
     return list(found.values())
 
 
-def cross_robot_flows(system: Any, flows: FlowTable, trace: Trace) -> list[Diagnostic]:
+def cross_robot_flows(system: tsm_types.System, flows: FlowTable, trace: Trace) -> list[Diagnostic]:
     """A warning (SPL050) at each robot interface that a private cloud node feeds from an
     instance nothing of that robot feeds, while another robot's data reaches the node
     (directly or through other private nodes): one instance per robot, so that data
@@ -209,13 +225,13 @@ def cross_robot_flows(system: Any, flows: FlowTable, trace: Trace) -> list[Diagn
     if sum(c.eClass.name == "RobotContainer" for c in system.containers) < 2:
         return []
     return [
-        cross_robot_warning(cut, _private_because(cut.giver.eContainer(), trace))
+        cross_robot_warning(cut, _private_because(node_of(cut.giver), trace))
         for cut in cut_off(flows, lambda node: sharing_mode(node) == "private")
     ]
 
 
 def cross_robot_warning(cut: CutOff, why_private: str) -> Diagnostic:
-    node, robot = cut.giver.eContainer(), cut.robot
+    node, robot = node_of(cut.giver), cut.robot
     fed_by = "; ".join(f"{other.name} ({why.describe()})" for other, why in cut.feeders)
     return Diagnostic(
         location_of(cut.taker),
@@ -229,7 +245,7 @@ def cross_robot_warning(cut: CutOff, why_private: str) -> Diagnostic:
     )
 
 
-def _private_because(node: Any, trace: Trace) -> str:
+def _private_because(node: tsm_types.Node, trace: Trace) -> str:
     """Why a node is private in this product: the feature's sharing mode, or the .tsm."""
     decision = next(
         (e for e in trace.entries if e.subject == node.name and e.decision == "sharing"), None

@@ -103,7 +103,9 @@ _UNSAVED: ContextVar[Mapping[str, str] | None] = ContextVar("unsaved_texts", def
 
 
 @contextmanager
-def unsaved_texts(texts: Mapping[str | Path, str]) -> Iterator[None]:
+def unsaved_texts(
+    texts: Mapping[str, str] | Mapping[Path, str] | Mapping[str | Path, str],
+) -> Iterator[None]:
     """Inside the block, :func:`model_text` of a path in ``texts`` returns that text
     instead of reading the file: the language server (``spl lsp``) checks an editor's
     unsaved buffers with the very parsers ``spl check`` runs on the saved files."""

@@ -1,6 +1,6 @@
 """Generic operations on pyecore models that pyecore itself lacks.
 
-The Resolution Engine transforms a *copy* of the template model (SPEC 5.1 step 3),
+The Resolution Engine transforms a *copy* of the template model (docs/resolution.md, step 2),
 and printers are tested with parse(print(m)) == m; both need a structural view of a
 model driven by its metamodel rather than by hand-written per-class code.
 Transient features (source locations) are ignored by comparison but kept by copies,

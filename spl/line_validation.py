@@ -1,4 +1,4 @@
-"""CI validation of product lines (SPEC section 8): derive products, check every artifact.
+"""CI validation of product lines (docs/ci.md): derive products, check every artifact.
 
 Each product is one test case: its selection is checked and resolved, every artifact of
 its bundle is generated in memory and validated (launch XSDs, Rapyuta JSON Schema and

@@ -1,4 +1,4 @@
-"""The one place the order of spl's work is written down (SPEC section 1):
+"""The one place the order of spl's work is written down (docs/index.md, "Pipeline"):
 
     load the line (parse .rm, .tsm, .fm; build the feature formula)
       -> check the selection and resolve it (M2M: the resolved architecture)
@@ -159,7 +159,7 @@ def line_summaries(line: ProductLine) -> dict[Path, str]:
 
 
 def check_line(line: ProductLine) -> list[Diagnostic]:
-    """The product-line checks (SPEC section 8) of a line whose models load."""
+    """The product-line checks (docs/commands.md, "spl check") of a line whose models load."""
     from spl.resolver.line_checks import check_product_line
 
     return check_product_line(line)
@@ -205,8 +205,8 @@ def check_models(target: Path, count: bool = True) -> tuple[dict[str, Any], list
     if not target.is_dir():
         report["not_a_line"] = None
     elif resolution_models != 1:
-        count = resolution_models or "no"
-        report["not_a_line"] = f"{count} .rm files; a product line holds one"
+        many = resolution_models or "no"
+        report["not_a_line"] = f"{many} .rm files; a product line holds one"
         if resolution_models > 1:  # resolve and validate refuse the folder: so does check
             from spl.resolver.product_line import find_resolution_model
 

@@ -1,4 +1,5 @@
-"""Checks of a product line as a whole (SPEC section 8), before any product is derived.
+"""Checks of a product line as a whole (docs/commands.md, "spl check"), before any product
+is derived.
 
 The engine finds a conflict only in the one product it resolves; a CI job wants to
 know that *no* product of the line can hit one, without deriving them all. Each check

@@ -8,11 +8,14 @@ with the number of elements and questions, never with the number of products.
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING
 
 from pysat.solvers import Solver
 
 from spl.resolver.product_line import ProductLine
+
+if TYPE_CHECKING:
+    from spl.metamodels import rm_types
 
 # how many models found are kept to answer later queries without the solver
 MODELS_KEPT = 32
@@ -51,7 +54,7 @@ class ActivationSolver:
     def __exit__(self, *exc: object) -> None:
         self.close()
 
-    def literal(self, element: Any) -> int:
+    def literal(self, element: rm_types.ResolutionElement) -> int:
         variable = self.cnf.var[element.feature.name]
         return variable if element.activeIfSelected else -variable
 
@@ -61,7 +64,7 @@ class ActivationSolver:
         del self._models[:-MODELS_KEPT]
         return model
 
-    def decide(self, elements: list[Any]) -> None:
+    def decide(self, elements: list[rm_types.ResolutionElement]) -> None:
         """Settle whether each element can be active, with as few solver calls as the
         feature model allows (one per model that makes a new activation literal true)."""
         pending = {self.literal(e) for e in elements} - {
@@ -85,7 +88,7 @@ class ActivationSolver:
                 self._answers[frozenset((lit,))] = True
                 pending.discard(lit)
 
-    def possible(self, *elements: Any) -> bool:
+    def possible(self, *elements: rm_types.ResolutionElement) -> bool:
         """Whether one product activates all ``elements`` (asked once per literal set)."""
         assumptions = frozenset(self.literal(e) for e in elements)
         answer = self._answers.get(assumptions)
@@ -113,7 +116,7 @@ class ActivationSolver:
         return self._top
 
     def witness_where(
-        self, element: Any | None, clauses: list[list[int]]
+        self, element: rm_types.ResolutionElement | None, clauses: list[list[int]]
     ) -> tuple[str, ...] | None:
         """A product activating ``element`` (if one is given) in which ``clauses`` (over
         activation literals and :meth:`fresh` variables) hold, or None. The clauses are
@@ -131,7 +134,7 @@ class ActivationSolver:
             return None
         return tuple(sorted(self.cnf.names[lit - 1] for lit in model if lit > 0))
 
-    def witness(self, *elements: Any) -> tuple[str, ...] | None:
+    def witness(self, *elements: rm_types.ResolutionElement) -> tuple[str, ...] | None:
         """A product (feature names, sorted) in which all ``elements`` are active, or None.
 
         Only asked for what is reported: reading a whole model costs time linear in the

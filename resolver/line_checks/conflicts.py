@@ -13,7 +13,7 @@ from __future__ import annotations
 from collections import defaultdict
 from collections.abc import Iterator
 from itertools import combinations
-from typing import Any
+from typing import TYPE_CHECKING
 
 from spl.diagnostics import Diagnostic, location_of
 from spl.dsl.rm_names import Names
@@ -24,10 +24,15 @@ from spl.resolver.product_line import ProductLine
 from spl.resolver.transformations import kind_of, sharing_targets
 from spl.resolver.transformations.kind import Decision, DecisionKey
 
+if TYPE_CHECKING:
+    from spl.metamodels import rm_types
+
 CONFLICT = "SPL012"
 
 
-def decisions(element: Any, names: Names) -> Iterator[tuple[DecisionKey, Decision]]:
+def decisions(
+    element: rm_types.ResolutionElement, names: Names
+) -> Iterator[tuple[DecisionKey, Decision]]:
     """Every decision an element takes when active, keyed like the engine's registry
     (kind, decided template element): its statements' (each kind knows its own) and its
     feature's sharing mode. ``names`` follows the elements in file order (a topic named
@@ -76,7 +81,7 @@ def reachable_conflicts(line: ProductLine, solver: ActivationSolver) -> list[Dia
                     f"conflict: {describe(second.element)} gives {key[0]} {second.value} to "
                     f"{second.subject}, but {describe(first.element)} gives {first.value} "
                     f"(at {first.location}); both are active in the product "
-                    f"{', '.join(product)}",
+                    f"{', '.join(product or ())}",  # (possible: there is one)
                     "error",
                     CONFLICT,
                 )

@@ -20,10 +20,10 @@ product are found by ``spl resolve`` in the product that has them.
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING
 
 from spl.diagnostics import Diagnostic, ModelError, location_of
-from spl.resolver.flows import FlowTable
+from spl.resolver.flows import FlowTable, node_of
 from spl.resolver.line_checks.activation import ActivationSolver
 from spl.resolver.line_checks.listed_products import Listed
 from spl.resolver.placement import sharing_mode
@@ -31,6 +31,9 @@ from spl.resolver.product_line import ProductLine
 from spl.resolver.product_selection import ProductSelection, selection_from_list
 from spl.resolver.transformations import sharing_targets, touched_elements
 from spl.resolver.wiring import CROSS_ROBOT, cut_off
+
+if TYPE_CHECKING:
+    from spl.metamodels import tsm_types
 
 
 def cross_robot_flows_in_line(
@@ -57,23 +60,23 @@ def cross_robot_flows_in_line(
                 mode = element.feature.sharing.mode.name
                 mode_by.setdefault(id(node), []).append((solver.literal(element), mode))
 
-    def can_be_private(node: Any) -> bool:
+    def can_be_private(node: tsm_types.Node) -> bool:
         modes = {mode for _, mode in mode_by.get(id(node), ())}
         return "private" in modes or sharing_mode(node) == "private"
 
-    def present(node: Any) -> list[list[int]] | None:
+    def present(node: tsm_types.Node) -> list[list[int]] | None:
         """Clauses keeping ``node`` in a product; None when no product can."""
         if not node.optional:
             return []
         literals = keeping.get(id(node))
         return [literals] if literals else None
 
-    def absent(node: Any) -> list[list[int]] | None:
+    def absent(node: tsm_types.Node) -> list[list[int]] | None:
         if not node.optional:
             return None
         return [[-literal] for literal in keeping.get(id(node), [])]
 
-    def private(node: Any) -> list[list[int]]:
+    def private(node: tsm_types.Node) -> list[list[int]]:
         others = [[-lit] for lit, mode in mode_by.get(id(node), ()) if mode != "private"]
         if sharing_mode(node) == "private":
             return others
@@ -81,9 +84,9 @@ def cross_robot_flows_in_line(
 
     template = FlowTable.of(line.tsm)
     for cut in cut_off(template, can_be_private):
-        node = cut.giver.eContainer()
+        node = node_of(cut.giver)
         feeder = cut.feeders[0][1].source if cut.feeders[0][1].kind == "topic" else None
-        ends = [node, cut.taker.eContainer()] + ([feeder.eContainer()] if feeder else [])
+        ends = [node, node_of(cut.taker)] + ([node_of(feeder)] if feeder else [])
         clauses: list[list[int]] | None = private(node)
         for end in ends:
             keep = present(end)
@@ -93,7 +96,7 @@ def cross_robot_flows_in_line(
             taker = flow.target if flow.kind == "topic" else flow.source
             mine = taker.eContainer() is node and giver.eContainer().eContainer() is cut.robot
             if clauses is not None and mine:
-                drop = absent(giver.eContainer())
+                drop = absent(node_of(giver))
                 clauses = None if drop is None else clauses + drop
         if clauses is None:
             continue
@@ -115,7 +118,9 @@ def _warnings(line: ProductLine, selection: ProductSelection) -> list[Diagnostic
     return [w for w in product.warnings if w.code == CROSS_ROBOT]
 
 
-def _confirmed(line: ProductLine, witness: tuple[str, ...], taker: Any) -> list[Diagnostic]:
+def _confirmed(
+    line: ProductLine, witness: tuple[str, ...], taker: tsm_types.Interface
+) -> list[Diagnostic]:
     """The witness product's own SPL050 at ``taker``, naming the product."""
     where = location_of(taker)
     named = f", in the product {', '.join(witness)}"

@@ -10,14 +10,14 @@ product that does not set it (a warning).
 
 from __future__ import annotations
 
-from spl.diagnostics import Diagnostic, location_of
+from spl.diagnostics import Diagnostic, Severity, location_of
 from spl.resolver.product_line import ProductLine
 
 INCOMPLETE_ENDPOINT = "SPL018"
 
 
 # (the settings, by their .tsm name and attribute), severity, what follows when one is missing
-RULES = (
+RULES: tuple[tuple[tuple[tuple[str, str], ...], Severity, str], ...] = (
     (
         (("user", "user"), ("password env", "passwordEnv")),
         "error",

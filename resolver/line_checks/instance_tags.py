@@ -71,9 +71,9 @@ def _possible_modes(line: ProductLine, listed: Listed) -> dict[int, set[str]]:
         if config is None:
             continue
         feature_modes = {config.mode.name} | chosen[element.feature.name]
-        for node in sharing_targets(element):
-            if isinstance(node, Node):  # not a store
-                modes[id(node.eContainer())] |= feature_modes
+        for shared in sharing_targets(element):
+            if isinstance(shared, Node):  # not a store
+                modes[id(shared.eContainer())] |= feature_modes
         for _, target in moved:
             modes[id(target)] |= feature_modes
     return modes

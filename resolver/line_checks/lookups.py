@@ -17,8 +17,9 @@ report is never made for a product in which the statement would succeed.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from functools import partial
-from typing import Any, NamedTuple
+from typing import TYPE_CHECKING, NamedTuple, cast
 
 from spl.diagnostics import Diagnostic, location_of
 from spl.dsl.rm_names import (
@@ -28,9 +29,13 @@ from spl.dsl.rm_names import (
     not_served_here,
     same_container_bridge,
 )
+from spl.resolver.flows import node_of
 from spl.resolver.line_checks.activation import ActivationSolver
 from spl.resolver.product_line import ProductLine
 from spl.resolver.transformations import kind_of
+
+if TYPE_CHECKING:
+    from spl.metamodels import rm_types, tsm_types
 
 PRODUCT_DEPENDENT = "SPL016"
 
@@ -65,11 +70,13 @@ NEVER = Condition("any", ())
 class _Statement:
     """One statement's questions, asked with the model as the statements before it left it."""
 
-    def __init__(self, solver: ActivationSolver, names: Names, element: Any) -> None:
+    def __init__(
+        self, solver: ActivationSolver, names: Names, element: rm_types.ResolutionElement
+    ) -> None:
         self.solver, self.names, self.element = solver, names, element
         self.clauses: list[list[int]] = []
 
-    def at(self, placement: Placement, place: Any) -> Condition:
+    def at(self, placement: Placement, place: tsm_types.Container) -> Condition:
         """The node of ``placement`` is in ``place`` at that statement."""
         if placement.certain is not None:
             return ALWAYS if place is placement.certain else NEVER
@@ -84,13 +91,13 @@ class _Statement:
         self.clauses += condition.implied_by(variable)
         return variable
 
-    def missing(self, container: Any, name: str) -> Condition | int:
+    def missing(self, container: tsm_types.Container, name: str) -> Condition | int:
         """Topic ``name`` is missing from ``container`` when the statement runs: a constant,
         or a variable implying it. A `new topic` before created it when its element was
         active and its node was in ``container`` then."""
         if self.names.declared_topic(container, name):
             return NEVER
-        not_created = []  # per creation: its element off, or its node elsewhere
+        not_created: list[list[int]] = []  # per creation: its element off, or its node elsewhere
         for creation in self.names.creations(container, name):
             elsewhere = self.at(creation.placement, container).negated()
             if elsewhere.constant is True:
@@ -109,7 +116,7 @@ class _Statement:
         self.clauses += [[-variable, *clause] for clause in not_created]
         return variable
 
-    def one_of(self, options: list[Condition | int]) -> bool:
+    def one_of(self, options: Sequence[Condition | int]) -> bool:
         """Require that one of ``options`` holds; False when none can."""
         variables = []
         for option in options:
@@ -135,16 +142,20 @@ class _Statement:
         return self.solver.witness_where(self.element, self.clauses)
 
     # the questions a statement's kind asks (TransformationKind.questions)
-    def topic_lookup(self, node: Any, reference: Any) -> str | None:
+    def topic_lookup(
+        self, node: tsm_types.Node | None, reference: rm_types.TopicReference
+    ) -> str | None:
         return _topic_lookup(self, node, reference)
 
-    def apart(self, client: Any, server: Any) -> str | None:
+    def apart(self, client: tsm_types.ServiceClient, server: tsm_types.ServiceServer) -> str | None:
         return _apart(self, client, server)
 
-    def together(self, client: Any, server: Any) -> str | None:
+    def together(
+        self, client: tsm_types.ServiceClient, server: tsm_types.ServiceServer
+    ) -> str | None:
         return _together(self, client, server)
 
-    def onto_a_name(self, node: Any, target: Any) -> str | None:
+    def onto_a_name(self, node: tsm_types.Node, target: tsm_types.Container) -> str | None:
         return _onto_a_name(self, node, target)
 
     def witness_of_any(self, options: list[int]) -> tuple[str, ...] | None:
@@ -174,10 +185,17 @@ def product_dependent_statements(line: ProductLine, solver: ActivationSolver) ->
     return found
 
 
-def _topic_lookup(statement: _Statement, node: Any, reference: Any) -> str | None:
+def _topic_lookup(
+    statement: _Statement, node: tsm_types.Node | None, reference: rm_types.TopicReference
+) -> str | None:
     """O1/T1/T2/T4: the topic named is missing where it is looked up."""
-    placement = statement.names.placement(node) if reference.container is None else None
-    places = placement.places if placement is not None else [reference.container]
+    placement = (
+        statement.names.placement(cast("tsm_types.Node", node))  # an unqualified name's
+        if reference.container is None
+        else None
+    )
+    named = cast("tsm_types.Container", reference.container)  # when there is no placement
+    places = placement.places if placement is not None else [named]
     for place in places:
         elsewhere = statement.at(placement, place).negated() if placement else NEVER
         if not statement.one_of([elsewhere, statement.missing(place, reference.name)]):
@@ -186,23 +204,28 @@ def _topic_lookup(statement: _Statement, node: Any, reference: Any) -> str | Non
     if witness is None:
         return None
     if placement is None:
-        problem = f"unknown topic {reference.name} in container {reference.container.name}"
+        container = cast("tsm_types.Container", reference.container)
+        problem = f"unknown topic {reference.name} in container {container.name}"
     else:
         problem = (
             f"unknown topic {reference.name} in container {_place(placement, witness).name}, "
-            f"where {node.name} is at this point"
+            f"where {placement.node.name} is at this point"
         )
     return _in_product(problem, witness)
 
 
-def _common_places(statement: _Statement, client: Any, server: Any):
+def _common_places(
+    statement: _Statement, client: tsm_types.ServiceClient, server: tsm_types.ServiceServer
+) -> tuple[list[Placement], list[tsm_types.Container]]:
     """The placements of two interfaces' nodes and the containers both can be in."""
-    placements = [statement.names.placement(i.eContainer()) for i in (client, server)]
+    placements = [statement.names.placement(node_of(i)) for i in (client, server)]
     common = [p for p in placements[0].places if any(p is q for q in placements[1].places)]
     return placements, common
 
 
-def _apart(statement: _Statement, client: Any, server: Any) -> str | None:
+def _apart(
+    statement: _Statement, client: tsm_types.ServiceClient, server: tsm_types.ServiceServer
+) -> str | None:
     """S1: `to server` whose two nodes are in different containers."""
     placements, common = _common_places(statement, client, server)
     for place in common:
@@ -217,7 +240,9 @@ def _apart(statement: _Statement, client: Any, server: Any) -> str | None:
     return _in_product(f"{problem} (containers at this point)", witness)
 
 
-def _together(statement: _Statement, client: Any, server: Any) -> str | None:
+def _together(
+    statement: _Statement, client: tsm_types.ServiceClient, server: tsm_types.ServiceServer
+) -> str | None:
     """S2: a service bridge whose two nodes are in one container."""
     placements, common = _common_places(statement, client, server)
     options = [statement.both(*(statement.at(p, place) for p in placements)) for place in common]
@@ -228,10 +253,12 @@ def _together(statement: _Statement, client: Any, server: Any) -> str | None:
     return _in_product(same_container_bridge(client, server, place), witness)
 
 
-def _onto_a_name(statement: _Statement, node: Any, target: Any) -> str | None:
+def _onto_a_name(
+    statement: _Statement, node: tsm_types.Node, target: tsm_types.Container
+) -> str | None:
     """N5: a migration into a container holding a node of the same name at that point."""
     residents = [
-        statement.names.placement(r)
+        statement.names.placement(cast("tsm_types.Node", r))  # (a store is placed alike)
         for r in statement.names.declared.get(node.name, ())
         if r is not node
     ]
@@ -245,7 +272,7 @@ def _onto_a_name(statement: _Statement, node: Any, target: Any) -> str | None:
     return _in_product(name_taken(node, target, resident), witness)
 
 
-def _place(placement: Placement, witness: tuple[str, ...]) -> Any:
+def _place(placement: Placement, witness: tuple[str, ...]) -> tsm_types.Container:
     """Where the node of ``placement`` is in the product ``witness``: moved by the first
     active migration before the statement (a later one elsewhere is a conflict, SPL012,
     and is not applied)."""

@@ -9,8 +9,13 @@ deployed only as fleets, or whose products always set the ids, never uses the te
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 from spl.diagnostics import Diagnostic, location_of
 from spl.resolver.product_line import ProductLine
+
+if TYPE_CHECKING:
+    from spl.metamodels import tsm_types
 
 SHARED_ROBOT_ID = "SPL017"
 
@@ -18,7 +23,9 @@ SHARED_ROBOT_ID = "SPL017"
 def shared_robot_ids(line: ProductLine) -> list[Diagnostic]:
     """A warning at each robot container whose robot_id an earlier one already has."""
     found = []
-    first: dict[str, object] = {}  # robot_id in lower case -> the first container with it
+    first: dict[
+        str, tsm_types.Container
+    ] = {}  # robot_id in lower case -> the first container with it
     for container in line.tsm.containers:
         endpoint = container.endpoint if container.eClass.name == "RobotContainer" else None
         robot_id = endpoint.robotId if endpoint is not None else None

@@ -51,7 +51,8 @@ def product_count(
         return ProductCount(None, f"count skipped after {seconds:g} s")
     core, dead = formula.backbone()
     cnf = formula.cnf
-    units = [(cnf.var[name],) for name in core] + [(-cnf.var[name],) for name in dead]
+    units: list[tuple[int, ...]] = [(cnf.var[name],) for name in core]
+    units += [(-cnf.var[name],) for name in dead]
     depth: dict[str, int] = {}
     for name in cnf.names:  # pre-order: parents come first
         parent = cnf.parent.get(name)

@@ -1,5 +1,7 @@
-"""The kinds of resolution statements (seeds/003's four transformation kinds, the
-connection kind split by what it connects), one class per module, and their registry.
+"""The kinds of resolution statements (the four transformation kinds of the mapping paper,
+*A Software Product Line Approach for Configuring Cloud Robotics Applications*, as
+docs/index.md names it; the connection kind split by what it connects), one class per
+module, and their registry.
 
 Everything that acts on or reasons about a ``.rm`` statement asks its kind
 (:func:`kind_of`): the engine applies it, the product-line checks ask what it keeps,
@@ -11,7 +13,7 @@ new module with a :class:`~.kind.TransformationKind` subclass and its line in
 from __future__ import annotations
 
 from collections.abc import Iterator
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from spl.resolver.transformations.bridge import ConnectBridge
 from spl.resolver.transformations.implementation import Implementation
@@ -22,7 +24,12 @@ from spl.resolver.transformations.parameter import ParameterValue
 from spl.resolver.transformations.to_server import ConnectService
 from spl.resolver.transformations.to_topic import ConnectToTopic
 
-KINDS: dict[str, TransformationKind] = {
+if TYPE_CHECKING:
+    from spl.metamodels import rm_types, tsm_types
+
+# by the rm.ecore class a kind is of (a statement reaches its kind by its class's name,
+# so the kinds' statement types are one for the table)
+KINDS: dict[str, TransformationKind[Any]] = {
     kind.metaclass: kind
     for kind in (
         Implementation(),
@@ -36,12 +43,14 @@ KINDS: dict[str, TransformationKind] = {
 }
 
 
-def kind_of(transformation: Any) -> TransformationKind:
+def kind_of(transformation: rm_types.Transformation) -> TransformationKind[Any]:
     """The kind of a ``.rm`` statement (by its rm.ecore class)."""
     return KINDS[transformation.eClass.name]
 
 
-def touched_elements(element: Any) -> Iterator[Any]:
+def touched_elements(
+    element: rm_types.ResolutionElement,
+) -> Iterator[tsm_types.NamedElement]:
     """The nodes and stores a resolution element keeps in a product when it is active
     (what the engine's ``keep`` is called with): its required ones, and those its
     statements keep."""
@@ -50,7 +59,7 @@ def touched_elements(element: Any) -> Iterator[Any]:
         yield from kind_of(t).touched(t)
 
 
-def sharing_targets(element: Any) -> list[Any]:
+def sharing_targets(element: rm_types.ResolutionElement) -> list[tsm_types.NamedElement]:
     """The template elements a resolution element's feature gives its sharing mode to: the
     ones it requires and the nodes it implements or migrates (stores among them too; the
     callers keep what they need)."""
@@ -59,6 +68,6 @@ def sharing_targets(element: Any) -> list[Any]:
     ]
 
 
-def moves(element: Any) -> list[tuple[Any, Any]]:
+def moves(element: rm_types.ResolutionElement) -> list[tuple[tsm_types.Node, tsm_types.Container]]:
     """(node, target container) of the element's migrations, in order."""
     return [m for t in element.transformations if (m := kind_of(t).move(t)) is not None]

@@ -1,4 +1,5 @@
-"""What the four connection kinds of seeds/003 share: interface to an existing topic
+"""What the four connection kinds of the mapping paper (docs/index.md) share: interface to
+an existing topic
 (:mod:`.to_topic`), interface to a new topic (:mod:`.new_topic`), service client to
 server (:mod:`.to_server`), and a bridge between containers (:mod:`.bridge`).
 
@@ -11,38 +12,57 @@ containers are looked up here, in the product as the statements before left it
 from __future__ import annotations
 
 from collections.abc import Iterator
-from typing import Any
+from typing import TYPE_CHECKING, cast
 
-from spl.diagnostics import location_of
+from spl.diagnostics import Location, location_of
 from spl.dsl.rm_names import agree, missing_topic
 from spl.resolver.context import Cause, ResolutionContext, qualified
+from spl.resolver.flows import node_of  # the .rm names node interfaces only
 from spl.resolver.transformations.kind import Decision, DecisionKey, Predictions
 
+if TYPE_CHECKING:
+    from spl.dsl.rm_names import Names
+    from spl.metamodels import rm_types, tsm_types
 
-def here(interface: Any) -> Any:
+    Connect = rm_types.ConnectToTopic | rm_types.ConnectToNewTopic
+    Served = rm_types.ConnectService | rm_types.ConnectBridge
+
+
+def here(interface: tsm_types.Interface) -> tsm_types.Container:
     """The container an interface's node is in now (after the migrations so far)."""
     return interface.eContainer().eContainer()
 
 
-def type_mismatch(ctx: ResolutionContext, a: Any, b: Any, where: Any) -> bool:
+def type_mismatch(
+    ctx: ResolutionContext,
+    a: tsm_types.Interface | tsm_types.Topic,
+    b: tsm_types.Topic,
+    where: Location | None,
+) -> bool:
     if agree(a, b):
         return False
     ctx.sink.error(where, f"type mismatch: {a.name} is {a.type}, {b.name} is {b.type}")
     return True
 
 
-def connect_interface(interface: Any, topic: Any, ctx: ResolutionContext, where: Any) -> None:
+def connect_interface(
+    interface: tsm_types.Interface,
+    topic: tsm_types.Topic,
+    ctx: ResolutionContext,
+    where: Location | None,
+) -> None:
     """Bind ``interface`` to ``topic``; one of another container is carried by the
     endpoints, and the rewiring names this statement as the cause."""
-    node = interface.eContainer()
+    node = node_of(interface)
     ctx.keep(node, f"its interface {interface.name} is connected by {ctx.by()}", where)
     ctx.keep(topic, f"{interface.name} of {node.name} is connected to it by {ctx.by()}", where)
     if ctx.decide("topic", interface, qualified(topic), where):
-        interface.topic = topic
-        if topic.eContainer() is not here(interface):  # the endpoints will carry it
+        cast("tsm_types.Publisher | tsm_types.Subscriber", interface).topic = topic
+        owner = cast("tsm_types.Container", topic.eContainer())  # a topic of the product
+        if owner is not here(interface):  # the endpoints will carry it
             ctx.displaced[id(interface)] = Cause(
                 f"{qualified(interface)} is connected to {qualified(topic)} of container "
-                f"{topic.eContainer().name} by {ctx.by()}",
+                f"{owner.name} by {ctx.by()}",
                 where,
             )
         ctx.trace.record(
@@ -50,7 +70,12 @@ def connect_interface(interface: Any, topic: Any, ctx: ResolutionContext, where:
         )
 
 
-def topic_named(ctx: ResolutionContext, reference: Any, node: Any, where: Any) -> Any:
+def topic_named(
+    ctx: ResolutionContext,
+    reference: rm_types.TopicReference,
+    node: tsm_types.Node | None,
+    where: Location | None,
+) -> tsm_types.Topic | None:
     """The topic a reference names now: in its container, else where ``node`` is."""
     if reference.container is not None:
         container = ctx.copy_of(reference.container)
@@ -58,6 +83,7 @@ def topic_named(ctx: ResolutionContext, reference: Any, node: Any, where: Any) -
         if topic is None:
             ctx.sink.error(where, f"unknown topic {reference.name} in container {container.name}")
         return topic
+    node = cast("tsm_types.Node", node)  # a reference without container is a node's
     topic = ctx.topic_named(node.eContainer(), reference.name)
     if topic is None:
         message = missing_topic(reference.name, node, [node.eContainer()])
@@ -65,11 +91,13 @@ def topic_named(ctx: ResolutionContext, reference: Any, node: Any, where: Any) -
     return topic
 
 
-def topic_decision(t: Any, element: Any, names: Any) -> Iterator[tuple[DecisionKey, Decision]]:
+def topic_decision(
+    t: Connect, element: rm_types.ResolutionElement, names: Names
+) -> Iterator[tuple[DecisionKey, Decision]]:
     """A `to topic` or `to new topic` decides its interface's topic, identified by its
     container and name (a `new topic` declared by two elements is one topic)."""
-    container = getattr(t.topic, "container", None)
-    places = names.places(t.interface.eContainer())
+    container: tsm_types.Container | None = getattr(t.topic, "container", None)
+    places = names.places(node_of(t.interface))
     if container is None and len(places) == 1:
         container = places[0]
     name = t.topic.name
@@ -79,14 +107,17 @@ def topic_decision(t: Any, element: Any, names: Any) -> Iterator[tuple[DecisionK
     yield ("topic", id(t.interface)), decision
 
 
-def predict_topic(t: Any, element: Any, effects: Predictions) -> None:
-    node, aspect = t.interface.eContainer(), f"topic of {t.interface.name}"
+def predict_topic(t: Connect, element: rm_types.ResolutionElement, effects: Predictions) -> None:
+    node, aspect = node_of(t.interface), f"topic of {t.interface.name}"
     effects.effect(node, aspect, element, effects.topic_value(t), location_of(t))
 
 
-def server_decision(t: Any, element: Any) -> Iterator[tuple[DecisionKey, Decision]]:
+def server_decision(
+    t: Served, element: rm_types.ResolutionElement
+) -> Iterator[tuple[DecisionKey, Decision]]:
     """A `to server` or service bridge decides its client's server."""
-    server = t.server
+    server = cast("tsm_types.ServiceServer", t.server)  # a service bridge's is set
     value = f"{server.eContainer().eContainer().name}.{qualified(server)}"
-    decision = Decision("server", qualified(t.client), value, element, location_of(t))
+    client = cast("tsm_types.ServiceClient", t.client)
+    decision = Decision("server", qualified(client), value, element, location_of(t))
     yield ("server", id(t.client)), decision

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Iterator
-from typing import Any
+from typing import TYPE_CHECKING
 
 from spl.diagnostics import location_of
 from spl.resolver.context import ResolutionContext, qualified
@@ -14,11 +14,15 @@ from spl.resolver.transformations.kind import (
     TransformationKind,
 )
 
+if TYPE_CHECKING:
+    from spl.dsl.rm_names import Names
+    from spl.metamodels import rm_types, tsm_types
 
-class Implementation(TransformationKind):
+
+class Implementation(TransformationKind["rm_types.Implementation"]):
     metaclass = "Implementation"
 
-    def apply(self, t: Any, ctx: ResolutionContext) -> None:
+    def apply(self, t: rm_types.Implementation, ctx: ResolutionContext) -> None:
         node = ctx.copy_of(t.node)
         value = _value(t)
         where = location_of(t)
@@ -28,20 +32,24 @@ class Implementation(TransformationKind):
             reason = f"{value}, set by {ctx.by()}"
             ctx.trace.record(qualified(node), "implementation", reason, where)
 
-    def touched(self, t: Any) -> Iterator[Any]:
+    def touched(self, t: rm_types.Implementation) -> Iterator[tsm_types.Node | tsm_types.Store]:
         yield t.node
 
-    def shares(self, t: Any) -> Iterator[Any]:
+    def shares(self, t: rm_types.Implementation) -> Iterator[tsm_types.Node]:
         yield t.node
 
-    def decisions(self, t: Any, element: Any, names: Any) -> Iterator[tuple[DecisionKey, Decision]]:
+    def decisions(
+        self, t: rm_types.Implementation, element: rm_types.ResolutionElement, names: Names
+    ) -> Iterator[tuple[DecisionKey, Decision]]:
         where = location_of(t)
         decision = Decision("implementation", t.node.name, _value(t), element, where)
         yield ("implementation", id(t.node)), decision
 
-    def predict(self, t: Any, element: Any, effects: Predictions) -> None:
+    def predict(
+        self, t: rm_types.Implementation, element: rm_types.ResolutionElement, effects: Predictions
+    ) -> None:
         effects.effect(t.node, "implementation", element, _value(t), location_of(t))
 
 
-def _value(t: Any) -> str:
+def _value(t: rm_types.Implementation) -> str:
     return f"{t.package}/{t.executable}"

@@ -17,13 +17,18 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, ClassVar, Protocol
+from typing import TYPE_CHECKING, ClassVar, Generic, Protocol, TypeVar
 
 from spl.diagnostics import Location
 
 if TYPE_CHECKING:
     from spl.dsl.rm_names import Names
+    from spl.metamodels import fm_types, rm_types, tsm_types
     from spl.resolver.context import ResolutionContext
+    from spl.resolver.effects import EffectValue
+
+# the rm.ecore class of the statements of one kind
+Statement = TypeVar("Statement", bound="rm_types.Transformation")
 
 DecisionKey = tuple[str, int]  # (what is decided, id of the template element decided on)
 
@@ -35,7 +40,7 @@ class Decision:
     kind: str  # the engine's wording: implementation, value, period, migration target, ...
     subject: str  # the thing decided, as messages name it
     value: str
-    element: Any  # the resolution element deciding
+    element: rm_types.ResolutionElement  # the resolution element deciding
     location: Location | None
     # a topic decision: (container name, topic name); the container is None when it is
     # only known in a product (an unqualified name, a node some migration may move)
@@ -54,67 +59,89 @@ class Decision:
 class Predictions(Protocol):
     """The fleet analysis' table of what elements do to nodes (resolver/effects.py)."""
 
-    def effect(self, node: Any, aspect: str, element: Any, value: Any, where: Any) -> None: ...
+    def effect(
+        self,
+        node: tsm_types.Node,
+        aspect: str,
+        element: rm_types.ResolutionElement,
+        value: EffectValue,
+        where: Location | None,
+    ) -> None: ...
 
-    def server(self, client: Any, element: Any, server: Any, where: Any) -> None: ...
+    def server(
+        self,
+        client: tsm_types.ServiceClient,
+        element: rm_types.ResolutionElement,
+        server: tsm_types.ServiceServer,
+        where: Location | None,
+    ) -> None: ...
 
-    def topic_value(self, connect: Any) -> str: ...
+    def topic_value(self, connect: rm_types.ConnectToTopic | rm_types.ConnectToNewTopic) -> str: ...
 
 
 class Questions(Protocol):
     """SAT questions about one statement: each answers with the message of a product in
     which the statement fails, or None (resolver/line_checks/lookups.py)."""
 
-    def topic_lookup(self, node: Any, reference: Any) -> str | None: ...
+    def topic_lookup(
+        self, node: tsm_types.Node | None, reference: rm_types.TopicReference
+    ) -> str | None: ...
 
-    def apart(self, client: Any, server: Any) -> str | None: ...
+    def apart(
+        self, client: tsm_types.ServiceClient, server: tsm_types.ServiceServer
+    ) -> str | None: ...
 
-    def together(self, client: Any, server: Any) -> str | None: ...
+    def together(
+        self, client: tsm_types.ServiceClient, server: tsm_types.ServiceServer
+    ) -> str | None: ...
 
-    def onto_a_name(self, node: Any, target: Any) -> str | None: ...
+    def onto_a_name(self, node: tsm_types.Node, target: tsm_types.Container) -> str | None: ...
 
 
-class TransformationKind:
-    """The behaviour of one ``.rm`` metaclass; subclasses override what applies to them."""
+class TransformationKind(Generic[Statement]):
+    """The behaviour of one ``.rm`` metaclass (``Statement``, its class in rm.ecore);
+    subclasses override what applies to them."""
 
     metaclass: ClassVar[str]  # the rm.ecore class of the statements of this kind
 
-    def apply(self, t: Any, ctx: ResolutionContext) -> None:
+    def apply(self, t: Statement, ctx: ResolutionContext) -> None:
         """Act on the product as the statements before it left it (docs/semantics.md)."""
         raise NotImplementedError
 
-    def touched(self, t: Any) -> Iterator[Any]:
+    def touched(self, t: Statement) -> Iterator[tsm_types.Node | tsm_types.Store]:
         """The template nodes and stores an active statement keeps in the product."""
         return iter(())
 
-    def shares(self, t: Any) -> Iterator[Any]:
+    def shares(self, t: Statement) -> Iterator[tsm_types.Node]:
         """The template nodes the statement's feature gives its sharing mode to (besides
         the element's required ones)."""
         return iter(())
 
     def decisions(
-        self, t: Any, element: Any, names: Names
+        self, t: Statement, element: rm_types.ResolutionElement, names: Names
     ) -> Iterator[tuple[DecisionKey, Decision]]:
         """What the statement decides when its element is active, keyed like the engine's
         registry of decisions (``ResolutionContext.decide``)."""
         return iter(())
 
-    def predict(self, t: Any, element: Any, effects: Predictions) -> None:
+    def predict(
+        self, t: Statement, element: rm_types.ResolutionElement, effects: Predictions
+    ) -> None:
         """Record in the fleet analysis' table what the statement does to nodes."""
 
-    def questions(self, t: Any, ask: Callable[[], Questions]) -> Iterator[str | None]:
+    def questions(self, t: Statement, ask: Callable[[], Questions]) -> Iterator[str | None]:
         """For each way the statement can fail in some product, the witness message (a
         new question object per question: each asks the solver once)."""
         return iter(())
 
-    def move(self, t: Any) -> tuple[Any, Any] | None:
+    def move(self, t: Statement) -> tuple[tsm_types.Node, tsm_types.Container] | None:
         """(node, target container) of a migration."""
         return None
 
-    def attribute(self, t: Any) -> Any:
+    def attribute(self, t: Statement) -> fm_types.Attribute | None:
         """The feature attribute whose value the statement uses, if any."""
         return None
 
-    def created_topic(self, t: Any) -> Any:
+    def created_topic(self, t: Statement) -> tsm_types.Topic | None:
         """The topic a ``new topic`` statement declares."""
         return None

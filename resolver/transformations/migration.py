@@ -10,7 +10,7 @@ move and in whatever order.
 from __future__ import annotations
 
 from collections.abc import Callable, Iterator
-from typing import Any
+from typing import TYPE_CHECKING
 
 from spl.diagnostics import location_of
 from spl.dsl.rm_names import name_taken
@@ -24,13 +24,17 @@ from spl.resolver.transformations.kind import (
     TransformationKind,
 )
 
+if TYPE_CHECKING:
+    from spl.dsl.rm_names import Names
+    from spl.metamodels import rm_types, tsm_types
+
 PLACEMENT = "placement"  # the fleet analysis' aspect: where a node runs
 
 
-class NodeMigration(TransformationKind):
+class NodeMigration(TransformationKind["rm_types.NodeMigration"]):
     metaclass = "NodeMigration"
 
-    def apply(self, t: Any, ctx: ResolutionContext) -> None:
+    def apply(self, t: rm_types.NodeMigration, ctx: ResolutionContext) -> None:
         node = ctx.copy_of(t.node)
         target = ctx.copy_of(t.target)
         where = location_of(t)
@@ -50,22 +54,28 @@ class NodeMigration(TransformationKind):
             node.name, "migrated", f"from {source.name} to {target.name} by {ctx.by()}", where
         )
 
-    def touched(self, t: Any) -> Iterator[Any]:
+    def touched(self, t: rm_types.NodeMigration) -> Iterator[tsm_types.Node | tsm_types.Store]:
         yield t.node
 
-    def shares(self, t: Any) -> Iterator[Any]:
+    def shares(self, t: rm_types.NodeMigration) -> Iterator[tsm_types.Node]:
         yield t.node
 
-    def decisions(self, t: Any, element: Any, names: Any) -> Iterator[tuple[DecisionKey, Decision]]:
+    def decisions(
+        self, t: rm_types.NodeMigration, element: rm_types.ResolutionElement, names: Names
+    ) -> Iterator[tuple[DecisionKey, Decision]]:
         where = location_of(t)
         decision = Decision("migration target", t.node.name, t.target.name, element, where)
         yield ("migration target", id(t.node)), decision
 
-    def predict(self, t: Any, element: Any, effects: Predictions) -> None:
+    def predict(
+        self, t: rm_types.NodeMigration, element: rm_types.ResolutionElement, effects: Predictions
+    ) -> None:
         effects.effect(t.node, PLACEMENT, element, t.target.name, location_of(t))
 
-    def questions(self, t: Any, ask: Callable[[], Questions]) -> Iterator[str | None]:
+    def questions(
+        self, t: rm_types.NodeMigration, ask: Callable[[], Questions]
+    ) -> Iterator[str | None]:
         yield ask().onto_a_name(t.node, t.target)
 
-    def move(self, t: Any) -> tuple[Any, Any]:
+    def move(self, t: rm_types.NodeMigration) -> tuple[tsm_types.Node, tsm_types.Container]:
         return t.node, t.target

@@ -4,7 +4,7 @@ node is at that statement, the interface bound to it."""
 from __future__ import annotations
 
 from collections.abc import Iterator
-from typing import Any
+from typing import TYPE_CHECKING
 
 from spl.diagnostics import location_of
 from spl.dsl.rm_names import new_topic_clash, same_topic
@@ -12,6 +12,7 @@ from spl.resolver.context import ResolutionContext
 from spl.resolver.transformations.connect import (
     connect_interface,
     here,
+    node_of,
     predict_topic,
     topic_decision,
 )
@@ -22,11 +23,15 @@ from spl.resolver.transformations.kind import (
     TransformationKind,
 )
 
+if TYPE_CHECKING:
+    from spl.dsl.rm_names import Names
+    from spl.metamodels import rm_types, tsm_types
 
-class ConnectToNewTopic(TransformationKind):
+
+class ConnectToNewTopic(TransformationKind["rm_types.ConnectToNewTopic"]):
     metaclass = "ConnectToNewTopic"
 
-    def apply(self, t: Any, ctx: ResolutionContext) -> None:
+    def apply(self, t: rm_types.ConnectToNewTopic, ctx: ResolutionContext) -> None:
         """Creates the topic where the interface's node is now; a topic of that name
         already there is only accepted when an earlier `new topic` made it alike."""
         where = location_of(t)
@@ -42,14 +47,21 @@ class ConnectToNewTopic(TransformationKind):
             return
         connect_interface(interface, topic, ctx, where)
 
-    def touched(self, t: Any) -> Iterator[Any]:
-        yield t.interface.eContainer()
+    def touched(self, t: rm_types.ConnectToNewTopic) -> Iterator[tsm_types.Node | tsm_types.Store]:
+        yield node_of(t.interface)
 
-    def decisions(self, t: Any, element: Any, names: Any) -> Iterator[tuple[DecisionKey, Decision]]:
+    def decisions(
+        self, t: rm_types.ConnectToNewTopic, element: rm_types.ResolutionElement, names: Names
+    ) -> Iterator[tuple[DecisionKey, Decision]]:
         return topic_decision(t, element, names)
 
-    def predict(self, t: Any, element: Any, effects: Predictions) -> None:
+    def predict(
+        self,
+        t: rm_types.ConnectToNewTopic,
+        element: rm_types.ResolutionElement,
+        effects: Predictions,
+    ) -> None:
         predict_topic(t, element, effects)
 
-    def created_topic(self, t: Any) -> Any:
+    def created_topic(self, t: rm_types.ConnectToNewTopic) -> tsm_types.Topic | None:
         return t.topic

@@ -3,12 +3,12 @@
 from __future__ import annotations
 
 from collections.abc import Callable, Iterator
-from typing import Any
+from typing import TYPE_CHECKING
 
 from spl.diagnostics import location_of
 from spl.dsl.rm_names import not_served_here
 from spl.resolver.context import ResolutionContext, qualified
-from spl.resolver.transformations.connect import here, server_decision
+from spl.resolver.transformations.connect import here, node_of, server_decision
 from spl.resolver.transformations.kind import (
     Decision,
     DecisionKey,
@@ -17,11 +17,15 @@ from spl.resolver.transformations.kind import (
     TransformationKind,
 )
 
+if TYPE_CHECKING:
+    from spl.dsl.rm_names import Names
+    from spl.metamodels import rm_types, tsm_types
 
-class ConnectService(TransformationKind):
+
+class ConnectService(TransformationKind["rm_types.ConnectService"]):
     metaclass = "ConnectService"
 
-    def apply(self, t: Any, ctx: ResolutionContext) -> None:
+    def apply(self, t: rm_types.ConnectService, ctx: ResolutionContext) -> None:
         client = ctx.copy_of(t.client)
         server = ctx.copy_of(t.server)
         where = location_of(t)
@@ -29,22 +33,28 @@ class ConnectService(TransformationKind):
             message = not_served_here(t.client, t.server, [here(server)], [here(client)])
             ctx.sink.error(where, f"{message} (containers at this point)")
             return
-        ctx.keep(client.eContainer(), f"its client {client.name} is connected by {ctx.by()}", where)
-        ctx.keep(server.eContainer(), f"its server {server.name} is connected by {ctx.by()}", where)
+        ctx.keep(node_of(client), f"its client {client.name} is connected by {ctx.by()}", where)
+        ctx.keep(node_of(server), f"its server {server.name} is connected by {ctx.by()}", where)
         if ctx.decide("server", client, qualified(server), where):
             client.server = server
             reason = f"to server {qualified(server)} by {ctx.by()}"
             ctx.trace.record(qualified(client), "connected", reason, where)
 
-    def touched(self, t: Any) -> Iterator[Any]:
-        yield t.client.eContainer()
-        yield t.server.eContainer()
+    def touched(self, t: rm_types.ConnectService) -> Iterator[tsm_types.Node | tsm_types.Store]:
+        yield node_of(t.client)
+        yield node_of(t.server)
 
-    def decisions(self, t: Any, element: Any, names: Any) -> Iterator[tuple[DecisionKey, Decision]]:
+    def decisions(
+        self, t: rm_types.ConnectService, element: rm_types.ResolutionElement, names: Names
+    ) -> Iterator[tuple[DecisionKey, Decision]]:
         return server_decision(t, element)
 
-    def predict(self, t: Any, element: Any, effects: Predictions) -> None:
+    def predict(
+        self, t: rm_types.ConnectService, element: rm_types.ResolutionElement, effects: Predictions
+    ) -> None:
         effects.server(t.client, element, t.server, location_of(t))
 
-    def questions(self, t: Any, ask: Callable[[], Questions]) -> Iterator[str | None]:
+    def questions(
+        self, t: rm_types.ConnectService, ask: Callable[[], Questions]
+    ) -> Iterator[str | None]:
         yield ask().apart(t.client, t.server)

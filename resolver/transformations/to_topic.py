@@ -3,12 +3,13 @@
 from __future__ import annotations
 
 from collections.abc import Callable, Iterator
-from typing import Any
+from typing import TYPE_CHECKING
 
 from spl.diagnostics import location_of
 from spl.resolver.context import ResolutionContext
 from spl.resolver.transformations.connect import (
     connect_interface,
+    node_of,
     predict_topic,
     topic_decision,
     topic_named,
@@ -22,26 +23,36 @@ from spl.resolver.transformations.kind import (
     TransformationKind,
 )
 
+if TYPE_CHECKING:
+    from spl.dsl.rm_names import Names
+    from spl.metamodels import rm_types, tsm_types
 
-class ConnectToTopic(TransformationKind):
+
+class ConnectToTopic(TransformationKind["rm_types.ConnectToTopic"]):
     metaclass = "ConnectToTopic"
 
-    def apply(self, t: Any, ctx: ResolutionContext) -> None:
+    def apply(self, t: rm_types.ConnectToTopic, ctx: ResolutionContext) -> None:
         where = location_of(t)
         interface = ctx.copy_of(t.interface)
-        topic = topic_named(ctx, t.topic, interface.eContainer(), where)
+        topic = topic_named(ctx, t.topic, node_of(interface), where)
         if topic is None or type_mismatch(ctx, interface, topic, where):
             return
         connect_interface(interface, topic, ctx, where)
 
-    def touched(self, t: Any) -> Iterator[Any]:
-        yield t.interface.eContainer()
+    def touched(self, t: rm_types.ConnectToTopic) -> Iterator[tsm_types.Node | tsm_types.Store]:
+        yield node_of(t.interface)
 
-    def decisions(self, t: Any, element: Any, names: Any) -> Iterator[tuple[DecisionKey, Decision]]:
+    def decisions(
+        self, t: rm_types.ConnectToTopic, element: rm_types.ResolutionElement, names: Names
+    ) -> Iterator[tuple[DecisionKey, Decision]]:
         return topic_decision(t, element, names)
 
-    def predict(self, t: Any, element: Any, effects: Predictions) -> None:
+    def predict(
+        self, t: rm_types.ConnectToTopic, element: rm_types.ResolutionElement, effects: Predictions
+    ) -> None:
         predict_topic(t, element, effects)
 
-    def questions(self, t: Any, ask: Callable[[], Questions]) -> Iterator[str | None]:
-        yield ask().topic_lookup(t.interface.eContainer(), t.topic)
+    def questions(
+        self, t: rm_types.ConnectToTopic, ask: Callable[[], Questions]
+    ) -> Iterator[str | None]:
+        yield ask().topic_lookup(node_of(t.interface), t.topic)

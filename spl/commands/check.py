@@ -1,7 +1,7 @@
 """``spl check FILE_OR_DIR``: parse and check models, print a one-line summary each.
 
 For a product-line folder (one .rm naming its .tsm and .fm) the line is then checked
-as a whole (SPEC section 8, :mod:`spl.resolver.line_checks`): elements that can never
+as a whole (docs/commands.md, "spl check"; :mod:`spl.resolver.line_checks`): elements that can never
 be active, optional nodes no product contains, conflicts some product would hit,
 features with no effect, listed products that do not resolve. Only errors fail the
 check; warnings and infos are printed and exit 0, so CI can adopt the check early.

@@ -12,10 +12,14 @@ from __future__ import annotations
 
 import sys
 from pathlib import Path
+from typing import TYPE_CHECKING, cast
 
 import click
 
 from spl.commands.selection_options import selection_from_options
+
+if TYPE_CHECKING:
+    from spl.resolver.engine import Resolution
 
 VIEWS = ("fm", "tsm", "product")
 
@@ -63,8 +67,8 @@ def command(
     out: Path,
 ) -> None:
     """Draw the feature model, the template architecture or a resolved product of the
-    product line in DIRECTORY, in the notation of the mapping paper (seeds/003 Fig. 4
-    and Fig. 5)."""
+    product line in DIRECTORY, in the notation of the mapping paper's Fig. 4 and Fig. 5
+    (docs/index.md names the paper)."""
     if out.suffix.lower() not in (".svg", ".png", ".dot"):
         raise click.BadParameter(f"{out}: the file must end in .svg, .png or .dot", param_hint="-o")
     what = what or ("product" if features else "tsm")
@@ -90,7 +94,8 @@ def command(
     elif what == "tsm":
         graph = diagrams.architecture_graph(line.tsm)
     else:
-        graph = diagrams.architecture_graph(resolution.product.system, resolution.product)
+        product = cast("Resolution", resolution).product  # (a product needs --features)
+        graph = diagrams.architecture_graph(product.system, product)
     try:
         graphviz_output.render(graph, out)
     except graphviz.ExecutableNotFound:

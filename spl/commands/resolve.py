@@ -59,6 +59,6 @@ def command(
         click.echo(line_text)
     for warning in resolution.product.warnings:
         click.echo(str(warning), err=True)
-    for warning in bundle.skip_warnings():
-        click.echo(warning, err=True)
+    for skipped in bundle.skip_warnings():
+        click.echo(skipped, err=True)
     click.echo(f"  wrote {len(bundle.files)} files to {out}")

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import cast
 
 import click
 
@@ -51,7 +52,7 @@ def selection_from_options(
     if features is None and capabilities is None:
         raise click.UsageError("give --features LIST|FILE.yaml, --capabilities ROBOT.yaml or both")
     if features is None:
-        selection = ProductSelection(name=capabilities.stem, features=[])
+        selection = ProductSelection(name=cast(Path, capabilities).stem, features=[])
     elif features.endswith((".yaml", ".yml")):
         if not Path(features).is_file():
             raise click.BadParameter(f"{features}: no such file", param_hint="--features")

@@ -140,8 +140,8 @@ def product_line_errors() -> frozenset[str]:
 
 def editor_severity(diagnostic: Diagnostic) -> Diagnostic:
     """A product-line check's finding as the editor shows it: a warning on the element
-    (issue 16: the element is written correctly, the finding is about the line as a
-    whole), with the text, code and place ``spl check`` gives it."""
+    (docs/editors.md, "What the editor shows": the element is written correctly, the
+    finding is about the line as a whole), with the text, code and place ``spl check`` gives it."""
     if diagnostic.severity == "error" and diagnostic.code in product_line_errors():
         return dataclasses.replace(diagnostic, severity="warning")
     return diagnostic

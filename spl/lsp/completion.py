@@ -12,6 +12,8 @@ from __future__ import annotations
 
 import os
 import re
+from collections.abc import Set as AbstractSet
+from typing import cast
 
 from lsprotocol import types
 
@@ -107,7 +109,7 @@ def _detail(decl: Decl) -> str:
     return f"{decl.kind} in {owner}" if owner else decl.kind
 
 
-def _statement(before: list[Token], keywords: set[str]) -> Token | None:
+def _statement(before: list[Token], keywords: AbstractSet[str]) -> Token | None:
     for token in reversed(before):
         if token.kind == "name" and token.text in keywords:
             return token
@@ -172,7 +174,7 @@ def _rm(
     if kind == "migrate" and word == "to":
         return list(index.containers.values()), []
     if kind == "connect":
-        return _connect(before, statement, word, index)
+        return _connect(before, cast(Token, statement), word, index)  # kind: its text
     if kind == "parameter" and word == "=":
         return [], PARAMETER_VALUES
     if kind == "parameter" and word == "feature":

@@ -21,7 +21,9 @@ def formatted(path: str, text: str, model: Any) -> tuple[str | None, str]:
     if has_comments(text):
         return None, f"{name}: not formatted: the printer would drop its comments"
     if suffix == ".tsm":
-        from spl.dsl.tsm_printer import print_model
-    else:
-        from spl.dsl.fm_printer import print_model
+        from spl.dsl.tsm_printer import print_model as print_system
+
+        return print_system(model), ""
+    from spl.dsl.fm_printer import print_model
+
     return print_model(model), ""

@@ -68,7 +68,7 @@ class SymbolIndex:
         self.by_name: dict[str, list[Decl]] = defaultdict(list)  # nodes and stores
         self.topics: dict[tuple[str, str], Decl] = {}  # (container, topic)
         self.topic_names: dict[str, list[Decl]] = defaultdict(list)
-        self.node_members: dict[tuple[str, str, str, str], Decl] = {}  # (c, n, kind, name)
+        self.node_members: dict[tuple[str, ...], Decl] = {}  # (c, n, kind, name)
         self.data_types: dict[str, Decl] = {}
         self.fields: dict[tuple[str, str], Decl] = {}
         self.transforms: dict[str, Decl] = {}
@@ -118,8 +118,8 @@ class SymbolIndex:
                     ("parameter", getattr(member, "parameters", ())),
                 ):
                     for item in items:
-                        key = (c, member.name, what, item.name)
-                        self.node_members[key] = self._put(
+                        member_key = (c, member.name, what, item.name)
+                        self.node_members[member_key] = self._put(
                             _decl(what, (c, member.name, item.name), item)
                         )
 

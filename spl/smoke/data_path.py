@@ -34,9 +34,9 @@ import urllib.error
 import urllib.request
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from spl.generators.store_contract import client_settings, store_context
+from spl.generators.store_contract import StoreContext, client_settings, store_context
 from spl.metamodels import tsm
 from spl.resolver.product import ResolvedProduct
 from spl.smoke.data_checks import (
@@ -51,6 +51,9 @@ from spl.smoke.data_checks import (
 from spl.smoke.live import Row
 from spl.smoke.plan import SmokePlan
 from spl.smoke.processes import Processes, free_port
+
+if TYPE_CHECKING:
+    from spl.metamodels import tsm_types
 
 TRANSFORM_PERIOD = "0.3"  # seconds: the rehearsal need not wait the model's period
 START_TIMEOUT = 30.0
@@ -86,8 +89,8 @@ class Service:
     """One generated store service, as the rehearsal runs it."""
 
     container: str
-    store: Any
-    names: dict[str, Any]
+    store: tsm_types.Store
+    names: StoreContext
     folder: Path
     port: int
     database: Path
@@ -248,7 +251,7 @@ class DataPath:
                 rows.append(self._refined_row(service, refinement, raw, refined))
             for reader in readers:
                 rows += self._received_rows(plan, statuses, service, reader, refined)
-            if service is self.services[0] and sum(len(v) for v in sent.values()):
+            if service is self.services[0] and any(len(v) for v in sent.values()):
                 rows.append(
                     Row(
                         service.container,

@@ -206,8 +206,8 @@ def _interface_row(
             f"answered by {short(s, plan.name)} ({n})" for s, n in sorted(answers.items())
         )
         wrong = [s for s in answers if s != interface.server]
-        answered = interface.server in answers
-        ok = not wrong and (answered or not interface.required)
+        reached = interface.server in answers
+        ok = not wrong and (reached or not interface.required)
         if not seen:
             error = entry.get("last_error")
             seen = f"no answer: {error}" if error else "no answer"

@@ -263,12 +263,12 @@ def _expect_flows(system: Any, plans: list[ContainerPlan]) -> None:
     for connection in system.connections:
         if isinstance(connection.source, T.Subscriber):
             endpoint = plan_of(connection.source)
-            keys = passes.get((endpoint.id, id(connection)))
-            if keys:
-                peer = plan_of(connection.target)
-                relay = Relay(peer.container, peer.name, connection_ids[id(connection)],
-                              tuple(keys))  # fmt: skip
-                endpoint.relays = (*endpoint.relays, relay)
+            passed = passes.get((endpoint.id, id(connection)))
+            if passed:
+                sender = plan_of(connection.target)
+                onward = Relay(sender.container, sender.name, connection_ids[id(connection)],
+                               tuple(passed))  # fmt: skip
+                endpoint.relays = (*endpoint.relays, onward)
 
 
 def _topic(interface: Interface) -> tuple[str, str]:

@@ -70,7 +70,7 @@ def find_ros() -> RosInstall:
     if not roscore or not roslaunch:
         raise RosMissing(ROS_MISSING)
     python = _interpreter(Path(roslaunch))
-    check = [python, "-I", "-c", "import rospy, genpy.dynamic"]
+    check = [python or "", "-I", "-c", "import rospy, genpy.dynamic"]  # (run with one)
     if not python or subprocess.run(check, capture_output=True).returncode != 0:
         raise RosMissing(f"rospy not importable by {python or 'roslaunch'}: {ROS_MISSING}")
     return RosInstall(roscore, roslaunch, python)

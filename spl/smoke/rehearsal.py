@@ -352,8 +352,8 @@ class _Rehearsal:
                 ):
                     given_up += 1  # its process (or its roslaunch) ended: it never will be
         if self.data is not None:
-            for container, extra in self.data.rows(self.plan, every_status).items():
-                rows[container] = rows.get(container, []) + extra
+            for name, extra in self.data.rows(self.plan, every_status).items():
+                rows[name] = rows.get(name, []) + extra
         return rows, ready, stand_ins, given_up
 
     def _died_in_roslaunch(self) -> list[tuple[str, str, str]]:

@@ -67,8 +67,8 @@ def source_of(message, topic: str, nodes: dict) -> str:
     if message.source:
         return message.source
     caller = (getattr(message, "_connection_header", None) or {}).get("callerid", "")
-    node = nodes.get(caller)
-    for interface in (node or {}).get("interfaces", ()):
+    node = nodes.get(caller) or {}
+    for interface in node.get("interfaces", ()):
         if interface["kind"] == "publisher" and interface["ros_name"] == topic:
             return f"{node['id']}.{interface['name']}"
     return caller or "?"
