@@ -21,11 +21,7 @@ from spl.dsl import literals, rm_reader, rosnames
 from spl.dsl.fm import all_features
 from spl.dsl.grammar_comments import COMMENT, is_comment
 from spl.dsl.parse_tree import Positions
-from spl.dsl.rm_models import referenced_models
-from spl.dsl.rm_names import (
-    BRIDGE_FORMS,
-    NameProblem,
-    Names,
+from spl.dsl.rm_messages import (
     agree,
     name_taken,
     new_topic_clash,
@@ -34,6 +30,8 @@ from spl.dsl.rm_names import (
     same_container_bridge,
     same_topic,
 )
+from spl.dsl.rm_models import referenced_models
+from spl.dsl.rm_names import BRIDGE_FORMS, NameProblem, Names
 from spl.metamodels import rm as rm_metamodel
 from spl.metamodels import tsm as tsm_metamodel
 

@@ -1,7 +1,7 @@
 """The fm metamodel (metamodels/fm.ecore) for the type checker.
 
 Written by scripts/ecore_types.py from the .ecore file: do not edit (the test
-tests/test_ecore_types.py fails when it is stale). Import it under
+tests/cli/test_ecore_types.py fails when it is stale). Import it under
 ``if TYPE_CHECKING:`` only.
 """
 

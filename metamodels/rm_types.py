@@ -6,7 +6,7 @@ Model and to the transformations that derive a product architecture. References 
 and FM metamodels.
 
 Written by scripts/ecore_types.py from the .ecore file: do not edit (the test
-tests/test_ecore_types.py fails when it is stale). Import it under
+tests/cli/test_ecore_types.py fails when it is stale). Import it under
 ``if TYPE_CHECKING:`` only.
 """
 

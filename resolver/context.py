@@ -39,6 +39,14 @@ def qualified(element: tsm_types.NamedElement) -> str:
     return f"{qualified(cast('tsm_types.NamedElement', owner))}.{element.name}"
 
 
+def subject_name(subject: tsm_types.NamedElement | tsm_types.Refinement) -> str:
+    """What a decision is about, as messages and the trace name it: a refinement has no
+    name of its own, so it is its store's and output's (``PositionStore.PositionInDEG``)."""
+    if isinstance(subject, tsm().Refinement):
+        return f"{qualified(subject.eContainer())}.{subject.output.name}"
+    return qualified(cast("tsm_types.NamedElement", subject))
+
+
 def describe(element: rm_types.ResolutionElement) -> str:
     """How a resolution element is named in messages: ``when Stereo selected (f:12:1)``."""
     state = "selected" if element.activeIfSelected else "not selected"
@@ -113,10 +121,7 @@ class ResolutionContext:
         if earlier.value != value:
             self.sink.error(
                 where,
-                # (a refinement has no name of its own: the .rm's checks report conflicting
-                # periods before a product is derived)
-                f"conflict: {self.by()} gives {kind} {value} to "
-                f"{qualified(cast('tsm_types.NamedElement', subject))}, but "
+                f"conflict: {self.by()} gives {kind} {value} to {subject_name(subject)}, but "
                 f"{describe(cast('rm_types.ResolutionElement', earlier.element))} gives "
                 f"{earlier.value} (at {earlier.where})",
                 code="SPL020",

@@ -11,7 +11,7 @@ typed from the metamodel (an ``EString`` is ``str``, an ``EIntegerObject`` ``int
 an enum its literal class, a reference its class, ``| None`` when its lower bound is 0, a
 many-valued feature ``Many[...]``), a keyword constructor, and ``eContainer()`` answering
 the classes that may contain it. Each module ends with ``Metamodel``, the namespace
-``spl.metamodels.tsm()`` (and ``fm()``, ``rm()``) returns. ``tests/test_ecore_types.py``
+``spl.metamodels.tsm()`` (and ``fm()``, ``rm()``) returns. ``tests/cli/test_ecore_types.py``
 fails when a module differs from what this script writes from the ``.ecore`` files.
 """
 
@@ -227,7 +227,7 @@ class _Writer:
         head += [
             "",
             "Written by scripts/ecore_types.py from the .ecore file: do not edit (the test",
-            "tests/test_ecore_types.py fails when it is stale). Import it under",
+            "tests/cli/test_ecore_types.py fails when it is stale). Import it under",
             "``if TYPE_CHECKING:`` only.",
             '"""',
             "",

@@ -22,13 +22,8 @@ from functools import partial
 from typing import TYPE_CHECKING, NamedTuple, cast
 
 from spl.diagnostics import Diagnostic, location_of
-from spl.dsl.rm_names import (
-    Names,
-    Placement,
-    name_taken,
-    not_served_here,
-    same_container_bridge,
-)
+from spl.dsl.rm_messages import name_taken, not_served_here, same_container_bridge
+from spl.dsl.rm_names import Names, Placement
 from spl.resolver.flows import node_of
 from spl.resolver.line_checks.activation import ActivationSolver
 from spl.resolver.product_line import ProductLine

@@ -7,7 +7,7 @@ from collections.abc import Callable, Iterator
 from typing import TYPE_CHECKING, cast
 
 from spl.diagnostics import location_of
-from spl.dsl.rm_names import same_container_bridge
+from spl.dsl.rm_messages import same_container_bridge
 from spl.resolver.context import ResolutionContext, qualified
 from spl.resolver.transformations.connect import (
     here,

@@ -15,7 +15,7 @@ from collections.abc import Iterator
 from typing import TYPE_CHECKING, cast
 
 from spl.diagnostics import Location, location_of
-from spl.dsl.rm_names import agree, missing_topic
+from spl.dsl.rm_messages import agree, missing_topic
 from spl.resolver.context import Cause, ResolutionContext, qualified
 from spl.resolver.flows import node_of  # the .rm names node interfaces only
 from spl.resolver.transformations.kind import Decision, DecisionKey, Predictions

@@ -13,7 +13,7 @@ from collections.abc import Callable, Iterator
 from typing import TYPE_CHECKING
 
 from spl.diagnostics import location_of
-from spl.dsl.rm_names import name_taken
+from spl.dsl.rm_messages import name_taken
 from spl.resolver.context import Cause, ResolutionContext
 from spl.resolver.product import NodeMigration as Moved
 from spl.resolver.transformations.kind import (

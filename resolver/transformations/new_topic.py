@@ -7,7 +7,7 @@ from collections.abc import Iterator
 from typing import TYPE_CHECKING
 
 from spl.diagnostics import location_of
-from spl.dsl.rm_names import new_topic_clash, same_topic
+from spl.dsl.rm_messages import new_topic_clash, same_topic
 from spl.resolver.context import ResolutionContext
 from spl.resolver.transformations.connect import (
     connect_interface,

@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, cast
 from spl.diagnostics import Location, location_of
 from spl.dsl import literals
 from spl.dsl.tsm_data import period_fits
-from spl.resolver.context import ResolutionContext, qualified
+from spl.resolver.context import ResolutionContext, qualified, subject_name
 from spl.resolver.product import AttributeValue
 from spl.resolver.transformations.kind import (
     Decision,
@@ -144,7 +144,7 @@ def _set_period(t: rm_types.ParameterValue, ctx: ResolutionContext, where: Locat
     if ctx.decide("period", refinement, value, where):
         refinement.period = float(value)
         ctx.trace.record(
-            f"{qualified(store)}.{refinement.output.name}",
+            subject_name(refinement),
             "period",
             f"{source} s, set by {ctx.by()}",
             where,

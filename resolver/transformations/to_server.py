@@ -6,7 +6,7 @@ from collections.abc import Callable, Iterator
 from typing import TYPE_CHECKING
 
 from spl.diagnostics import location_of
-from spl.dsl.rm_names import not_served_here
+from spl.dsl.rm_messages import not_served_here
 from spl.resolver.context import ResolutionContext, qualified
 from spl.resolver.transformations.connect import here, node_of, server_decision
 from spl.resolver.transformations.kind import (

@@ -182,6 +182,17 @@ def test_period_conflict_unused_store_and_feature_without_effect(tmp_path):
     assert found[1].message.endswith(
         "both are active in the product DataAcquisition, Embedded, FastRefresh, Positions, Storage"
     )
+    # ... and the engine refuses that witness with the same conflict, naming the refinement
+    # by its store and output (a refinement has no name of its own)
+    witness = found[1].message.split("both are active in the product ")[1]
+    with pytest.raises(ModelError) as caught:
+        resolve(load_product_line(line_dir), selection_from_list(witness.replace(" ", "")))
+    [engine] = [e for e in caught.value.diagnostics if e.code == "SPL020"]
+    assert engine.location == found[1].location
+    assert engine.message.startswith(
+        "conflict: 'when Positions selected' (" + str(rm_file) + ":25:1) gives period 2.0 to "
+        "DataCloud.PositionStore.PositionInDEG, but 'when FastRefresh selected' ("
+    )
 
 
 @pytest.mark.parametrize("name", ["mapping3d", "data_acquisition"])
