@@ -21,6 +21,7 @@ depend on the application layer that implements it.
 
 from __future__ import annotations
 
+import hashlib
 import importlib
 import time
 from collections.abc import Callable, Iterable, Iterator
@@ -28,6 +29,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Literal
 
+from spl import __version__
 from spl.diagnostics import ModelError
 from spl.dsl.cyclic_gc import without_cyclic_gc
 from spl.lifetime import checkpointed, die_with_parent, raise_if_signalled, unwind_on_signals
@@ -96,7 +98,8 @@ def plan_cases(lines: list[LoadedLine], mode: str = "listed", t: int = 2) -> lis
     ones (``mode`` ``all`` or ``sample``; ``listed`` adds none)."""
     from spl.resolver.sampling import covering_array, product_key
 
-    cases: list[ProductCase] = []
+    # a line that did not load is one failing case, reported first
+    cases = [ProductCase(i, LINE_CASE) for i, loaded in enumerate(lines) if loaded.line is None]
     for index, loaded in enumerate(lines):
         line = loaded.line
         if line is None:
@@ -118,6 +121,47 @@ def plan_cases(lines: list[LoadedLine], mode: str = "listed", t: int = 2) -> lis
             key = tuple(product_key(formula, product)) or (root,)
             cases.append(ProductCase(index, ",".join(key), features=key))
     return cases
+
+
+@dataclass(frozen=True)
+class Shard:
+    """Part ``index`` of ``count`` of a run (``spl validate --shard K/N``, docs/ci.md).
+
+    A shard is a contiguous block of the plan, the blocks differing by at most one case:
+    shards 1..N in order are the whole run, each case in exactly one, so their JUnit
+    reports merge back into the report of the unsharded run (``spl merge-junit``). The
+    plan is a function of the models alone, so every CI job computes the same one."""
+
+    index: int
+    count: int
+
+    @classmethod
+    def parse(cls, text: str) -> Shard:
+        """``K/N`` with 1 <= K <= N (ValueError saying what is wrong)."""
+        k, slash, n = text.partition("/")
+        if not (slash and k.isdigit() and n.isdigit() and k.isascii() and n.isascii()):
+            raise ValueError(f"{text!r} is not K/N (for example 2/4)")
+        index, count = int(k), int(n)
+        if not 1 <= index <= count:
+            raise ValueError(f"{text!r}: K must be between 1 and N")
+        return cls(index, count)
+
+    def of(self, cases: list[ProductCase]) -> list[ProductCase]:
+        """This shard's block of the plan."""
+        start = (self.index - 1) * len(cases) // self.count
+        return cases[start : self.index * len(cases) // self.count]
+
+    def __str__(self) -> str:
+        return f"{self.index}/{self.count}"
+
+
+def plan_digest(lines: list[LoadedLine], cases: list[ProductCase]) -> str:
+    """What identifies a run's plan: the shards of one run carry the same digest, so a
+    merge refuses reports of different runs (other models, options or spl versions)."""
+    digest = hashlib.sha256(__version__.encode() + b"\0")
+    for case in cases:
+        digest.update(f"{lines[case.line].name}\0{case.name}\0".encode())
+    return digest.hexdigest()[:16]
 
 
 def _listed_name(path: Path) -> str:
@@ -206,12 +250,17 @@ _LINES: list[LoadedLine] = []
 _CHECKS = CaseChecks()
 
 
+def run_planned(loaded: LoadedLine, case: ProductCase, checks: CaseChecks) -> CaseResult:
+    """The result of one planned case: a product, or the line that did not load."""
+    if loaded.line is None:
+        return CaseResult(loaded.name, LINE_CASE, "failed", loaded.problems)
+    with without_cyclic_gc("dropped"):  # one product built, used and dropped as a whole
+        return run_case(loaded.line, loaded.name, case, checks)
+
+
 def _run_in_worker(case: ProductCase) -> CaseResult:
     raise_if_signalled()
-    loaded = _LINES[case.line]
-    assert loaded.line is not None
-    with without_cyclic_gc("dropped"):  # one product built, used and dropped as a whole
-        return run_case(loaded.line, loaded.name, case, _CHECKS)
+    return run_planned(_LINES[case.line], case, _CHECKS)
 
 
 def _run_chunk_in_worker(cases: list[ProductCase]) -> list[CaseResult]:
@@ -228,16 +277,9 @@ def run_cases(
     on_result: Callable[[CaseResult], None] | None = None,
     checks: CaseChecks = CaseChecks(),
 ) -> list[CaseResult]:
-    """Every case's result, in the order of ``cases`` (plus one failing case per line
-    that did not load, first). ``jobs > 1`` uses forked worker processes."""
-    results = [
-        CaseResult(loaded.name, LINE_CASE, "failed", loaded.problems)
-        for loaded in lines
-        if loaded.line is None
-    ]
-    for result in results:
-        if on_result:
-            on_result(result)
+    """Every case's result, in the order of ``cases``. ``jobs > 1`` uses forked worker
+    processes."""
+    results: list[CaseResult] = []
     global _LINES, _CHECKS
     _LINES, _CHECKS = lines, checks
     try:
@@ -272,6 +314,9 @@ def _import_product_modules() -> None:
 
 
 def _results(cases: list[ProductCase], jobs: int) -> Iterator[CaseResult]:
+    while cases and _LINES[cases[0].line].line is None:  # first in the plan: nothing to run
+        yield _run_in_worker(cases[0])
+        cases = cases[1:]
     if cases:
         _import_product_modules()
     if jobs <= 1 or len(cases) <= 1:

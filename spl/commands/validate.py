@@ -44,6 +44,18 @@ import click
     help="worker processes (0: one per CPU)",
 )
 @click.option(
+    "--scheduler",
+    metavar="ADDRESS",
+    help="run the products on Dask: tcp://HOST:PORT (a running scheduler) or local:N "
+    "(N workers on this machine); needs spl-robotics[cluster]",
+)
+@click.option(
+    "--shard",
+    metavar="K/N",
+    help="run only part K of N of the products (CI matrices; merge the reports with "
+    "spl merge-junit)",
+)
+@click.option(
     "--smoke",
     is_flag=True,
     help="also rehearse each valid bundle live with ROS 1 (as spl smoke does)",
@@ -59,6 +71,8 @@ def command(
     sample: str | None,
     junit: Path | None,
     jobs: int,
+    scheduler: str | None,
+    shard: str | None,
     smoke: bool,
     diagrams: bool,
 ) -> None:
@@ -68,9 +82,16 @@ def command(
     graph compared with the model (exit 2 when ROS 1 is not installed)."""
     from spl.commands.products import parse_sample
     from spl.junit_report import junit_xml
-    from spl.line_validation import CaseChecks, load_lines, plan_cases, summary
+    from spl.line_validation import CaseChecks, Shard, load_lines, plan_cases, plan_digest, summary
 
-    rehearse = _rehearsal() if smoke else None
+    try:
+        part = Shard.parse(shard) if shard is not None else None
+    except ValueError as exc:
+        raise click.BadParameter(str(exc), param_hint="--shard") from None
+    if scheduler is not None and jobs != 1:
+        raise click.UsageError("give one of --jobs and --scheduler")
+    # the workers of a cluster rehearse with their own ROS 1
+    rehearse = _rehearsal() if smoke and scheduler is None else None
     if smoke:  # the rehearsals' processes are stopped on Ctrl-C and SIGTERM alike
         from spl.lifetime import unwind_on_signals
 
@@ -85,14 +106,17 @@ def command(
         cases = plan_cases(lines, mode, t or 2)
     except ValueError as exc:  # too many combinations for t
         raise click.ClickException(str(exc)) from None
-    total = len(cases) + sum(1 for loaded in lines if loaded.line is None)
+    plan = plan_digest(lines, cases)
+    if part is not None:
+        cases = part.of(cases)
+    run = _runner(lines, cases, jobs, scheduler, CaseChecks(rehearse, diagrams), smoke)
     try:
-        results = _run(lines, cases, jobs, CaseChecks(rehearse, diagrams), total)
+        results = _progress(run, len(cases))
     except KeyboardInterrupt:  # workers and rehearsals have stopped what they started
         click.echo("\nvalidate: interrupted; no report written", err=True)
         sys.exit(130)
     if junit is not None:
-        data = junit_xml(results)
+        data = junit_xml(results, part, plan)
         junit.parent.mkdir(parents=True, exist_ok=True)
         partial = junit.with_name(junit.name + ".partial")
         partial.write_bytes(data)
@@ -104,15 +128,34 @@ def command(
         sys.exit(1)
 
 
-def _run(lines, cases, jobs: int, checks, total: int) -> list:
+def _runner(lines, cases, jobs: int, scheduler: str | None, checks, smoke: bool):
+    """What runs the cases, given where to report each result: this machine's processes,
+    or the Dask cluster at ``scheduler``."""
+    from spl.line_validation import run_cases
+
+    if scheduler is None:
+        return lambda on_result: run_cases(lines, cases, jobs, on_result=on_result, checks=checks)
+
+    def on_cluster(on_result):
+        from spl.cluster_validation import ClusterProblem, connect, run_on_cluster
+
+        try:
+            with connect(scheduler) as client:
+                return run_on_cluster(client, lines, cases, checks, smoke, on_result)
+        except ClusterProblem as exc:
+            click.echo(f"error: {exc}", err=True)
+            sys.exit(2)
+
+    return on_cluster
+
+
+def _progress(run, total: int) -> list:
     """Run the cases with a progress bar on a terminal, one line per product otherwise."""
-    from spl.line_validation import describe, run_cases
+    from spl.line_validation import describe
 
     if sys.stderr.isatty():
         with click.progressbar(length=total, label="validating", file=sys.stderr) as bar:
-            results = run_cases(
-                lines, cases, jobs, on_result=lambda _: bar.update(1), checks=checks
-            )
+            results = run(lambda _: bar.update(1))
         for result in results:
             if not result.passed:
                 for text in describe(result):
@@ -123,7 +166,7 @@ def _run(lines, cases, jobs: int, checks, total: int) -> list:
         for text in describe(result):
             click.echo(text)
 
-    return run_cases(lines, cases, jobs, on_result=show, checks=checks)
+    return run(show)
 
 
 def _rehearsal():
