@@ -47,6 +47,7 @@ from resolve_scaling import synthetic_line
 ROOT = Path(__file__).resolve().parents[1]
 BROKEN = "\nbridge Robot.T0 -> Nowhere.T0\n"
 SYNTAX_BROKEN = "\nbridge Robot.\n"
+VALID = "valid:"  # an edit that leaves the model valid
 
 
 class Session:
@@ -73,12 +74,16 @@ class Session:
         self.client.exit(None)
         await self.client.stop()
 
-    async def until(self, uri: str, since: float, errors: bool, timeout: float = 600) -> float:
-        """Seconds from ``since`` until ``uri`` shows (or no longer shows) an error."""
+    async def until(
+        self, uri: str, since: float, errors: bool, timeout: float = 600, severity: int = 1
+    ) -> float:
+        """Seconds from ``since`` until ``uri`` shows (or no longer shows) a finding of
+        ``severity`` or worse (1: an error, 2: a warning)."""
         deadline = time.perf_counter() + timeout
         while time.perf_counter() < deadline:
             arrived, found = self.seen.get(uri, (0.0, []))
-            if arrived > since and any(d.severity == 1 for d in found) == errors:
+            shown = any((d.severity or 1) <= severity for d in found)
+            if arrived > since and shown == errors:
                 return arrived - since
             await asyncio.sleep(0.005)
         raise TimeoutError(f"no diagnostics for {uri} after {timeout} s")
@@ -112,7 +117,10 @@ class Session:
 
 async def measure(path: Path, text: str, edits: list[tuple[int, str]], runs: int) -> list:
     """Open, then each edit (at, inserted) made and undone ``runs`` times: the open
-    time, and per edit the times the error took to show and to clear."""
+    time, and per edit the times the error took to show and to clear. An edit that
+    leaves the model valid (``VALID`` before the inserted text) is timed until the
+    line's warning about it shows and clears, each time with a new text (a count
+    appended to it): the line's checks must run on it."""
     session = Session()
     await session.start(path.parent)
     times: list = []
@@ -122,14 +130,17 @@ async def measure(path: Path, text: str, edits: list[tuple[int, str]], runs: int
         version = 1
         for at, inserted in edits:
             shown, cleared = [], []
-            for _ in range(runs):
+            valid = inserted.startswith(VALID)
+            for run in range(runs):
+                change = inserted.removeprefix(VALID) + (str(run) if valid else "")
                 version += 1
-                started = session.edit(uri, version, text, at, at, inserted)
-                shown.append(await session.until(uri, started, errors=True))
-                edited = text[:at] + inserted + text[at:]
+                started = session.edit(uri, version, text, at, at, change)
+                severity = 2 if valid else 1
+                shown.append(await session.until(uri, started, True, severity=severity))
+                edited = text[:at] + change + text[at:]
                 version += 1
-                started = session.edit(uri, version, edited, at, at + len(inserted), "")
-                cleared.append(await session.until(uri, started, errors=False))
+                started = session.edit(uri, version, edited, at, at + len(change), "")
+                cleared.append(await session.until(uri, started, False, severity=severity))
             times.append((shown, cleared))
     finally:
         await session.stop()
@@ -140,7 +151,7 @@ def spread(times: list[float]) -> str:
     return f"{min(times):.2f} / {statistics.median(times):.2f}"
 
 
-async def main_async(sizes: list[int], runs: int) -> None:
+async def main_async(sizes: list[int], runs: int, in_line: bool) -> None:
     print(
         "| model | lines | edit | open (s) | error shown (s), min / median "
         "| error cleared (s), min / median |"
@@ -151,8 +162,9 @@ async def main_async(sizes: list[int], runs: int) -> None:
             folder = Path(tmp) / f"n{size}"
             folder.mkdir()
             synthetic_line(folder, size)
-            for other in ("synthetic.rm", "synthetic.fm"):  # the .tsm alone: spl check FILE
-                (folder / other).unlink()
+            if not in_line:
+                for other in ("synthetic.rm", "synthetic.fm"):  # the .tsm alone: spl check FILE
+                    (folder / other).unlink()
             tsm = folder / "synthetic.tsm"
             text = tsm.read_text(encoding="utf-8")
             subscribed = [m.end() for m in re.finditer(r"subscribes \w+ <- ", text)]
@@ -163,11 +175,16 @@ async def main_async(sizes: list[int], runs: int) -> None:
                 "end, syntax": (len(text), SYNTAX_BROKEN),
                 "middle, syntax": (middle, "{ "),
             }
+            if in_line:  # a valid change only the line's checks see: a node in no product
+                extra = "\ncloud container Extra {\n    optional node ExtraNode {\n"
+                extra += "        implementation pkg/extra\n    }\n}\n// "
+                edits["end, valid"] = (len(text), VALID + extra)
             opened, *found = await measure(tsm, text, list(edits.values()), runs)
             lines = text.count(chr(10))
+            where = "in its product line" if in_line else "alone"
             for name, (shown, cleared) in zip(edits, found, strict=True):
                 print(
-                    f"| .tsm, {size} nodes | {lines} | {name} | {opened:.2f} "
+                    f"| .tsm, {size} nodes, {where} | {lines} | {name} | {opened:.2f} "
                     f"| {spread(shown)} | {spread(cleared)} |",
                     flush=True,
                 )
@@ -187,8 +204,13 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--sizes", type=int, nargs="+", default=[1000, 10000])
     parser.add_argument("--runs", type=int, default=5, help="breaks and fixes of each edit")
+    parser.add_argument(
+        "--in-line",
+        action="store_true",
+        help="the .tsm with the line's .fm and .rm beside it: checked as spl check FOLDER",
+    )
     args = parser.parse_args()
-    asyncio.run(main_async(args.sizes, args.runs))
+    asyncio.run(main_async(args.sizes, args.runs, args.in_line))
 
 
 if __name__ == "__main__":

@@ -127,6 +127,59 @@ def check_line(folder: str, texts: Mapping[str, str]) -> tuple[Diagnostic, ...]:
     return tuple(editor_severity(d) for d in found)
 
 
+class LineChecks:
+    """``spl check FOLDER`` for the editor, run again only when its answer can change.
+
+    A folder's check reads the line's model files, the files its .rm names and its
+    listed products. The findings of the last few sets of those inputs are kept, so an
+    edit undone, or a file saved as it was, is answered at once. Before the line is
+    loaded, each .tsm is checked with the plain, incremental build (what ``spl check
+    FILE.tsm`` runs): when it refuses the text, loading the line meets the same problems
+    without building the model again (:func:`spl.dsl.tsm.parse_text`), and the answer is
+    that of ``spl check FOLDER``, only sooner. A text that builds is checked in full."""
+
+    KEPT = 4  # input sets kept per folder
+
+    def __init__(self) -> None:
+        self._kept: dict[str, list[tuple[tuple[object, ...], tuple[Diagnostic, ...]]]] = {}
+
+    def check(
+        self, folder: str, texts: Mapping[str, str], trees: Trees, inputs: set[str]
+    ) -> tuple[tuple[Diagnostic, ...], list[FileCheck]]:
+        """The folder's findings, and the .tsm files' own checks when they were run."""
+        key = _snapshot(folder, inputs, texts)
+        kept = self._kept.setdefault(folder, [])
+        for known, found in kept:
+            if known == key:
+                return found, []
+        plain = [check_file(path, texts, trees) for path in sorted(inputs) if path.endswith(".tsm")]
+        found = check_line(folder, texts)
+        kept.append((key, found))
+        del kept[: -self.KEPT]
+        return found, plain
+
+
+def _snapshot(folder: str, inputs: set[str], texts: Mapping[str, str]) -> tuple[object, ...]:
+    """What a folder's check reads, comparable: the editor's text of an open file, the
+    size and modification time of any other file (a folder's, recursively)."""
+
+    def state(path: str) -> object:
+        if path in texts:
+            return texts[path]
+        try:
+            info = os.stat(path)
+        except OSError:
+            return None
+        if not os.path.isdir(path):
+            return (info.st_size, info.st_mtime_ns, info.st_ino)
+        with contextlib.suppress(OSError), os.scandir(path) as entries:
+            return tuple(sorted((e.name, state(e.path)) for e in entries))
+        return None
+
+    open_here = {p for p in texts if os.path.dirname(p) == folder}
+    return tuple((path, state(path)) for path in sorted(inputs | open_here))
+
+
 def product_line_errors() -> frozenset[str]:
     """The codes of the product-line checks ``spl check`` reports as errors: an element
     no product activates (SPL010), a conflict a valid selection reaches (SPL012), a

@@ -59,6 +59,7 @@ class SplLanguageServer(LanguageServer):
         super().__init__("spl", __version__)
         self.project = Project()
         self.trees = Trees()  # the last reading of each .tsm: a change is read incrementally
+        self.line_checks = checking.LineChecks()  # the product lines' last findings
         # deep models recurse deeply in textX and the analysis: the checking thread gets
         # the stack of a main thread, not a small thread default
         threading.stack_size(CHECK_STACK_BYTES)
@@ -182,7 +183,9 @@ class SplLanguageServer(LanguageServer):
             self._keep_models(result, texts, text)
             diagnostics: Iterable[Diagnostic] = result.diagnostics
         else:
-            diagnostics = checking.check_line(where, texts)
+            diagnostics, plain = self.line_checks.check(where, texts, self.trees, self.inputs(unit))
+            for result in plain:  # the models requests use: not built again below
+                self._keep_models(result, texts, self.project.text(result.path))
         # every file the check covers gets its findings, none when it has none
         found: dict[str, list[Diagnostic]] = {
             p: [] for p in self.inputs(unit) if p.endswith(checking.SUFFIXES)

@@ -50,7 +50,9 @@ def places(element: Any) -> list[str]:
 
 
 def assert_same(text: str) -> None:
-    assert outcome(tsm.check_text, text) == outcome(tsm.parse_text, text)
+    tsm._REFUSED.clear()  # the pyecore build itself, not a refusal the plain one remembered
+    built = outcome(tsm.parse_text, text)
+    assert outcome(tsm.check_text, text) == built
 
 
 def mutated_texts(count: int, seed: int) -> list[str]:
@@ -94,3 +96,29 @@ def test_plain_elements_answer_like_the_metamodels_objects() -> None:
     container.eSet("cpu", 2)
     assert container.eGet("cpu") == 2 and container.size is None
     assert T.SharingMode is E.SharingMode
+
+
+def test_a_text_the_plain_build_refused_is_refused_again_without_building(monkeypatch) -> None:
+    """The editor's folder check meets a refused .tsm up to three times (the line, the
+    .rm's models, the file alone): only the plain build reads it."""
+    text = SHIPPED[0].read_text(encoding="utf-8") + "\nbridge Robot.Nothing -> Nowhere.Nothing\n"
+    with pytest.raises(ModelError) as plain:
+        tsm.check_text(text, "m.tsm")
+    built: list[str] = []
+    real = tsm._parse
+    monkeypatch.setattr(tsm, "_parse", lambda *args, **kw: built.append(args[1]) or real(*args))
+    with pytest.raises(ModelError) as again:
+        tsm.parse_text(text, "m.tsm")
+    assert built == [] and again.value.diagnostics == plain.value.diagnostics
+    # another text, or another file, is built
+    with pytest.raises(ModelError):
+        tsm.parse_text(text + " ", "m.tsm")
+    with pytest.raises(ModelError):
+        tsm.parse_text(text, "other.tsm")
+    assert built == ["m.tsm", "other.tsm"]
+    # once the file's text builds, its old refusal is forgotten
+    tsm.check_text(SHIPPED[0].read_text(encoding="utf-8"), "m.tsm")
+    built.clear()
+    with pytest.raises(ModelError):
+        tsm.parse_text(text, "m.tsm")
+    assert built == ["m.tsm"]

@@ -1,0 +1,96 @@
+"""The editor's product-line check (``spl check FOLDER`` for a .tsm, .fm or .rm of a
+line) answers what a full check of the same texts answers, through a chain of edits a
+user makes, while it re-checks only when an input changed and skips the model build of
+a .tsm that does not build (docs/editors.md)."""
+
+from __future__ import annotations
+
+import os
+import shutil
+from pathlib import Path
+
+from spl.dsl import tsm
+from spl.dsl.tsm_incremental import Trees
+from spl.lsp import checking
+
+ROOT = Path(__file__).resolve().parents[2]
+EXTRA = """
+cloud container Extra {
+    optional node ExtraNode {
+        implementation p/e
+    }
+}
+"""
+
+
+def full_check(folder: Path, texts: dict[str, str]) -> tuple:
+    """What ``spl check FOLDER`` says of these texts, every model built afresh."""
+    tsm._REFUSED.clear()
+    return checking.check_line(str(folder), texts)
+
+
+def test_the_line_check_follows_every_edit_and_reuses_only_unchanged_inputs(tmp_path) -> None:
+    folder = tmp_path / "orchard"
+    shutil.copytree(ROOT / "product_lines" / "orchard", folder)
+    path = str(folder / "orchard.tsm")
+    original = Path(path).read_text(encoding="utf-8")
+    checks, trees = checking.LineChecks(), Trees()
+
+    def inputs() -> set[str]:
+        return {os.path.join(folder, name) for name in os.listdir(folder)}
+
+    def check(text: str) -> tuple[tuple, bool]:
+        texts = {path: text}
+        found, plain = checks.check(str(folder), texts, trees, inputs())
+        assert found == full_check(folder, texts)
+        return found, bool(plain)
+
+    found, ran = check(original)
+    assert ran and not any(d.severity == "error" for d in found)
+    assert check(original) == (found, False)  # nothing changed: the last answer
+
+    broken = original + "bridge Harvester.Image -> Nowhere.Image\n"
+    refused, ran = check(broken)
+    assert ran and [d.message for d in refused] == ["unknown container Nowhere"]
+    syntax, ran = check(original.replace("robot container Scout {", "robot container Scout {{"))
+    assert ran and syntax[0].severity == "error"
+
+    assert check(original) == (found, False)  # the edit undone
+
+    extended, ran = check(original + EXTRA)  # valid, and only the line's checks see it
+    assert ran and any(d.code == "SPL011" and "ExtraNode" in d.message for d in extended)
+
+    # files the editor has not open count by what is on disk: the feature model ...
+    fm = folder / "orchard.fm"
+    fm.write_text(fm.read_text(encoding="utf-8") + "\n// saved again\n", encoding="utf-8")
+    _, ran = check(original)
+    assert ran
+    # ... and the listed products
+    listed = folder / "products" / "scout_only.yaml"
+    shutil.copy(listed, folder / "products" / "broken.yaml")
+    (folder / "products" / "broken.yaml").write_text("product: broken\nfeatures: [Nothing]\n")
+    with_broken, ran = check(original)
+    assert ran and any(d.code == "SPL015" for d in with_broken)
+
+
+def test_a_refused_tsm_is_built_once_in_plain_objects(tmp_path, monkeypatch) -> None:
+    """A .tsm that does not build is read once, by the plain build: loading the line,
+    then its files one by one, meets the problems the plain build found."""
+    from spl.dsl import tsm_plain
+
+    folder = tmp_path / "orchard"
+    shutil.copytree(ROOT / "product_lines" / "orchard", folder)
+    path = str(folder / "orchard.tsm")
+    broken = Path(path).read_text(encoding="utf-8") + "bridge Harvester.Image -> Nowhere.Image\n"
+    builds: list[str] = []
+    real = tsm._parse
+
+    def counted(text, filename, metamodel, *rest):
+        builds.append("plain" if metamodel is tsm_plain.metamodel() else "pyecore")
+        return real(text, filename, metamodel, *rest)
+
+    monkeypatch.setattr(tsm, "_parse", counted)
+    inputs = {os.path.join(folder, name) for name in os.listdir(folder)}
+    found, _ = checking.LineChecks().check(str(folder), {path: broken}, Trees(), inputs)
+    assert [d.message for d in found] == ["unknown container Nowhere"]
+    assert builds == ["plain"]
