@@ -41,10 +41,13 @@ def product_count(
     formula: FeatureModelFormula,
     seconds: float | None = COUNT_SECONDS,
     cached_clauses: int = COUNT_CACHED_CLAUSES,
+    assumed: tuple[int, ...] = (),
 ) -> ProductCount:
     """The exact number of products, or ``None`` when a bound is exceeded (``seconds``
     None: no time bound, only the memory one). The backbone is fixed first: its units
-    shrink every component the counter meets."""
+    shrink every component the counter meets. ``assumed`` feature literals (a
+    configurator's decisions and what they imply, docs/configure.md) are fixed too: the
+    count is then of the products that contain them."""
     if not formula.satisfiable():
         return ProductCount(0)
     if seconds is not None and seconds <= 0:  # asked not to count: not even set up
@@ -53,6 +56,7 @@ def product_count(
     cnf = formula.cnf
     units: list[tuple[int, ...]] = [(cnf.var[name],) for name in core]
     units += [(-cnf.var[name],) for name in dead]
+    units += [(literal,) for literal in assumed]
     depth: dict[str, int] = {}
     for name in cnf.names:  # pre-order: parents come first
         parent = cnf.parent.get(name)
