@@ -16,6 +16,7 @@ from __future__ import annotations
 import io
 import secrets
 import threading
+import time
 import zipfile
 from pathlib import Path
 from typing import Any
@@ -58,12 +59,18 @@ def create_app(workspace: Workspace) -> FastAPI:
             sessions[token] = Session(workspace)
             return sessions[token], token
 
-    def reply(request: Request, make: Any, status: int = 200) -> Response:
+    def reply(request: Request, make: Any, status: int = 200, locked: bool = True) -> Response:
         """Run ``make(session)``; its errors become the statuses the page shows:
-        409 with the explanation for an impossible decision, 422 for a bad value."""
+        409 with the explanation for an impossible decision, 422 for a bad value.
+        One request of a session runs at a time (its page may send two), unless
+        ``locked`` is false (counting: it reads a propagation and changes nothing)."""
         session, token = session_of(request)
+        started = time.perf_counter()
         try:
-            with session.lock:  # one request of a session at a time (its page may send two)
+            if locked:
+                with session.lock:
+                    body = make(session)
+            else:
                 body = make(session)
         except Impossible as exc:
             body, status = {"error": "no product would be left", "explanation": exc.lines}, 409
@@ -73,6 +80,9 @@ def create_app(workspace: Workspace) -> FastAPI:
             problems = [str(d) for d in exc.diagnostics]
             body, status = {"error": "; ".join(problems), "problems": problems}, 422
         response = body if isinstance(body, Response) else JSONResponse(body, status)
+        # the time the answer took here, for bench/configure_latency.py and browser tools
+        elapsed = (time.perf_counter() - started) * 1000
+        response.headers["Server-Timing"] = f"app;dur={elapsed:.2f}"
         if token is not None:
             response.set_cookie(COOKIE, token, httponly=True, samesite="strict")
         return response
@@ -111,10 +121,17 @@ def create_app(workspace: Workspace) -> FastAPI:
         return reply(request, lambda s: {"feature": feature, "lines": s.explanation(feature)})
 
     @app.get("/api/count")
-    def count(request: Request) -> Response:
-        from spl.configure.session import COUNT_SECONDS
+    def count(request: Request, exhaustive: bool = Query(False)) -> Response:
+        from spl.configure.session import COUNT_SECONDS, FOLLOW_UP_SECONDS
 
-        return reply(request, lambda s: {"products": s.count(s.propagation(), COUNT_SECONDS)})
+        seconds = COUNT_SECONDS if exhaustive else FOLLOW_UP_SECONDS
+
+        def run(session: Session) -> dict:
+            with session.lock:
+                propagation = session.propagation()
+            return {"products": session.count(propagation, seconds)}
+
+        return reply(request, run, locked=False)
 
     def changing(change: Any) -> Any:
         def run(session: Session) -> dict:

@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 from spl.resolver.configuration import Impossible, Propagation
-from spl.resolver.operations.product_count import product_count
+from spl.resolver.operations.product_count import count_with_fixed
 from spl.resolver.product_selection import (
     DEPLOYMENT_KEYS,
     IDENT,
@@ -30,10 +30,13 @@ if TYPE_CHECKING:
     from spl.configure.workspace import Workspace
     from spl.resolver.capabilities import RobotCapabilities
 
-# The remaining count answered with a decision is given this long; past it the page shows
-# the lower bound and asks for the exact count separately, with COUNT_SECONDS.
-QUICK_COUNT_SECONDS = 0.02
-COUNT_SECONDS = 5.0
+# The remaining count answered with a decision is given this long (a decision must be
+# answered within 50 ms on a 2,500-feature model, docs/configure.md "Speed"); past it
+# the page shows a lower bound, asks again with FOLLOW_UP_SECONDS, and offers a button
+# that counts with COUNT_SECONDS.
+QUICK_COUNT_SECONDS = 0.005
+FOLLOW_UP_SECONDS = 0.25
+COUNT_SECONDS = 10.0
 
 
 class InputError(ValueError):
@@ -265,18 +268,17 @@ class Session:
     def count(self, propagation: Propagation, seconds: float) -> dict:
         """The exact count when it is found within ``seconds``, else a lower bound: the
         distinct products the solver met that contain the decisions."""
-        literals = tuple(v if value else -v for v, value in propagation.fixed.items())
-        workspace = self.workspace
-        with workspace.guard:
-            counted = product_count(workspace.formula, seconds, assumed=literals)
+        counted = count_with_fixed(self.workspace.formula, propagation.fixed, seconds)
         if counted.value is not None:
             value = counted.value
             text = f"{value} product{'' if value == 1 else 's'}"
-            return {"exact": True, "value": value, "text": text}
+            if value >= 10**15:  # the exact digits stay in "value" (a string: JSON numbers
+                text = f"{value:.3e} products ({len(str(value))} digits)"  # lose them)
+            return {"exact": True, "value": str(value), "text": text}
         seen = len(set(propagation.models))
         return {
             "exact": False,
-            "value": seen,
+            "value": str(seen),
             "text": f"at least {seen} products (exact count not found within {seconds:g} s)",
         }
 

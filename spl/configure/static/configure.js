@@ -12,6 +12,7 @@
   const bundle = document.querySelector('a[data-action="bundle"]');
   const warnings = document.querySelector("[data-warnings]");
   const message = document.querySelector("[data-message]");
+  const countButton = document.querySelector('[data-action="count"]');
   const analysisOnly = document.body.dataset.analysisOnly === "true";
   let generation = 0; // the view's version: late answers for older views are dropped
   let focused = null;
@@ -61,7 +62,7 @@
       const settings = view.deployment[input.dataset.deployment] || {};
       if (document.activeElement !== input) input.value = settings[input.dataset.key] || "";
     });
-    if (!view.products.exact) exactCount(generation);
+    if (!view.products.exact) exactCount(generation, false);
     if (focused && view.states[focused] !== undefined) explain(focused);
     if (!analysisOnly) drawArchitecture(view.complete, generation);
   }
@@ -69,10 +70,12 @@
   function showCount(count) {
     products.textContent = count.text;
     products.dataset.exact = count.exact ? "true" : "false";
+    countButton.hidden = count.exact;
   }
 
-  async function exactCount(version) {
-    const { status, data } = await call("GET", "/api/count");
+  async function exactCount(version, exhaustive) {
+    if (exhaustive) products.textContent = "counting…";
+    const { status, data } = await call("GET", "/api/count" + (exhaustive ? "?exhaustive=true" : ""));
     if (status === 200 && version === generation) showCount(data.products);
   }
 
@@ -160,6 +163,7 @@
       change("/api/deployment", { container: input.dataset.deployment, key: input.dataset.key, value: input.value }, target);
     });
   });
+  countButton.addEventListener("click", () => exactCount(generation, true));
   document.querySelector('[data-action="undo"]').addEventListener("click", () => change("/api/undo", {}));
   document.querySelector('[data-action="redo"]').addEventListener("click", () => change("/api/redo", {}));
 
@@ -189,5 +193,5 @@
   if (!analysisOnly && document.querySelector("[data-complete]").textContent.startsWith("complete")) {
     drawArchitecture(true, generation);
   }
-  if (products.dataset.exact === "false") exactCount(generation);
+  if (products.dataset.exact === "false") exactCount(generation, false);
 })();
