@@ -116,7 +116,7 @@ class Session:
             raise InputError(f"unknown feature {feature!r}")
         decisions = self.assumptions()
         propagation = self.propagation()
-        state = self.workspace.propagator.states(decisions, propagation)[feature]
+        state = self.workspace.propagator.states(self.choices.decisions, propagation)[feature]
         selected = state in ("selected", "implied-selected")
         head = f"{feature}: {'selected feature' if selected else 'feature not selected'}"
         if feature in self.choices.decisions:
@@ -239,7 +239,7 @@ class Session:
         decisions = self.assumptions()
         with workspace.guard:
             propagation = workspace.propagator.propagate(decisions)
-            states = workspace.propagator.states(decisions, propagation)
+            states = workspace.propagator.states(self.choices.decisions, propagation)
             complete = workspace.propagator.complete(propagation)
         changed = {n: s for n, s in states.items() if full or self.shown.get(n) != s}
         self.shown = states
