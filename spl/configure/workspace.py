@@ -111,7 +111,8 @@ def load_fleet_workspace(fleet_file: Path, robot: str, group: str | None) -> Wor
         if option.status in ("forced", "forbidden"):
             workspace.locks[option.feature] = option.status == "forced"
             workspace.lock_reasons[option.feature] = [
-                f"the fleet {option.status} it: {reason}" for reason in option.reasons
+                f"the fleet {'forces' if option.status == 'forced' else 'forbids'} it: {reason}"
+                for reason in option.reasons
             ]
     workspace.fleet_label = f"robot {robot} joining fleet {fleet.name}, group {options.group}"
     workspace.robot = robot

@@ -215,7 +215,7 @@ def test_fleet_mode_locks_what_the_shared_instances_fix() -> None:
     now = states(api)
     assert now["Room"] == "implied-selected" and now["Corridor"] == "implied-deselected"
     why = api.get("/api/explain", params={"feature": "Corridor"}).json()["lines"]
-    assert "the fleet forbidden it: StrategyPlanner must have implementation" in why[1]
+    assert "the fleet forbids it: StrategyPlanner must have implementation" in why[1]
     refused = decide(api, "Corridor")
     assert refused.status_code == 422 and "decided by the fleet" in refused.json()["error"]
     assert api.get("/api/state").json()["products"]["value"] == "6"

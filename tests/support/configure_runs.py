@@ -40,10 +40,14 @@ def configurator(*arguments: str, cwd: Path | None = None) -> Iterator[str]:
         if process.poll() is None:
             process.send_signal(signal.SIGINT)
             try:
-                process.wait(timeout=15)
+                out, err = process.communicate(timeout=15)
             except subprocess.TimeoutExpired:
                 process.kill()
                 raise AssertionError("spl configure did not stop on Ctrl-C") from None
+            # a clean stop: exit 0, a last line, no traceback
+            assert process.returncode == 0, err
+            assert "Traceback" not in err, err
+            assert out.strip().endswith("spl configure: stopped"), out
 
 
 def chromium(download_dir: Path | None = None):
@@ -74,6 +78,22 @@ def settled(driver, timeout: float = 20.0) -> None:
                 return
         time.sleep(0.02)
     raise AssertionError("the page kept waiting for the server")
+
+
+def fetched(driver, url: str) -> bytes:
+    """What the page's own session gets at ``url`` (a link's target: the bundle, the
+    YAML), fetched by the page with its cookie."""
+    import base64
+
+    text = driver.execute_async_script(
+        "const done = arguments[arguments.length - 1];"
+        "fetch(arguments[0], {credentials: 'same-origin'}).then((r) => r.arrayBuffer())"
+        ".then((b) => { let s = '';"
+        "  new Uint8Array(b).forEach((c) => { s += String.fromCharCode(c); });"
+        "  done(btoa(s)); });",
+        url,
+    )
+    return base64.b64decode(text)
 
 
 def states(driver) -> dict[str, str]:
