@@ -16,7 +16,8 @@
   const analysisOnly = document.body.dataset.analysisOnly === "true";
   let generation = 0; // the view's version: late answers for older views are dropped
   let focused = null;
-  window.splConfigure = { timings: [], pending: 0 };
+  // click-to-page and server milliseconds of each decision (bench/configure_latency.py)
+  window.splConfigure = { timings: [], server: [], pending: 0 };
 
   async function call(method, url, body) {
     window.splConfigure.pending += 1;
@@ -28,7 +29,8 @@
         credentials: "same-origin",
       });
       const data = await response.json().catch(() => ({}));
-      return { status: response.status, data: data };
+      const timing = /dur=([0-9.]+)/.exec(response.headers.get("Server-Timing") || "");
+      return { status: response.status, data: data, server: timing ? Number(timing[1]) : null };
     } finally {
       window.splConfigure.pending -= 1;
     }
@@ -111,7 +113,8 @@
   }
 
   async function decide(name, action, started) {
-    const { status, data } = await call("POST", "/api/decide", { feature: name, action: action });
+    const { status, data, server } = await call("POST", "/api/decide", { feature: name, action: action });
+    window.splConfigure.server.push(server);
     if (status === 200) {
       say("");
       apply(data);
