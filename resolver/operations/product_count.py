@@ -123,6 +123,11 @@ def count_with_fixed(
                 pending.extend(fresh)
         if len(gathered) % 256 == 0 and time.monotonic() > deadline:
             return ProductCount(None, f"count skipped after {seconds:g} s")
+    # the counter's first pass over the gathered clauses is not interrupted and takes at
+    # least as long as gathering them: when that would overrun, stop now
+    now = time.monotonic()
+    if seconds is not None and now + (now - (deadline - seconds)) > deadline:
+        return ProductCount(None, f"count skipped after {seconds:g} s")
     depth: dict[str, int] = {}
     for name in cnf.names:
         parent = cnf.parent.get(name)
