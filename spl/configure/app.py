@@ -56,8 +56,10 @@ def create_app(workspace: Workspace) -> FastAPI:
             if found is not None:
                 return found, None
             token = secrets.token_urlsafe(18)
-            sessions[token] = Session(workspace)
-            return sessions[token], token
+            session = sessions[token] = Session(workspace)
+            if workspace.initial is not None:
+                session.start_from(workspace.initial)
+            return session, token
 
     def reply(request: Request, make: Any, status: int = 200, locked: bool = True) -> Response:
         """Run ``make(session)``; its errors become the statuses the page shows:

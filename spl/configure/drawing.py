@@ -6,7 +6,8 @@ WebAssembly Graphviz is a megabyte of JavaScript for a drawing whose shape is al
 same: containers side by side (robot containers first, then cloud containers, in the
 model's order), their nodes stacked inside, the bridges between containers as lines
 labelled with how many endpoint connections they carry. Nodes a ``migrate`` moved are
-outlined red with their origin; nodes the resolution removed are listed struck through.
+outlined red with their origin; nodes the resolution removed, and containers pruning
+left out (docs/resolution.md), are listed struck through, the containers with the reason.
 The layout is a pure function of the product, so the same product gives the same bytes.
 The bundle's own ``architecture.svg`` (Graphviz, docs/outputs.md "Diagrams") stays the
 full diagram with topics and interfaces.
@@ -41,9 +42,13 @@ def architecture_svg(resolution: Resolution) -> str:
     tallest = max((len(c.nodes) for c in containers), default=0)
     bridge_room = 30 + 18 * len(containers) ** 2
     height = MARGIN * 2 + HEADER + tallest * (NODE_HEIGHT + 10) + 10 + bridge_room
-    removed = resolution.removed_nodes
+    # removed nodes, and containers pruning left out (no file of the bundle deploys them)
+    removed = [(key, key, "data-node-removed") for key in resolution.removed_nodes]
+    removed += [(name, f"{name}: {why}", "data-left-out") for name, why in product.left_out]
     height += 24 + 18 * len(removed) if removed else 0
     width = MARGIN * 2 + max(1, len(containers)) * (COLUMN + GAP) - GAP
+    longest = max((len(label) for _, label, _ in removed), default=0)
+    width = max(width, MARGIN * 2 + 10 + 7 * longest)  # ~7 px a character at 12 px
     box_bottom = MARGIN + HEADER + tallest * (NODE_HEIGHT + 10) + 10
     parts = [
         f'<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" '
@@ -94,12 +99,12 @@ def architecture_svg(resolution: Resolution) -> str:
     if removed:
         y = height - MARGIN - 18 * len(removed)
         parts.append('<g data-removed="">')
-        parts.append(f'<text x="{MARGIN}" y="{y}" font-weight="bold">removed nodes</text>')
-        for i, key in enumerate(removed):
+        parts.append(f'<text x="{MARGIN}" y="{y}" font-weight="bold">removed</text>')
+        for i, (key, label, mark) in enumerate(removed):
             parts.append(
                 f'<text x="{MARGIN + 10}" y="{y + 18 * (i + 1)}" fill="#777" '
-                f'text-decoration="line-through" data-node-removed="{escape(key)}">'
-                f"{escape(key)}</text>"
+                f'text-decoration="line-through" {mark}="{escape(key)}">'
+                f"{escape(label)}</text>"
             )
         parts.append("</g>")
     parts.append("</svg>")

@@ -207,6 +207,36 @@ class Session:
             self.workspace.propagator.propagate(self.assumptions(after))
         self._change(after)
 
+    def start_from(self, selection: ProductSelection) -> None:
+        """Begin with a fleet entry's selection (the robot being changed), as if
+        imported, without an undo step; a selection the fleet's locks now refuse is
+        not taken (the page starts empty)."""
+        from spl.resolver.capabilities import choose_features
+
+        line = self.workspace.line
+        after = Choices()
+        if selection.capabilities is not None and line is not None:
+            chosen = choose_features(line.fm, selection.capabilities)
+            after.capabilities = {c.feature: c.selected for c in chosen}
+            after.capability_reasons = {c.feature: str(c) for c in chosen}
+            after.capability_file = selection.capabilities.name
+        fixed = {**self.workspace.locks, **after.capabilities}
+        wanted = {**dict.fromkeys(selection.features, True),
+                  **dict.fromkeys(selection.deselected, False)}  # fmt: skip
+        after.decisions = {n: v for n, v in wanted.items() if n not in fixed}
+        after.sharing = dict(selection.sharing)
+        after.deployment = copy.deepcopy(selection.deployment)
+        after.attributes = {
+            key: ("true" if v is True else "false" if v is False else str(v))
+            for key, v in selection.attributes.items()
+        }
+        try:
+            with self.workspace.guard:
+                self.workspace.propagator.propagate(self.assumptions(after))
+        except Impossible:
+            return
+        self.choices = after
+
     def replace(self, after: Choices) -> None:
         """Take an imported selection whole (checked by the caller), undoably."""
         with self.workspace.guard:

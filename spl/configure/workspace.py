@@ -21,6 +21,7 @@ from spl.resolver.fm_rules import group_bounds, group_kind
 
 if TYPE_CHECKING:
     from spl.resolver.product_line import ProductLine
+    from spl.resolver.product_selection import ProductSelection
 
 FEATURE_MODEL_SUFFIXES = (".fm", ".uvl", ".xml")
 
@@ -56,6 +57,7 @@ class Workspace:
     fleet_label: str = ""
     robot: str | None = None
     robot_containers: tuple[str, ...] = ()
+    initial: ProductSelection | None = None  # fleet mode: the robot's entry, if it has one
     guard: threading.Lock = field(default_factory=threading.Lock)
 
     def __post_init__(self) -> None:
@@ -116,6 +118,8 @@ def load_fleet_workspace(fleet_file: Path, robot: str, group: str | None) -> Wor
             ]
     workspace.fleet_label = f"robot {robot} joining fleet {fleet.name}, group {options.group}"
     workspace.robot = robot
+    entry = fleet.robot(robot)
+    workspace.initial = entry.selection if entry is not None else None
     return workspace
 
 

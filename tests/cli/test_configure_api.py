@@ -221,6 +221,25 @@ def test_fleet_mode_locks_what_the_shared_instances_fix() -> None:
     assert api.get("/api/state").json()["products"]["value"] == "6"
 
 
+def test_fleet_mode_starts_from_the_robots_entry() -> None:
+    """A robot already in the fleet is being changed: its entry is the first state."""
+    workspace = load_fleet_workspace(MAPPING / "fleets" / "lab.yaml", "roomba_2", None)
+    view = TestClient(create_app(workspace)).get("/api/state").json()
+    assert view["decisions"] == [
+        {"feature": "Roomba", "value": True},
+        {"feature": "Stereo", "value": True},
+    ]
+    assert view["sharing"] == {"SharedMap": "public"}
+    assert view["deployment"] == {
+        "Robot": {"robot_id": "roomba-cellar", "url": "wss://rce.example.org:9000/"}
+    }
+    assert view["complete"] and not view["undo"]
+    robot = load_fleet_workspace(MAPPING / "fleets" / "lab.yaml", "youbot_1", None)
+    start = TestClient(create_app(robot)).get("/api/state").json()
+    assert start["capabilities"] == "youbot_1"  # its capability file decides its hardware
+    assert start["states"]["YouBot"] == "implied-selected"
+
+
 def test_saving_writes_only_products_name_yaml_under_a_valid_new_name(tmp_path: Path) -> None:
     line = tmp_path / "mapping3d"
     shutil.copytree(MAPPING, line)

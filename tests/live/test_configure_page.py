@@ -38,6 +38,7 @@ def test_mapping3d_propagation_explanation_count_architecture_and_bundle(
     browser, tmp_path: Path
 ) -> None:
     with configurator(str(MAPPING)) as url:
+        assert url.startswith("http://127.0.0.1:")  # this machine only, unless told
         browser.get(url)
         settled(browser)
         assert text(browser, "[data-products]") == "12 products"
@@ -50,6 +51,12 @@ def test_mapping3d_propagation_explanation_count_architecture_and_bundle(
         assert now["AdditionalPC"] == "selected"
         assert now["Roomba"] == "implied-deselected" and now["YouBot"] == "implied-selected"
         assert text(browser, "[data-products]") == "4 products"
+        # the control that would leave no product says so
+        roomba_select = browser.find_element(
+            By.CSS_SELECTOR, '[data-feature="Roomba"] [data-action="select"]'
+        )
+        assert roomba_select.get_attribute("aria-disabled") == "true"
+        assert "no product would be left" in roomba_select.get_attribute("title")
         click(browser, "Roomba", "explain")
         why = text(browser, "[data-explanation]")
         assert why.startswith("Roomba: feature not selected")

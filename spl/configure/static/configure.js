@@ -44,9 +44,7 @@
     generation += 1;
     for (const [name, state] of Object.entries(view.states)) {
       const row = rows.get(name);
-      if (!row) continue;
-      row.dataset.state = state;
-      row.querySelector('[data-action="explain"]').setAttribute("aria-label", "why " + name + " is " + state);
+      if (row) mark(row, name, state);
     }
     showCount(view.products);
     complete.textContent = view.complete ? "complete: the selection resolves" : "open choices remain";
@@ -68,6 +66,25 @@
     if (focused && view.states[focused] !== undefined) explain(focused);
     if (!analysisOnly) drawArchitecture(view.complete, generation);
   }
+
+  // A decision against an implied value would leave no product: its control says so
+  // (aria-disabled keeps it focusable; pressing it shows the reason from the server).
+  function mark(row, name, state) {
+    row.dataset.state = state;
+    row.querySelector('[data-action="explain"]').setAttribute("aria-label", "why " + name + " is " + state);
+    const against = { "implied-selected": "deselect", "implied-deselected": "select" }[state];
+    for (const action of ["select", "deselect"]) {
+      const button = row.querySelector('[data-action="' + action + '"]');
+      if (action === against) {
+        button.setAttribute("aria-disabled", "true");
+        button.title = action + " " + name + ": no product would be left (choose " + name + " to see why)";
+      } else {
+        button.removeAttribute("aria-disabled");
+        button.removeAttribute("title");
+      }
+    }
+  }
+  rows.forEach((row, name) => mark(row, name, row.dataset.state));
 
   function showCount(count) {
     products.textContent = count.text;
