@@ -18,6 +18,7 @@ import secrets
 import threading
 import time
 import zipfile
+from collections import OrderedDict
 from pathlib import Path
 from typing import Any
 
@@ -36,13 +37,16 @@ from spl.diagnostics import ModelError
 
 HERE = Path(__file__).resolve().parent
 COOKIE = "spl_configure_session"
+# sessions kept (each holds its choices and at most one derived bundle): a client that
+# never sends its cookie back must not grow the server without bound
+SESSIONS = 64
 STATIC = {"configure.js": "text/javascript", "configure.css": "text/css"}
 
 
 def create_app(workspace: Workspace) -> FastAPI:
     """The application serving ``workspace`` to any number of independent sessions."""
     app = FastAPI(title=f"spl configure {workspace.title}", docs_url=None, redoc_url=None)
-    sessions: dict[str, Session] = {}
+    sessions: OrderedDict[str, Session] = OrderedDict()
     sessions_guard = threading.Lock()
     templates = Environment(
         loader=FileSystemLoader(HERE / "templates"), autoescape=select_autoescape(["html"])
@@ -54,9 +58,12 @@ def create_app(workspace: Workspace) -> FastAPI:
         with sessions_guard:
             found = sessions.get(token)
             if found is not None:
+                sessions.move_to_end(token)
                 return found, None
             token = secrets.token_urlsafe(18)
             session = sessions[token] = Session(workspace)
+            if len(sessions) > SESSIONS:  # the least recently used one goes
+                sessions.popitem(last=False)
             if workspace.initial is not None:
                 session.start_from(workspace.initial)
             return session, token

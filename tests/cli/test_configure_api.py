@@ -192,6 +192,19 @@ def test_two_sessions_do_not_share_decisions() -> None:
     assert states(second)["Roomba"] == "open"
 
 
+def test_sessions_are_bounded_the_least_recently_used_going_first() -> None:
+    from spl.configure.app import SESSIONS
+
+    app = create_app(load_workspace(MAPPING))
+    first = TestClient(app)
+    decide(first, "AdditionalPC")
+    others = [TestClient(app) for _ in range(SESSIONS)]
+    for other in others:
+        other.get("/api/state")
+    assert states(others[-1])["Roomba"] == "open"
+    assert states(first)["Roomba"] == "open"  # its session was dropped: a fresh one
+
+
 def test_a_capability_file_decides_features_as_resolve_capabilities_does() -> None:
     api = client(MAPPING)
     robot = MAPPING / "fleets" / "robots" / "youbot_1.yaml"
