@@ -11,6 +11,7 @@ so the selection it exports resolves as ``spl resolve --features FILE.yaml`` res
 from __future__ import annotations
 
 import copy
+import math
 import re
 import threading
 from dataclasses import dataclass, field
@@ -125,10 +126,16 @@ class Session:
             return [head, f"  {self.lock_text(feature)}"]
         if state == "open":
             return [f"{feature}: open; products with it and products without it remain"]
+        propagator = self.workspace.propagator
+        variable = self.workspace.formula.cnf.var[feature]
+        # a core or dead feature is so in every product: the model alone says why, even
+        # when the solver could also blame a decision
+        given = {} if variable in propagator.base else decisions
         with self.workspace.guard:
-            lines = self.workspace.propagator.why(decisions, feature, selected)
-        for name in decisions:  # a decision the fleet or the robot made: its own reason
-            if name != feature and name in lines[0] and self.fixed_by(name):
+            lines = propagator.why(given, feature, selected)
+        named = set(re.findall(r"[A-Za-z_]\w*", lines[0]))
+        for name in given:  # a decision the fleet or the robot made: its own reason
+            if name != feature and name in named and self.fixed_by(name):
                 lines.append(f"  {name}: {self.lock_text(name)}")
         return [head, *(f"  {line}" for line in lines)]
 
@@ -146,7 +153,7 @@ class Session:
             after.attributes.pop(key, None)
         else:
             value = typed_text(text.strip(), info.kind)
-            if value is None or (isinstance(value, float) and value != value):
+            if value is None or (isinstance(value, float) and not math.isfinite(value)):
                 raise InputError(f"attribute {key} is {info.kind}, got {text!r}")
             after.attributes[key] = text.strip()
         self._change(after)

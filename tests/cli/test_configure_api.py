@@ -55,6 +55,10 @@ def test_selecting_additional_pc_implies_youbot_and_excludes_roomba_with_the_rea
     assert why[0] == "Roomba: feature not selected"
     assert "selecting Roomba contradicts your decisions (selecting AdditionalPC):" in why[1]
     assert "Roomba excludes AdditionalPC" in why[2] and "mapping.fm:29" in why[2]
+    # a feature in every product is explained by the model, not by the decision
+    assert api.get("/api/explain", params={"feature": "MobileBase"}).json()["lines"][1] == (
+        "  deselecting MobileBase contradicts the feature model:"
+    )
     youbot = api.get("/api/explain", params={"feature": "YouBot"}).json()["lines"]
     assert youbot[0] == "YouBot: selected feature"
     assert any("MobileBase: exactly one of YouBot, Roomba" in line for line in youbot)
@@ -134,6 +138,8 @@ def test_a_malformed_attribute_is_refused_with_the_type_and_the_selection_unchan
     assert refused.json()["error"] == "attribute CloudDetection.threshold is double, got 'high'"
     after = api.get("/api/state").json()
     assert after == before
+    huge = api.post("/api/attribute", json={"key": "CloudDetection.threshold", "value": "1e999"})
+    assert huge.status_code == 422  # out of a double's range
     assert api.post("/api/attribute", json={"key": "Scouting.speed", "value": "1"}).json()[
         "error"
     ] == "unknown feature attribute Scouting.speed"
