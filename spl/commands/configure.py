@@ -67,8 +67,8 @@ def command(
 
 
 def serve(workspace, host: str, port: int, open_browser: bool) -> None:
-    """Listen (OSError, e.g. the port is taken, becomes a one-line error), print the
-    URL, serve until Ctrl-C."""
+    """Listen (a port taken or an address not this machine's is a one-line error),
+    print the URL, serve until Ctrl-C."""
     import uvicorn
 
     from spl.configure.app import create_app
@@ -76,8 +76,14 @@ def serve(workspace, host: str, port: int, open_browser: bool) -> None:
     family = socket.AF_INET6 if ":" in host else socket.AF_INET
     listener = socket.socket(family, socket.SOCK_STREAM)
     listener.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
-    listener.bind((host, port))
-    listener.listen(64)
+    try:
+        listener.bind((host, port))
+        listener.listen(64)
+    except OSError as exc:
+        listener.close()
+        raise click.ClickException(
+            f"cannot listen on {host}:{port}: {exc.strerror or exc} (choose another --port)"
+        ) from None
     bound = listener.getsockname()[1]
     shown = f"[{host}]" if family == socket.AF_INET6 else host
     url = f"http://{shown}:{bound}/"

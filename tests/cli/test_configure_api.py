@@ -290,6 +290,15 @@ def test_the_command_refuses_bad_input_with_a_message(tmp_path: Path) -> None:
     assert result.exit_code == 2 and "--robot and --group go with --fleet" in result.output
     result = runner.invoke(main, ["configure", "--fleet", str(MAPPING / "fleets" / "lab.yaml")])
     assert result.exit_code == 2 and "--fleet needs --robot" in result.output
+    import socket
+
+    with socket.socket() as taken:
+        taken.bind(("127.0.0.1", 0))
+        taken.listen(1)
+        port = str(taken.getsockname()[1])
+        result = runner.invoke(main, ["configure", str(MAPPING), "--no-browser", "--port", port])
+    assert result.exit_code == 1
+    assert f"cannot listen on 127.0.0.1:{port}: Address already in use" in result.output
 
 
 @pytest.mark.parametrize("line", sorted(p.name for p in (ROOT / "product_lines").iterdir()))
