@@ -46,7 +46,6 @@ STATES = (OPEN, SELECTED, DESELECTED, IMPLIED_SELECTED, IMPLIED_DESELECTED)
 # session on automotive01 (2,513 features: ~10 KB per model) without growing unbounded.
 KEPT_MODELS = 400
 REMEMBERED = 256
-PHASES_EVERY = 1
 # a model's sign bits: the high byte of each 32-bit literal is 0x00 (true) or 0xff (false)
 _SIGN_DIGITS = bytes.maketrans(b"\x00\xff", b"10")
 
@@ -83,9 +82,6 @@ class Propagator:
         for sample in formula.samples[-8:]:
             self._keep(sample)
         self.remembered: OrderedDict[frozenset[int], Propagation] = OrderedDict()
-
-    def valid(self) -> bool:
-        return self.formula.satisfiable()
 
     def propagate(self, decisions: Mapping[str, bool]) -> Propagation:
         """The features fixed by ``decisions`` (name -> value); :class:`Impossible` when
@@ -139,8 +135,8 @@ class Propagator:
             up &= model
             down &= ~model
         # the phases steer the solver against the candidates, set again after every model
-        # (setting them less often costs more models than the calls it saves)
-        since_phases = PHASES_EVERY
+        # (every fourth model instead costs more models than the calls it saves)
+        phases_stale = True
         while up | down:
             both = up | down
             lowest = (both & -both).bit_length() - 1
@@ -151,9 +147,9 @@ class Propagator:
             if not solver.propagate(assumptions=probe)[0]:
                 implied = True
             else:
-                if since_phases >= PHASES_EVERY:
+                if phases_stale:
                     solver.set_phases(_literals(down, True) + _literals(up, False))
-                    since_phases = 0
+                    phases_stale = False
                 implied = not solver.solve(assumptions=probe)
             if implied:
                 fixed[lowest] = literal > 0
@@ -161,7 +157,7 @@ class Propagator:
                 model = self._keep(solver.get_model())
                 up &= model
                 down &= ~model
-                since_phases += 1
+                phases_stale = True
         return fixed
 
     def _keep(self, model: list[int]) -> int:
