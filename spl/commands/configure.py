@@ -87,7 +87,10 @@ def serve(workspace, host: str, port: int, open_browser: bool) -> None:
     bound = listener.getsockname()[1]
     shown = f"[{host}]" if family == socket.AF_INET6 else host
     url = f"http://{shown}:{bound}/"
-    config = uvicorn.Config(create_app(workspace), log_level="warning", lifespan="off")
+    # on this machine only, the page answers only to this machine's names
+    loopback = {"127.0.0.1": ["127.0.0.1", "localhost"], "localhost": ["127.0.0.1", "localhost"]}
+    app = create_app(workspace, loopback.get(host))
+    config = uvicorn.Config(app, log_level="warning", lifespan="off")
     server = uvicorn.Server(config)
     click.echo(f"spl configure: {workspace.title} at {url} (Ctrl-C stops)", err=False)
     if open_browser:

@@ -25,6 +25,7 @@ from typing import Any
 from fastapi import Body, FastAPI, Query, Request
 from fastapi.responses import HTMLResponse, JSONResponse, Response
 from jinja2 import Environment, FileSystemLoader, select_autoescape
+from starlette.middleware.trustedhost import TrustedHostMiddleware
 
 from spl.configure.selection_file import (
     read_capabilities_text,
@@ -43,9 +44,13 @@ SESSIONS = 64
 STATIC = {"configure.js": "text/javascript", "configure.css": "text/css"}
 
 
-def create_app(workspace: Workspace) -> FastAPI:
-    """The application serving ``workspace`` to any number of independent sessions."""
+def create_app(workspace: Workspace, hosts: list[str] | None = None) -> FastAPI:
+    """The application serving ``workspace`` to any number of independent sessions.
+    ``hosts``: the only Host headers answered (a page of another site that makes its
+    browser resolve its own name to 127.0.0.1 is refused: DNS rebinding); None, any."""
     app = FastAPI(title=f"spl configure {workspace.title}", docs_url=None, redoc_url=None)
+    if hosts is not None:
+        app.add_middleware(TrustedHostMiddleware, allowed_hosts=hosts)
     sessions: OrderedDict[str, Session] = OrderedDict()
     sessions_guard = threading.Lock()
     templates = Environment(

@@ -190,6 +190,13 @@ def test_yaml_round_trip_and_unknown_features_listed_at_their_place() -> None:
     assert other.get("/api/selection.yaml", params={"name": "lab_robot"}).text == text
 
 
+def test_only_the_names_given_are_answered() -> None:
+    app = create_app(load_workspace(MAPPING), ["127.0.0.1", "localhost"])
+    assert TestClient(app, base_url="http://127.0.0.1:8765").get("/").status_code == 200
+    refused = TestClient(app, base_url="http://rebound.example:8765").get("/api/state")
+    assert refused.status_code == 400
+
+
 def test_two_sessions_do_not_share_decisions() -> None:
     app = create_app(load_workspace(MAPPING))
     first, second = TestClient(app), TestClient(app)
