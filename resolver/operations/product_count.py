@@ -10,8 +10,10 @@ from __future__ import annotations
 import sys
 import time
 from collections import defaultdict
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
+from weakref import WeakKeyDictionary
 
 from pysat.solvers import Solver
 
@@ -60,6 +62,82 @@ def product_count(
     counter = _ProjectedCounter([depth[name] for name in cnf.names], seconds, cached_clauses)
     try:
         return ProductCount(counter.count(list(cnf.clauses) + units))
+    except _BudgetExceeded as exc:
+        return ProductCount(None, str(exc))
+
+
+# each formula's clauses and, per variable, the clauses it occurs in (built once)
+_CLAUSE_INDEX: WeakKeyDictionary[FeatureModelFormula, tuple[list[Clause], list[list[int]]]]
+_CLAUSE_INDEX = WeakKeyDictionary()
+
+
+def count_with_fixed(
+    formula: FeatureModelFormula, fixed: Mapping[int, bool], seconds: float | None
+) -> ProductCount:
+    """The number of products with the feature values ``fixed`` (variable -> value),
+    which must be *every* feature value those products share, and which some product
+    has (a configurator's decisions and what they imply, docs/configure.md).
+
+    Only the clauses reaching an open feature (directly or through auxiliary variables)
+    are gathered, each reduced by the fixed values, so the work grows with the features
+    still open, not with the model. The clauses left out share no unfixed variable with
+    the gathered ones and are satisfied by the product that exists. The counter takes
+    every feature its clauses do not mention as free; the fixed ones are not, so the
+    count is halved for each. ``None`` with a note past ``seconds``, gathering included."""
+    cnf = formula.cnf
+    n = cnf.num_features
+    deadline = time.monotonic() + seconds if seconds is not None else float("inf")
+    index = _CLAUSE_INDEX.get(formula)
+    if index is None:
+        clauses = list(cnf.clauses)
+        occurs: list[list[int]] = [[] for _ in range(cnf.num_vars + 1)]
+        for number, clause in enumerate(clauses):
+            for lit in clause:
+                occurs[abs(lit)].append(number)
+        index = _CLAUSE_INDEX[formula] = (clauses, occurs)
+    clauses, occurs = index
+    true = {v if value else -v for v, value in fixed.items()}
+    reached: set[int] = set()
+    pending: list[int] = []
+    for v in range(1, n + 1):
+        if v not in fixed:
+            fresh = [i for i in occurs[v] if i not in reached]
+            reached.update(fresh)
+            pending.extend(fresh)
+    gathered: list[Clause] = []
+    entered: set[int] = set()
+    while pending:
+        clause = clauses[pending.pop()]
+        if any(lit in true for lit in clause):
+            continue
+        kept = tuple(lit for lit in clause if -lit not in true)
+        if not kept:
+            return ProductCount(0)
+        gathered.append(kept)
+        for lit in kept:
+            a = abs(lit)
+            if a > n and a not in entered:
+                entered.add(a)
+                fresh = [i for i in occurs[a] if i not in reached]
+                reached.update(fresh)
+                pending.extend(fresh)
+        if len(gathered) % 256 == 0 and time.monotonic() > deadline:
+            return ProductCount(None, f"count skipped after {seconds:g} s")
+    # the counter's first pass over the gathered clauses is not interrupted and takes at
+    # least as long as gathering them: when that would overrun, stop now
+    now = time.monotonic()
+    if seconds is not None and now + (now - (deadline - seconds)) > deadline:
+        return ProductCount(None, f"count skipped after {seconds:g} s")
+    depth: dict[str, int] = {}
+    for name in cnf.names:
+        parent = cnf.parent.get(name)
+        depth[name] = 0 if parent is None else depth[parent] + 1
+    left = None if seconds is None else max(0.0, deadline - time.monotonic())
+    counter = _ProjectedCounter([depth[name] for name in cnf.names], left, COUNT_CACHED_CLAUSES)
+    counter.seconds = seconds
+    fixed_features = sum(1 for v in fixed if v <= n)
+    try:
+        return ProductCount(counter.count(sorted(gathered)) >> fixed_features)
     except _BudgetExceeded as exc:
         return ProductCount(None, str(exc))
 
