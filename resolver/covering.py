@@ -1,0 +1,178 @@
+"""Pairwise (and 1-wise) covering arrays at community scale: one product at a time, the
+uncovered pairs as a bit matrix.
+
+Why a matrix: a community-size model has millions of pairs (automotive01's 2,234 free
+features have 9,977,044), too many to list one tuple each and far too many to visit one
+by one in Python. Here literal ``i`` is the ``i``-th free feature and ``m + i`` its
+negation, and the pairs still to cover are a boolean matrix ``U`` (``U[a, b]``: the pair
+``a, b`` is neither covered nor known invalid), 20 MB for automotive01. Counting what a
+choice would cover is then a row sum, and covering a product's pairs is one assignment
+to the sub-matrix of its literals. numpy is used for exactly this (the same loops in
+Python ints took 80 s for automotive01 and gave 700 products against its 50 s here).
+
+The construction is the greedy one of IncLing (Al-Hajjaji, Krieter, Thüm, Lochau, Saake:
+"IncLing: Efficient Product-Line Testing using Incremental Pairwise Sampling", GPCE
+2016) and of ICPL's Chvátal heuristic: products are built one at a time, each to cover
+as many still uncovered pairs as it can, with the SAT solver deciding validity (as YASA
+does: Krieter, Thüm, Schulze, Leich, Saake, "YASA: Yet Another Sampling Algorithm",
+VaMoS 2020):
+
+1. Pairs unit propagation refutes (``a`` propagates ``not b``, or ``b`` ``not a``) are
+   invalid at the start, without a solver call: one propagation per literal, computed
+   once, whose result (the literals each literal implies) is kept.
+2. A product starts from a *seed*, an uncovered pair: the literal in the most uncovered
+   pairs and, of its partners, the one in the most. When the solver refutes the seed, it
+   is invalid, counted, and another seed is chosen.
+3. Then, while some open literal still has uncovered pairs, the literal covering the most
+   uncovered pairs with the product's literals so far is decided (ties: the literal in
+   more uncovered pairs, then the first). The solver is asked only when that literal is
+   not in the last model found (a product with everything decided so far) and what it
+   implies does not already contradict the product; a refuted literal's negation is
+   decided instead (every product with the decided literals has it).
+4. The product is the last model, and all of its pairs are covered at once.
+
+Every product covers its seed, so the loop ends, and a pair leaves ``U`` only when a
+product contains it or the solver (or propagation) refutes it: covered plus invalid is
+the number of pairs. Each step depends only on the model (numpy's argmax takes the first
+maximum), so the same model gives the same sample, byte for byte.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from pysat.solvers import Solver
+
+
+class GreedyCover:
+    """The products built over ``features`` (free variables, in model order), t = 1 or 2."""
+
+    def __init__(self, solver: Solver, features: list[int], t: int) -> None:
+        if t not in (1, 2):
+            raise ValueError(f"GreedyCover builds 1- and 2-wise samples, not {t}-wise")
+        self.solver = solver
+        self.t = t
+        m = self.m = len(features)
+        size = 2 * m
+        self.literal = [*features, *(-v for v in features)]
+        self.negation = np.concatenate([np.arange(m, size), np.arange(m)])
+        self.model_index = np.array(features, dtype=np.int64) - 1
+        position = {lit: i for i, lit in enumerate(self.literal)}
+        self.implied = [self._implied(lit, position) for lit in self.literal]
+        self.models: list[np.ndarray] = []
+        self.solver_calls = 0
+        self.total = math.comb(m, t) * 2**t
+        if t == 1:
+            self.uncovered = np.ones(size, dtype=bool)
+        else:
+            self.uncovered = self._valid_pairs()
+        self.invalid = self.total - self._open()
+
+    def _implied(self, lit: int, position: dict[int, int]) -> np.ndarray:
+        ok, lits = self.solver.propagate(assumptions=[lit])
+        assert ok, "free literals propagate without conflict"
+        return np.array(sorted({position[x] for x in lits if x in position}), dtype=np.int64)
+
+    def _valid_pairs(self) -> np.ndarray:
+        """Every pair of literals of two features that propagation does not refute."""
+        size = 2 * self.m
+        pairs = np.ones((size, size), dtype=bool)
+        for a, implied in enumerate(self.implied):
+            pairs[a, self.negation[implied]] = False
+        pairs &= pairs.T
+        every = np.arange(size)
+        pairs[every, every] = False
+        pairs[every, self.negation] = False
+        return pairs
+
+    def _open(self) -> int:
+        """How many combinations are still uncovered (and not known invalid)."""
+        count = int(np.count_nonzero(self.uncovered))
+        return count if self.t == 1 else count // 2
+
+    def _solve(self, assumptions: list[int]) -> np.ndarray | None:
+        """The free literals of a product with ``assumptions``, or None if there is none."""
+        self.solver_calls += 1
+        if not self.solver.solve(assumptions=assumptions):
+            return None
+        selected = np.array(self.solver.get_model(), dtype=np.int64)[self.model_index] > 0
+        return np.concatenate([selected, ~selected])
+
+    # --- the algorithm -------------------------------------------------------------
+    def build(self) -> None:
+        while True:
+            seed = self._seed()
+            if seed is None:
+                return
+            model = self._solve([self.literal[b] for b in seed])
+            if model is None:  # only pairs can be refuted: every free literal is valid
+                a, b = seed
+                self.uncovered[a, b] = self.uncovered[b, a] = False
+                self.invalid += 1
+                continue
+            model = self._complete(seed, model)
+            self.models.append(model)
+            chosen = np.flatnonzero(model)
+            if self.t == 1:
+                self.uncovered[chosen] = False
+            else:
+                self.uncovered[np.ix_(chosen, chosen)] = False
+
+    def _seed(self) -> tuple[int, ...] | None:
+        """The uncovered combination to start a product from, or None when all are
+        covered: the literal in the most uncovered pairs, with its partner in the most
+        (starting from the first uncovered pair instead gives 713 products for
+        automotive01, not 672)."""
+        if self.t == 1:
+            rest = np.flatnonzero(self.uncovered)
+            return (int(rest[0]),) if rest.size else None
+        need = np.count_nonzero(self.uncovered, axis=1)
+        a = int(np.argmax(need))
+        if need[a] == 0:
+            return None
+        return a, int(np.argmax(np.where(self.uncovered[a], need, -1)))
+
+    def _complete(self, seed: tuple[int, ...], model: np.ndarray) -> np.ndarray:
+        """Decide the product that starts from ``seed``; its free literals."""
+        size = 2 * self.m
+        weight = size + 1  # a covered pair outweighs any tie-breaking count
+        closed = -(2**62)  # below anything the additions can bring back over 0
+        if self.t == 1:
+            score = self.uncovered.astype(np.int64)
+        else:
+            score = np.count_nonzero(self.uncovered, axis=1).astype(np.int64)
+        in_product = np.zeros(size, dtype=bool)
+        decided: list[int] = []
+
+        def take(b: int) -> None:
+            decided.append(self.literal[b])
+            implied = self.implied[b]
+            new = implied[~in_product[implied]]
+            in_product[new] = True
+            if self.t == 2:
+                score[:] += weight * np.count_nonzero(self.uncovered[new], axis=0)
+            score[new] = closed
+            score[self.negation[new]] = closed
+
+        for b in seed:
+            take(b)
+        while True:
+            b = int(np.argmax(score))
+            if score[b] <= 0:
+                return model
+            if model[b]:
+                take(b)
+            elif in_product[self.negation[self.implied[b]]].any():
+                take(int(self.negation[b]))
+            else:
+                found = self._solve([*decided, self.literal[b]])
+                if found is None:
+                    take(int(self.negation[b]))
+                else:
+                    model = found
+                    take(b)
+
+    def selected(self, model: np.ndarray) -> list[int]:
+        """The positions (in ``features``) of the free features a model selects."""
+        return [int(i) for i in np.flatnonzero(model[: self.m])]
