@@ -46,11 +46,9 @@ from pysat.solvers import Solver
 
 
 class GreedyCover:
-    """The products built over ``features`` (free variables, in model order), t = 1 or 2."""
+    """The products built over ``features`` (free variables, in model order) for t."""
 
     def __init__(self, solver: Solver, features: list[int], t: int) -> None:
-        if t not in (1, 2):
-            raise ValueError(f"GreedyCover builds 1- and 2-wise samples, not {t}-wise")
         self.solver = solver
         self.t = t
         m = self.m = len(features)
@@ -63,11 +61,15 @@ class GreedyCover:
         self.models: list[np.ndarray] = []
         self.solver_calls = 0
         self.total = math.comb(m, t) * 2**t
-        if t == 1:
-            self.uncovered = np.ones(size, dtype=bool)
-        else:
-            self.uncovered = self._valid_pairs()
+        self.uncovered = self._start()
         self.invalid = self.total - self._open()
+
+    # --- what t decides (spl.resolver.triple_cover overrides these for t = 3) ------
+    def _start(self) -> np.ndarray:
+        """The combinations to cover: for t = 1 a vector, for t = 2 the pair matrix."""
+        if self.t == 1:
+            return np.ones(2 * self.m, dtype=bool)
+        return self._valid_pairs()
 
     def _implied(self, lit: int, position: dict[int, int]) -> np.ndarray:
         ok, lits = self.solver.propagate(assumptions=[lit])
@@ -106,18 +108,39 @@ class GreedyCover:
             if seed is None:
                 return
             model = self._solve([self.literal[b] for b in seed])
-            if model is None:  # only pairs can be refuted: every free literal is valid
-                a, b = seed
-                self.uncovered[a, b] = self.uncovered[b, a] = False
+            if model is None:
+                self._refute(seed)
                 self.invalid += 1
                 continue
             model = self._complete(seed, model)
             self.models.append(model)
-            chosen = np.flatnonzero(model)
-            if self.t == 1:
-                self.uncovered[chosen] = False
-            else:
-                self.uncovered[np.ix_(chosen, chosen)] = False
+            self._cover(np.flatnonzero(model))
+
+    def _refute(self, seed: tuple[int, ...]) -> None:
+        """Drop a combination the solver refuted (only pairs can be: every free literal
+        is in some product)."""
+        a, b = seed
+        self.uncovered[a, b] = self.uncovered[b, a] = False
+
+    def _cover(self, chosen: np.ndarray) -> None:
+        """Mark every combination of the literals ``chosen`` covered."""
+        if self.t == 1:
+            self.uncovered[chosen] = False
+        else:
+            self.uncovered[np.ix_(chosen, chosen)] = False
+
+    def _need(self) -> np.ndarray:
+        """Per literal, how many uncovered combinations it is in (or a multiple)."""
+        if self.t == 1:
+            return self.uncovered.astype(np.int64)
+        return np.count_nonzero(self.uncovered, axis=1).astype(np.int64)
+
+    def _gains(self, new: np.ndarray, before: np.ndarray) -> np.ndarray | None:
+        """Per literal, the uncovered combinations it would now complete that literals
+        ``new`` make possible, ``before`` being the product's literals until then."""
+        if self.t == 1:
+            return None
+        return np.count_nonzero(self.uncovered[new], axis=0)
 
     def _seed(self) -> tuple[int, ...] | None:
         """The uncovered combination to start a product from, or None when all are
@@ -136,12 +159,9 @@ class GreedyCover:
     def _complete(self, seed: tuple[int, ...], model: np.ndarray) -> np.ndarray:
         """Decide the product that starts from ``seed``; its free literals."""
         size = 2 * self.m
-        weight = size + 1  # a covered pair outweighs any tie-breaking count
+        score = self._need()
+        weight = int(score.max()) + 1  # a covered combination outweighs any tie-break
         closed = -(2**62)  # below anything the additions can bring back over 0
-        if self.t == 1:
-            score = self.uncovered.astype(np.int64)
-        else:
-            score = np.count_nonzero(self.uncovered, axis=1).astype(np.int64)
         in_product = np.zeros(size, dtype=bool)
         decided: list[int] = []
 
@@ -149,9 +169,10 @@ class GreedyCover:
             decided.append(self.literal[b])
             implied = self.implied[b]
             new = implied[~in_product[implied]]
+            gains = self._gains(new, np.flatnonzero(in_product))
             in_product[new] = True
-            if self.t == 2:
-                score[:] += weight * np.count_nonzero(self.uncovered[new], axis=0)
+            if gains is not None:
+                score[:] += weight * gains
             score[new] = closed
             score[self.negation[new]] = closed
 

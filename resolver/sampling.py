@@ -12,7 +12,7 @@ Core and dead features (the backbone) are left out first: their literals are in 
 no product, so combinations with them are covered by the others or invalid. The rest is
 built by :mod:`spl.resolver.covering` for t = 1 and 2 (one product at a time, the
 uncovered pairs as a bit matrix, so that community-size models such as automotive01
-sample in seconds) and by :mod:`spl.resolver.triples` for t = 3. How, and how large the
+sample in seconds) and by :mod:`spl.resolver.triple_cover` for t = 3. How, and how large the
 samples are: docs/analysis.md (Sampling) and docs/performance.md (Pairwise sampling).
 """
 
@@ -27,7 +27,7 @@ from pysat.solvers import Solver
 
 from spl.resolver.analysis import FeatureModelFormula
 from spl.resolver.covering import GreedyCover
-from spl.resolver.triples import listed_cover
+from spl.resolver.triple_cover import TripleCover, refuse_large_cube, valid_pairs
 
 MAX_T = 3
 
@@ -55,15 +55,19 @@ def covering_array(formula: FeatureModelFormula, t: int = 2) -> Sample:
     core, dead = formula.backbone()
     fixed = [(cnf.var[name],) for name in core] + [(-cnf.var[name],) for name in dead]
     free = [v for v in range(1, n + 1) if cnf.names[v - 1] not in core | dead]
+    if t == 3:
+        refuse_large_cube(len(free))
     with Solver(name=formula.solver_name, bootstrap_with=list(cnf.clauses) + fixed) as solver:
         if t <= 2:
             cover = GreedyCover(solver, free, t)
             cover.build()
-            chosen = [[free[i] for i in cover.selected(model)] for model in cover.models]
-            covered, invalid = cover.total - cover.invalid, cover.invalid
         else:
-            models, covered, invalid = listed_cover(solver, free, n, t)
-            chosen = [[lit for lit in model if lit > 0] for model in models]
+            pairwise = GreedyCover(solver, free, 2)
+            pairwise.build()
+            cover = TripleCover(solver, free, valid_pairs(pairwise))
+            cover.build()
+        chosen = [[free[i] for i in cover.selected(model)] for model in cover.models]
+        covered, invalid = cover.total - cover.invalid, cover.invalid
     products = tuple(frozenset(core | {cnf.names[v - 1] for v in vs}) for vs in chosen)
     return Sample(t, products, covered, invalid, time.perf_counter() - start)
 
