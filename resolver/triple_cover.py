@@ -48,7 +48,6 @@ class TripleCover(GreedyCover):
     def __init__(self, solver: Solver, features: list[int], valid_pairs: np.ndarray) -> None:
         refuse_large_cube(len(features))
         self.valid_pairs = valid_pairs
-        self.words = (2 * len(features) + 63) // 64
         super().__init__(solver, features, 3)
 
     def _start(self) -> np.ndarray:
@@ -66,16 +65,6 @@ class TripleCover(GreedyCover):
             cube[start : start + a.size] = self._pack(bits)
         return cube
 
-    def _pack(self, bits: np.ndarray) -> np.ndarray:
-        """Rows of booleans as rows of 64-bit words (bit ``c`` in word ``c // 64``)."""
-        packed = np.packbits(bits, axis=-1, bitorder="little")
-        padded = np.zeros((*packed.shape[:-1], self.words * 8), dtype=np.uint8)
-        padded[..., : packed.shape[-1]] = packed
-        return padded.view(np.uint64)
-
-    def _unpack(self, words: np.ndarray) -> np.ndarray:
-        return np.unpackbits(words.view(np.uint8), axis=-1, count=2 * self.m, bitorder="little")
-
     def _open(self) -> int:
         return int(np.bitwise_count(self.uncovered).sum()) // 3
 
@@ -85,8 +74,7 @@ class TripleCover(GreedyCover):
         need = np.bincount(self.first, per_row, size) + np.bincount(self.second, per_row, size)
         return need.astype(np.int64)
 
-    def _seed(self) -> tuple[int, ...] | None:
-        need = self._need()
+    def _seed(self, need: np.ndarray) -> tuple[int, ...] | None:
         a = int(np.argmax(need))
         if need[a] == 0:
             return None
@@ -95,10 +83,11 @@ class TripleCover(GreedyCover):
         bits = self._unpack(self.uncovered[self.row[a, b]]).astype(bool)
         return a, b, int(np.argmax(np.where(bits, need, -1)))
 
-    def _refute(self, seed: tuple[int, ...]) -> None:
+    def _refute(self, seed: tuple[int, ...], need: np.ndarray) -> None:
         a, b, c = seed
         for x, y, other in ((a, b, c), (a, c, b), (b, c, a)):
-            self.uncovered[self.row[x, y], other >> 6] &= ~np.uint64(1 << (other & 63))
+            self._clear(int(self.row[x, y]), other)
+        need[[a, b, c]] -= 2  # each literal of a triple is in two of its three rows
 
     def _cover(self, chosen: np.ndarray) -> None:
         inside = np.zeros(2 * self.m, dtype=bool)

@@ -4,6 +4,7 @@ JSON Lines, with the usage errors of its options."""
 from __future__ import annotations
 
 import json
+import re
 from pathlib import Path
 
 from click.testing import CliRunner
@@ -56,6 +57,10 @@ def test_feature_model_files_in_every_format() -> None:
     xml = run(REAL_MODELS / "berkeleydb.xml", "--sample", "2")
     assert uvl.exit_code == xml.exit_code == 0
     assert len(uvl.stdout.splitlines()) > 1
+    # the size of the sample and the time it took, on stderr
+    size = len(uvl.stdout.splitlines())
+    assert re.fullmatch(rf"{size} products; they cover all 9965 valid 2-wise .* in \d+\.\d\d s\n",
+                        uvl.stderr)  # fmt: skip
     assert run(SEARCH, "--random", "5", "--seed", "3").stdout.count("\n") == 5
 
 
