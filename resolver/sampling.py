@@ -6,57 +6,30 @@ features. A *t-wise covering array* is a set of valid products in which every va
 combination of ``t`` feature literals (``f``, ``not f``; for t = 2 the four
 combinations of each pair) appears at least once. Combinations no product contains
 (e.g. ``Roomba and AdditionalPC`` when one excludes the other) are *invalid* and
-excluded; they are found with the SAT solver, never assumed.
+excluded; they are found with the SAT solver (or unit propagation), never assumed.
 
-Algorithm: incremental greedy construction in the manner of IncLing (Al-Hajjaji,
-Krieter, Thüm, Lochau, Saake: "IncLing: Efficient Product-Line Testing using Incremental
-Pairwise Sampling", GPCE 2016, doi:10.1145/2993236.2993253) — products are built one
-at a time, each from the combinations no earlier product covers — with the SAT solver
-deciding every candidate (as in YASA, Krieter et al., VaMoS 2020):
-
-1. Core and dead features (the backbone) are left out: their literals are in every /
-   no product, so combinations with them are covered by the others or invalid. The
-   remaining literals' t-combinations are listed; those unit propagation refutes
-   (``A`` propagates ``not B``) are invalid without a SAT call.
-2. A new product starts empty. The uncovered combinations are visited in one fixed
-   pseudo-random order (seeded, so the sample is deterministic; consecutive
-   combinations then rarely share a literal, which keeps a product from being decided
-   by the partners of a single literal). A combination is added to the product when it
-   does not contradict the literals decided or propagated so far and the solver finds a
-   product with all of them (the last model found is tried first, without a call).
-   While the product is still empty, a combination the solver refutes is invalid.
-3. When the pass ends the solver completes the product; every combination it contains
-   is covered. Repeat until nothing is uncovered.
-
-Every product holds at least the first combination of its pass, so the loop ends; and
-every valid combination is covered because it stays listed until a product contains it.
+Core and dead features (the backbone) are left out first: their literals are in every /
+no product, so combinations with them are covered by the others or invalid. The rest is
+built by :mod:`spl.resolver.covering` for t = 1 and 2 (one product at a time, the
+uncovered pairs as a bit matrix, so that community-size models such as automotive01
+sample in seconds) and by :mod:`spl.resolver.triple_cover` for t = 3. How, and how large the
+samples are: docs/analysis.md (Sampling) and docs/performance.md (Pairwise sampling).
 """
 
 from __future__ import annotations
 
-import math
 import random
 import time
 from collections.abc import Iterator
 from dataclasses import dataclass
-from itertools import combinations
 
 from pysat.solvers import Solver
 
 from spl.resolver.analysis import FeatureModelFormula
+from spl.resolver.covering import GreedyCover
+from spl.resolver.triple_cover import TripleCover, refuse_large_cube, valid_pairs
 
 MAX_T = 3
-# The combinations are listed in memory (a tuple each): beyond this many, refuse with
-# the number rather than exhaust memory (t = 3 over BusyBox's 622 free features would be
-# 320 million).
-MAX_COMBINATIONS = 5_000_000
-
-
-ORDER_SEED = 20160809  # fixed: the same model always gives the same sample
-
-
-class SampleTooLarge(ValueError):
-    """More t-combinations than :data:`MAX_COMBINATIONS`."""
 
 
 @dataclass(frozen=True)
@@ -82,84 +55,21 @@ def covering_array(formula: FeatureModelFormula, t: int = 2) -> Sample:
     core, dead = formula.backbone()
     fixed = [(cnf.var[name],) for name in core] + [(-cnf.var[name],) for name in dead]
     free = [v for v in range(1, n + 1) if cnf.names[v - 1] not in core | dead]
-    literals = [lit for v in free for lit in (v, -v)]
-    total = math.comb(len(free), t) * 2**t
-    if total > MAX_COMBINATIONS:
-        raise SampleTooLarge(
-            f"{t}-wise sampling of {len(free)} free features means {total:,} combinations, "
-            f"more than the {MAX_COMBINATIONS:,} spl samples; use a smaller t"
-        )
+    if t == 3:
+        refuse_large_cube(len(free))
     with Solver(name=formula.solver_name, bootstrap_with=list(cnf.clauses) + fixed) as solver:
-        implied = {}
-        for lit in literals:
-            ok, lits = solver.propagate(assumptions=[lit])
-            implied[lit] = set(lits) if ok else {lit, -lit}
-        pending: list[tuple[int, ...]] = []
-        invalid = 0
-        for combination in combinations(literals, t):
-            if len({abs(lit) for lit in combination}) < t:
-                continue
-            if any(-other in implied[lit] for lit in combination for other in combination):
-                invalid += 1
-            else:
-                pending.append(combination)
-        random.Random(ORDER_SEED).shuffle(pending)
-        covered = 0
-        products: list[frozenset[str]] = []
-        while pending:
-            model, refuted = _next_product(solver, pending, n)
-            invalid += len(refuted)
-            chosen = set(model)
-            remaining = []
-            for combination in pending:
-                if combination in refuted:
-                    continue
-                if all(lit in chosen for lit in combination):
-                    covered += 1
-                else:
-                    remaining.append(combination)
-            pending = remaining
-            if model:
-                products.append(frozenset(cnf.names[lit - 1] for lit in model if lit > 0))
-    return Sample(t, tuple(products), covered, invalid, time.perf_counter() - start)
-
-
-def _next_product(
-    solver: Solver, pending: list[tuple[int, ...]], n: int
-) -> tuple[list[int], set[tuple[int, ...]]]:
-    """One greedy pass: the product's feature literals and the combinations found invalid
-    while it was still empty (an empty model when every pending one was invalid)."""
-    decided: list[int] = []
-    members: set[int] = set()  # decided and propagated feature literals
-    model: list[int] | None = None  # a product with every decided literal
-    in_model: set[int] = set()
-    refuted: set[tuple[int, ...]] = set()
-    for combination in pending:
-        new = []
-        for lit in combination:
-            if -lit in members:
-                break
-            if lit not in members:
-                new.append(lit)
+        if t <= 2:
+            cover = GreedyCover(solver, free, t)
+            cover.build()
         else:
-            if not new:
-                continue
-            if not all(lit in in_model for lit in new):
-                assumptions = decided + new
-                ok, _ = solver.propagate(assumptions=assumptions)
-                if not ok or not solver.solve(assumptions=assumptions):
-                    if not decided:
-                        refuted.add(combination)
-                    continue
-                model = solver.get_model()[:n]
-                in_model = set(model)
-            decided.extend(new)
-            ok, lits = solver.propagate(assumptions=decided)
-            members.update(lit for lit in lits if abs(lit) <= n)
-    if model is None:
-        return [], refuted
-    solver.solve(assumptions=decided)
-    return solver.get_model()[:n], refuted
+            pairwise = GreedyCover(solver, free, 2)
+            pairwise.build()
+            cover = TripleCover(solver, free, valid_pairs(pairwise))
+            cover.build()
+        chosen = [[free[i] for i in cover.selected(model)] for model in cover.models]
+        covered, invalid = cover.total - cover.invalid, cover.invalid
+    products = tuple(frozenset(core | {cnf.names[v - 1] for v in vs}) for vs in chosen)
+    return Sample(t, products, covered, invalid, time.perf_counter() - start)
 
 
 def random_products(
