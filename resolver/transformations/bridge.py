@@ -60,6 +60,10 @@ class ConnectBridge(TransformationKind["rm_types.ConnectBridge"]):
                 qualified(client), "bridged", f"to server {qualified(server)} by {ctx.by()}", where
             )
 
+    def rebinds(self, t: rm_types.ConnectBridge) -> Iterator[tsm_types.Interface]:
+        if t.client is not None:  # a topic bridge adds routes and rebinds nothing
+            yield _service(t)[0]
+
     def touched(self, t: rm_types.ConnectBridge) -> Iterator[tsm_types.Node | tsm_types.Store]:
         if t.client is not None:  # a topic bridge keeps its topics, not nodes
             client, server = _service(t)

@@ -112,6 +112,13 @@ class TransformationKind(Generic[Statement]):
         """The template nodes and stores an active statement keeps in the product."""
         return iter(())
 
+    def rebinds(self, t: Statement) -> Iterator[tsm_types.Interface]:
+        """The template interfaces whose topic or server an active statement changes: in
+        products activating it their template flows may not hold (the dataflow line
+        check, docs/semantics.md F8). A migration changes none: the endpoint rewiring
+        keeps the template's flows (docs/resolution.md)."""
+        return iter(())
+
     def shares(self, t: Statement) -> Iterator[tsm_types.Node]:
         """The template nodes the statement's feature gives its sharing mode to (besides
         the element's required ones)."""

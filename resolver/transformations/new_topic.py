@@ -47,6 +47,9 @@ class ConnectToNewTopic(TransformationKind["rm_types.ConnectToNewTopic"]):
             return
         connect_interface(interface, topic, ctx, where)
 
+    def rebinds(self, t: rm_types.ConnectToNewTopic) -> Iterator[tsm_types.Interface]:
+        yield t.interface
+
     def touched(self, t: rm_types.ConnectToNewTopic) -> Iterator[tsm_types.Node | tsm_types.Store]:
         yield node_of(t.interface)
 

@@ -40,6 +40,9 @@ class ConnectService(TransformationKind["rm_types.ConnectService"]):
             reason = f"to server {qualified(server)} by {ctx.by()}"
             ctx.trace.record(qualified(client), "connected", reason, where)
 
+    def rebinds(self, t: rm_types.ConnectService) -> Iterator[tsm_types.Interface]:
+        yield t.client
+
     def touched(self, t: rm_types.ConnectService) -> Iterator[tsm_types.Node | tsm_types.Store]:
         yield node_of(t.client)
         yield node_of(t.server)

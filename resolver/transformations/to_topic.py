@@ -39,6 +39,9 @@ class ConnectToTopic(TransformationKind["rm_types.ConnectToTopic"]):
             return
         connect_interface(interface, topic, ctx, where)
 
+    def rebinds(self, t: rm_types.ConnectToTopic) -> Iterator[tsm_types.Interface]:
+        yield t.interface
+
     def touched(self, t: rm_types.ConnectToTopic) -> Iterator[tsm_types.Node | tsm_types.Store]:
         yield node_of(t.interface)
 

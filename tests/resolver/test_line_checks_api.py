@@ -50,8 +50,10 @@ def test_every_finding_of_the_broken_line_is_located(found):
         ("broken.rm", 54, 5, "error", "SPL012"),  # connect Teleop.cmd
         ("broken.rm", 61, 1, "error", "SPL012"),  # sharing of Mapper
         ("broken.rm", 70, 5, "error", "SPL012"),  # server of Lookup.find
+        ("broken.tsm", 14, 20, "warning", "SPL045"),  # Driver.cmd, without Teleop
         ("broken.tsm", 21, 19, "warning", "SPL011"),  # GripperControl
         ("broken.tsm", 24, 19, "warning", "SPL011"),  # Spare
+        ("broken.tsm", 48, 15, "warning", "SPL046"),  # Lookup.find, without a server
         ("invalid.yaml", 2, 12, "warning", "SPL015"),
         ("open.yaml", 1, 1, "warning", "SPL015"),
     ]

@@ -1,0 +1,190 @@
+"""SPL045 and SPL046 before any product is chosen: every input that some product of the
+line leaves unfed, with a witness product (docs/semantics.md F8).
+
+An *input* is a node subscriber or a node service client. ``spl resolve`` warns when
+the flow table of the product it derives (:mod:`spl.resolver.flows`) delivers nothing
+to one (SPL045 for a subscriber, SPL046 for a client). This check asks the same for
+every product at once, with one SAT question per input: a product that keeps the
+input's node and in which none of the template's flows to it is certain to hold. A
+template flow holds in a product where the node at its other end is kept
+(:class:`.presence.Presence`) and no active statement rebinds either end to another
+topic or server (``TransformationKind.rebinds``); a migration does not break it, since
+the endpoint rewiring keeps the template's flows (docs/resolution.md). So an input for
+which the question has no answer is fed in every product, and needs no resolution.
+
+A product the solver finds is resolved, and the input is reported as that product's
+resolution warns about it, naming the product and what removed the feeders. A
+candidate the resolution feeds after all (a statement connected another publisher to
+its topic, or bridged one to it) is ruled out, with every product activating the same
+resolution elements (they derive the same architecture), and the solver is asked again.
+An input an interface annotation declares fed from outside the architecture
+(``fed externally "why"``, docs/tsm.md) is neither asked about nor warned.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from spl.diagnostics import Diagnostic, ModelError, location_of
+from spl.metamodels import tsm
+from spl.resolver.context import describe, qualified
+from spl.resolver.flows import SERVICE, FlowTable, node_of
+from spl.resolver.line_checks.activation import ActivationSolver
+from spl.resolver.line_checks.presence import Clauses, Presence
+from spl.resolver.product_line import ProductLine
+from spl.resolver.product_selection import selection_from_list
+from spl.resolver.transformations import kind_of
+
+if TYPE_CHECKING:
+    from spl.metamodels import rm_types, tsm_types
+
+UNFED = "SPL045"  # the codes spl resolve gives (resolver/architecture_checks.py)
+UNSERVED = "SPL046"
+# products ruled out per input before the check stops asking about it: each costs one
+# resolution, and a line needs many only when statements feed an input in most products
+RETRIES = 16
+
+Witness = tuple[str, ...]
+
+
+class _Line:
+    """What the questions about every input share: the solver, presence clauses, the
+    elements rebinding each interface, and the warnings of the products resolved."""
+
+    def __init__(self, line: ProductLine, solver: ActivationSolver) -> None:
+        self.line, self.solver = line, solver
+        self.presence = Presence(line, solver)
+        self.rebinding: dict[int, list[rm_types.ResolutionElement]] = {}
+        for element in line.rm.elements:
+            for t in element.transformations:
+                for interface in kind_of(t).rebinds(t):
+                    self.rebinding.setdefault(id(interface), []).append(element)
+        # the feature variables of the elements: products alike on them derive alike
+        self.variables = sorted({abs(solver.literal(e)) for e in line.rm.elements})
+        self.resolved: dict[Witness, list[Diagnostic]] = {}
+
+    def rebinders(self, interface: tsm_types.Interface) -> list[rm_types.ResolutionElement]:
+        return self.rebinding.get(id(interface), [])
+
+    def warnings(self, witness: Witness) -> list[Diagnostic]:
+        """The warnings of the product ``witness`` (none when it fails for other reasons,
+        which resolve, validate and the other checks report)."""
+        if witness not in self.resolved:
+            from spl.resolver.engine import resolve  # the engine imports the line checks' kin
+
+            try:
+                product = resolve(self.line, selection_from_list(",".join(witness))).product
+                self.resolved[witness] = list(product.warnings)
+            except ModelError:
+                self.resolved[witness] = []
+        return self.resolved[witness]
+
+    def ruled_out(self, witness: Witness) -> list[int]:
+        """A clause excluding every product that activates the resolution elements
+        ``witness`` activates."""
+        selected = set(witness)
+        names = self.solver.cnf.names
+        return [-v if names[v - 1] in selected else v for v in self.variables]
+
+
+def unfed_inputs_in_line(line: ProductLine, solver: ActivationSolver) -> list[Diagnostic]:
+    """The inputs some product of the line leaves unfed, each with its witness product."""
+    T = tsm()
+    shared = _Line(line, solver)
+    template = FlowTable.of(line.tsm)
+    found: list[Diagnostic] = []
+    for container in line.tsm.containers:
+        for node in container.nodes:
+            for interface in node.interfaces:
+                if interface.external:
+                    continue
+                if isinstance(interface, T.Subscriber):
+                    if interface.topic is None and not shared.rebinders(interface):
+                        continue  # bound to no topic in any product: nothing to feed
+                    code = UNFED
+                elif isinstance(interface, T.ServiceClient):
+                    code = UNSERVED
+                else:
+                    continue
+                clauses = _unfed(shared, template, interface)
+                if clauses is not None:
+                    found += _confirmed(shared, template, interface, clauses, code)
+    return found
+
+
+def _unfed(shared: _Line, template: FlowTable, interface: tsm_types.Interface) -> Clauses | None:
+    """Clauses of a product keeping ``interface``'s node in which no template flow to it
+    is certain to hold; None when every product keeping it feeds it."""
+    solver = shared.solver
+    clauses = shared.presence.present(node_of(interface))
+    if clauses is None:
+        return None  # in no product
+    moved = [solver.literal(e) for e in shared.rebinders(interface)]
+    for flow in template.feeding(interface):
+        feeder = flow.target if flow.kind == SERVICE else flow.source
+        broken = moved + [solver.literal(e) for e in shared.rebinders(feeder)]
+        absent = shared.presence.absent(node_of(feeder))
+        if absent is not None:
+            gone = solver.fresh()  # implies the feeder's node is left out
+            clauses = clauses + [[-gone, *clause] for clause in absent]
+            broken.append(gone)
+        if not broken:
+            return None  # this flow holds wherever the input is
+        clauses = [*clauses, broken]
+    return clauses
+
+
+def _confirmed(
+    shared: _Line,
+    template: FlowTable,
+    interface: tsm_types.Interface,
+    clauses: Clauses,
+    code: str,
+) -> list[Diagnostic]:
+    """The warning of the first product the solver finds in which the resolution leaves
+    ``interface`` unfed, naming the product and why; none when no product does."""
+    where = location_of(interface)
+    for _ in range(RETRIES):
+        witness = shared.solver.witness_where(None, clauses)
+        if witness is None:
+            return []
+        for warning in shared.warnings(witness):
+            if warning.code == code and warning.location == where:
+                message = f"{warning.message}, in the product {', '.join(witness)}"
+                why = _why(shared, template, interface, set(witness))
+                if why:
+                    message += f"; {why}"
+                return [Diagnostic(where, message, warning.severity, code)]
+        clauses = [*clauses, shared.ruled_out(witness)]
+    return []
+
+
+def _why(
+    shared: _Line, template: FlowTable, interface: tsm_types.Interface, selected: set[str]
+) -> str:
+    """What keeps the template's feeders of ``interface`` from it in the product
+    ``selected``: the resolution elements that would keep a feeder's node and are not
+    active, or the active statements that rebind an end."""
+
+    def active(element: rm_types.ResolutionElement) -> bool:
+        return (element.feature.name in selected) == element.activeIfSelected
+
+    reasons: list[str] = []
+    moving = [e for e in shared.rebinders(interface) if active(e)]
+    if moving:
+        reasons.append(f"{qualified(interface)} is rebound by {describe(moving[0])}")
+    for flow in template.feeding(interface):
+        feeder = flow.target if flow.kind == SERVICE else flow.source
+        node = node_of(feeder)
+        role = "server" if flow.kind == SERVICE else "feeder"
+        keepers = shared.presence.keepers(node)
+        if node.optional and not any(active(e) for e in keepers):
+            kept_by = ", ".join(describe(e) for e in keepers) or "no resolution element"
+            reasons.append(
+                f"its {role} {qualified(feeder)} is left out: optional node {node.name} is "
+                f"kept only by {kept_by}"
+            )
+        elif any(active(e) for e in shared.rebinders(feeder)):
+            element = next(e for e in shared.rebinders(feeder) if active(e))
+            reasons.append(f"its {role} {qualified(feeder)} is rebound by {describe(element)}")
+    return "; ".join(dict.fromkeys(reasons))
