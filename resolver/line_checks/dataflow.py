@@ -23,17 +23,19 @@ An input an interface annotation declares fed from outside the architecture
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, NamedTuple
 
 from spl.diagnostics import Diagnostic, ModelError, location_of
+from spl.dsl.rm_names import Names, Placement
 from spl.metamodels import tsm
 from spl.resolver.context import describe, qualified
-from spl.resolver.flows import SERVICE, FlowTable, node_of
+from spl.resolver.flows import SERVICE, FlowTable, node_of, reached_topics
 from spl.resolver.line_checks.activation import ActivationSolver
 from spl.resolver.line_checks.presence import Clauses, Presence
 from spl.resolver.product_line import ProductLine
 from spl.resolver.product_selection import selection_from_list
 from spl.resolver.transformations import kind_of
+from spl.resolver.transformations.kind import Binding
 
 if TYPE_CHECKING:
     from spl.metamodels import rm_types, tsm_types
@@ -47,24 +49,93 @@ RETRIES = 16
 Witness = tuple[str, ...]
 
 
+Key = tuple[int, str]  # a topic as a statement names it: (id of its container, name)
+
+
+class _Option(NamedTuple):
+    """One way an input may be fed: in a product where every element of ``active`` is
+    active, none of ``inactive`` is, and ``feeder``'s node is kept."""
+
+    feeder: tsm_types.Interface
+    active: tuple[rm_types.ResolutionElement, ...]
+    inactive: tuple[rm_types.ResolutionElement, ...]
+
+
 class _Line:
     """What the questions about every input share: the solver, presence clauses, the
-    elements rebinding each interface, and the warnings of the products resolved."""
+    statements rebinding each interface, the publishers statements put on each topic,
+    and the warnings of the products resolved."""
 
     def __init__(self, line: ProductLine, solver: ActivationSolver) -> None:
         self.line, self.solver = line, solver
         self.presence = Presence(line, solver)
-        self.rebinding: dict[int, list[rm_types.ResolutionElement]] = {}
+        # interface -> (element, binding, the topic it binds to when certain)
+        self.rebinding: dict[int, list[tuple[rm_types.ResolutionElement, Binding, Key | None]]]
+        self.rebinding = {}
+        names = Names(line.tsm)  # where each statement's node is (docs/semantics.md C1)
+        for element in line.rm.elements:
+            names.begin_element(element)
+            for t in element.transformations:
+                for binding in kind_of(t).rebinds(t):
+                    key = _key(binding, names.placement(node_of(binding.interface)))
+                    self.rebinding.setdefault(id(binding.interface), []).append(
+                        (element, binding, key)
+                    )
+                names.apply(t)
+        # the topics data put on each topic reaches, by the template's bridges
+        reached = reached_topics(line.tsm)
+        topics = {(id(c), t.name): t for c in line.tsm.containers for t in c.topics}
+
+        def onward(key: Key) -> list[Key]:
+            topic = topics.get(key)
+            if topic is None:  # a topic a statement creates: no bridge leaves it
+                return [key]
+            return [(id(t.eContainer()), t.name) for t in reached[id(topic)]]
+
+        # the publishers feeding each topic: the template's, and those statements bind
+        self.publishing: dict[Key, list[_Option]] = {}
+        T = tsm()
+        for container in line.tsm.containers:
+            for node in container.nodes:
+                for interface in node.interfaces:
+                    if not isinstance(interface, T.Publisher):
+                        continue
+                    if interface.topic is not None:
+                        option = _Option(interface, (), tuple(self.rebinders(interface)))
+                        for there in onward((id(container), interface.topic.name)):
+                            self.publishing.setdefault(there, []).append(option)
+                    for element, _, key in self.rebinding.get(id(interface), ()):
+                        if key is None:
+                            continue
+                        # data put on another container's topic goes no further: the
+                        # rewiring bridges it to its subscribers there, and a robot
+                        # relays no data but its own (docs/semantics.md F3)
+                        local = key[0] == id(container)
+                        for there in onward(key) if local else [key]:
+                            option = _Option(interface, (element,), ())
+                            self.publishing.setdefault(there, []).append(option)
+        # a statement's bridge carries what reaches its source on to its target
+        robots = {id(c) for c in line.tsm.containers if c.eClass.name == "RobotContainer"}
         for element in line.rm.elements:
             for t in element.transformations:
-                for interface in kind_of(t).rebinds(t):
-                    self.rebinding.setdefault(id(interface), []).append(element)
+                for source, target in kind_of(t).routes(t):
+                    if source.container is None or target.container is None:
+                        continue
+                    start = (id(source.container), source.name)
+                    end = (id(target.container), target.name)
+                    carried = [
+                        _Option(o.feeder, (*o.active, element), o.inactive)
+                        for o in self.publishing.get(start, ())
+                    ]
+                    # a robot passes on no data but its own (docs/semantics.md F3)
+                    for there in [end] if end[0] in robots else onward(end):
+                        self.publishing.setdefault(there, []).extend(carried)
         # the feature variables of the elements: products alike on them derive alike
         self.variables = sorted({abs(solver.literal(e)) for e in line.rm.elements})
         self.resolved: dict[Witness, list[Diagnostic]] = {}
 
     def rebinders(self, interface: tsm_types.Interface) -> list[rm_types.ResolutionElement]:
-        return self.rebinding.get(id(interface), [])
+        return [element for element, _, _ in self.rebinding.get(id(interface), ())]
 
     def warnings(self, witness: Witness) -> list[Diagnostic]:
         """The warnings of the product ``witness`` (none when it fails for other reasons,
@@ -87,6 +158,19 @@ class _Line:
         return [-v if names[v - 1] in selected else v for v in self.variables]
 
 
+def _key(binding: Binding, placement: Placement) -> Key | None:
+    """The topic a statement binds its interface to, when it is certain: the container
+    is named, or the node is certainly in one when the statement runs (a migration
+    earlier in its element, or none in any element before); None otherwise, and the
+    binding is not counted on to feed anything."""
+    if binding.topic is None:
+        return None
+    container = binding.container or placement.certain
+    if container is None and not placement.moves:
+        container = placement.node.eContainer()
+    return None if container is None else (id(container), binding.topic)
+
+
 def unfed_inputs_in_line(line: ProductLine, solver: ActivationSolver) -> list[Diagnostic]:
     """The inputs some product of the line leaves unfed, each with its witness product."""
     T = tsm()
@@ -106,30 +190,57 @@ def unfed_inputs_in_line(line: ProductLine, solver: ActivationSolver) -> list[Di
                     code = UNSERVED
                 else:
                     continue
-                clauses = _unfed(shared, template, interface)
+                clauses = _unfed(shared, _options(shared, template, interface), interface)
                 if clauses is not None:
                     found += _confirmed(shared, template, interface, clauses, code)
     return found
 
 
-def _unfed(shared: _Line, template: FlowTable, interface: tsm_types.Interface) -> Clauses | None:
-    """Clauses of a product keeping ``interface``'s node in which no template flow to it
-    is certain to hold; None when every product keeping it feeds it."""
+def _options(shared: _Line, template: FlowTable, interface: tsm_types.Interface) -> list[_Option]:
+    """The ways ``interface`` may be fed, each certain to feed it where it holds: a
+    template flow while neither end is rebound, a publisher a statement binds to the
+    input's topic, the publishers on the topic or the server a statement binds the input
+    to."""
+    own = tuple(shared.rebinders(interface))
+    options = []
+    for flow in template.feeding(interface):
+        feeder = flow.target if flow.kind == SERVICE else flow.source
+        options.append(_Option(feeder, (), own + tuple(shared.rebinders(feeder))))
+    topic: tsm_types.Topic | None = getattr(interface, "topic", None)
+    if topic is not None:  # statements putting a publisher where the topic gets data
+        home = (id(topic.eContainer()), topic.name)
+        for option in shared.publishing.get(home, ()):
+            if option.active:
+                options.append(_Option(option.feeder, option.active, own))
+    for element, binding, key in shared.rebinding.get(id(interface), ()):
+        if binding.server is not None:
+            options.append(_Option(binding.server, (element,), ()))
+        elif key is not None:
+            for option in shared.publishing.get(key, ()):
+                active = (element, *option.active)
+                options.append(_Option(option.feeder, active, option.inactive))
+    return options
+
+
+def _unfed(shared: _Line, options: list[_Option], interface: tsm_types.Interface) -> Clauses | None:
+    """Clauses of a product keeping ``interface``'s node (bound, for a subscriber) in
+    which none of ``options`` holds; None when every such product feeds it."""
     solver = shared.solver
     clauses = shared.presence.present(node_of(interface))
     if clauses is None:
         return None  # in no product
-    moved = [solver.literal(e) for e in shared.rebinders(interface)]
-    for flow in template.feeding(interface):
-        feeder = flow.target if flow.kind == SERVICE else flow.source
-        broken = moved + [solver.literal(e) for e in shared.rebinders(feeder)]
-        absent = shared.presence.absent(node_of(feeder))
+    if getattr(interface, "topic", False) is None:  # a subscriber only statements bind
+        clauses = [*clauses, [solver.literal(e) for e in shared.rebinders(interface)]]
+    for option in options:
+        broken = [-solver.literal(e) for e in option.active]
+        broken += [solver.literal(e) for e in option.inactive]
+        absent = shared.presence.absent(node_of(option.feeder))
         if absent is not None:
             gone = solver.fresh()  # implies the feeder's node is left out
             clauses = clauses + [[-gone, *clause] for clause in absent]
             broken.append(gone)
         if not broken:
-            return None  # this flow holds wherever the input is
+            return None  # this option holds wherever the input is
         clauses = [*clauses, broken]
     return clauses
 

@@ -16,6 +16,7 @@ from spl.resolver.transformations.connect import (
     type_mismatch,
 )
 from spl.resolver.transformations.kind import (
+    Binding,
     Decision,
     DecisionKey,
     Predictions,
@@ -39,8 +40,8 @@ class ConnectToTopic(TransformationKind["rm_types.ConnectToTopic"]):
             return
         connect_interface(interface, topic, ctx, where)
 
-    def rebinds(self, t: rm_types.ConnectToTopic) -> Iterator[tsm_types.Interface]:
-        yield t.interface
+    def rebinds(self, t: rm_types.ConnectToTopic) -> Iterator[Binding]:
+        yield Binding(t.interface, t.topic.name, t.topic.container)
 
     def touched(self, t: rm_types.ConnectToTopic) -> Iterator[tsm_types.Node | tsm_types.Store]:
         yield node_of(t.interface)
