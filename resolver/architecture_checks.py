@@ -2,7 +2,8 @@
 
 A product can be valid for the feature model and still not work: a message type that
 differs across a connection is an error; a subscriber no flow feeds or a service
-client no flow serves is a warning (the data may come from outside the product).
+client no flow serves is a warning (the data may come from outside the product), unless
+the .tsm says what feeds it from outside (``external "why"``, docs/tsm.md).
 Whether a flow reaches an input is the flow table's answer (:mod:`spl.resolver.flows`),
 the one every output follows.
 """
@@ -85,8 +86,9 @@ def check_architecture(
                         "error",
                         "SPL044",
                     )
+                fed_outside = bool(interface.external)  # the model says why (docs/tsm.md)
                 unfed = isinstance(interface, T.Subscriber) and not flows.feeding(interface)
-                if unfed and topic is not None:
+                if unfed and topic is not None and not fed_outside:
                     report(
                         interface,
                         f"{qualified(interface)} subscribes {qualified(topic)}, "
@@ -97,12 +99,14 @@ def check_architecture(
                 if isinstance(interface, T.ServiceClient):
                     server = interface.server
                     if server is None or id(interface) in unserved:
-                        report(
-                            interface,
-                            f"service client {qualified(interface)} has no server in this product",
-                            "warning",
-                            UNSERVED,
-                        )
+                        if not fed_outside:
+                            report(
+                                interface,
+                                f"service client {qualified(interface)} has no server in this "
+                                "product",
+                                "warning",
+                                UNSERVED,
+                            )
                     elif interface.type and server.type and interface.type != server.type:
                         report(
                             interface,

@@ -8,6 +8,7 @@ each with a witness product that resolves with that warning."""
 from __future__ import annotations
 
 import random
+import re
 import shutil
 import tempfile
 from functools import cache
@@ -18,14 +19,17 @@ from hypothesis import assume, given, settings
 
 from spl.diagnostics import ModelError
 from spl.dsl import fm_formats, tsm
+from spl.resolver.engine import resolve
+from spl.resolver.explanation import explanation
 from spl.resolver.line_checks import check_product_line
 from spl.resolver.product_line import load_product_line
+from spl.resolver.product_selection import selection_from_list
 
 from support.farm_statements import MODELS as FARM
 from support.farm_statements import resolution_model
 from support.hypothesis_budget import examples
 from support.random_lines import LineSpec, line_specs, write_line
-from support.unfed_products import assert_check_agrees, gaps, witness_of
+from support.unfed_products import assert_check_agrees, gaps, unfed_somewhere, witness_of
 
 ROOT = Path(__file__).resolve().parents[2]
 WAREHOUSE = ROOT / "tests" / "models" / "line_checks" / "warehouse"
@@ -36,8 +40,8 @@ def test_the_warehouse_localizer_is_unfed_in_the_camera_products():
     line = load_product_line(WAREHOUSE)
     found = [d for d in check_product_line(line) if d.code in ("SPL045", "SPL046")]
     assert [(Path(d.location.file).name, d.location.line, d.code) for d in found] == [
-        ("warehouse.tsm", 26, "SPL045"),  # Localizer.scan
-        ("warehouse.tsm", 43, "SPL046"),  # Detector.classify
+        ("warehouse.tsm", 27, "SPL045"),  # Localizer.scan; Localizer.odom is fed externally
+        ("warehouse.tsm", 45, "SPL046"),  # Detector.classify
     ]
     scan, classify = found
     assert scan.severity == "warning"
@@ -49,7 +53,36 @@ def test_the_warehouse_localizer_is_unfed_in_the_camera_products():
     assert "its server Classifier.classify is left out" in classify.message
     assert "Detection" in witness_of(classify)
     # the witness resolves with the very warning, at the same place
-    assert (str(scan.location.file), 26, 20, "SPL045") in gaps(line, witness_of(scan))
+    assert (str(scan.location.file), 27, 20, "SPL045") in gaps(line, witness_of(scan))
+
+
+def explanation_of(line, name: str, features: str) -> str:
+    resolution = resolve(line, selection_from_list(features))
+    lines = explanation(line.tsm, resolution.product, resolution.trace, name)
+    assert lines is not None
+    return "\n".join(lines)
+
+
+def test_an_input_fed_from_outside_is_silent_everywhere_and_explained(tmp_path):
+    """Localizer.odom says what feeds it (``external "..."``): no product warns, and
+    neither does the check; without the annotation every product does."""
+    line = load_product_line(WAREHOUSE)
+    odom = (str(WAREHOUSE / "warehouse.tsm"), 28, 20)
+    assert all(place[:3] != odom for place in unfed_somewhere(line))
+    explained = explanation_of(line, "Localizer.odom", "CameraSensing")
+    assert "fed from outside the architecture: wheel odometry of the base driver" in explained
+    assert "(SPL045)" not in explained
+    scan = explanation_of(line, "Localizer.scan", "CameraSensing")
+    assert "fed by no flow of this product (SPL045)" in scan
+
+    for name in ("warehouse.fm", "warehouse.rm"):
+        shutil.copy(WAREHOUSE / name, tmp_path / name)
+    text = (WAREHOUSE / "warehouse.tsm").read_text(encoding="utf-8")
+    plain = re.sub(r' external "[^"]*"', "", text)
+    assert plain != text
+    (tmp_path / "warehouse.tsm").write_text(plain, encoding="utf-8")
+    unmarked = assert_check_agrees(load_product_line(tmp_path))
+    assert (str(tmp_path / "warehouse.tsm"), 28, 20, "SPL045") in unmarked
 
 
 def test_the_warehouse_findings_agree_with_every_product():
