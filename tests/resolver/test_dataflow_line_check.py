@@ -40,8 +40,8 @@ def test_the_warehouse_localizer_is_unfed_in_the_camera_products():
     line = load_product_line(WAREHOUSE)
     found = [d for d in check_product_line(line) if d.code in ("SPL045", "SPL046")]
     assert [(Path(d.location.file).name, d.location.line, d.code) for d in found] == [
-        ("warehouse.tsm", 27, "SPL045"),  # Localizer.scan; Localizer.odom is fed externally
-        ("warehouse.tsm", 45, "SPL046"),  # Detector.classify
+        ("warehouse.tsm", 28, "SPL045"),  # Localizer.scan; Localizer.odom is fed externally
+        ("warehouse.tsm", 53, "SPL046"),  # Detector.classify
     ]
     scan, classify = found
     assert scan.severity == "warning"
@@ -53,7 +53,7 @@ def test_the_warehouse_localizer_is_unfed_in_the_camera_products():
     assert "its server Classifier.classify is left out" in classify.message
     assert "Detection" in witness_of(classify)
     # the witness resolves with the very warning, at the same place
-    assert (str(scan.location.file), 27, 20, "SPL045") in gaps(line, witness_of(scan))
+    assert (str(scan.location.file), 28, 20, "SPL045") in gaps(line, witness_of(scan))
 
 
 def explanation_of(line, name: str, features: str) -> str:
@@ -67,7 +67,7 @@ def test_an_input_fed_from_outside_is_silent_everywhere_and_explained(tmp_path):
     """Localizer.odom says what feeds it (``external "..."``): no product warns, and
     neither does the check; without the annotation every product does."""
     line = load_product_line(WAREHOUSE)
-    odom = (str(WAREHOUSE / "warehouse.tsm"), 28, 20)
+    odom = (str(WAREHOUSE / "warehouse.tsm"), 29, 20)
     assert all(place[:3] != odom for place in unfed_somewhere(line))
     explained = explanation_of(line, "Localizer.odom", "CameraSensing")
     assert "fed from outside the architecture: wheel odometry of the base driver" in explained
@@ -82,7 +82,7 @@ def test_an_input_fed_from_outside_is_silent_everywhere_and_explained(tmp_path):
     assert plain != text
     (tmp_path / "warehouse.tsm").write_text(plain, encoding="utf-8")
     unmarked = assert_check_agrees(load_product_line(tmp_path))
-    assert (str(tmp_path / "warehouse.tsm"), 28, 20, "SPL045") in unmarked
+    assert (str(tmp_path / "warehouse.tsm"), 29, 20, "SPL045") in unmarked
 
 
 def test_the_warehouse_findings_agree_with_every_product():
