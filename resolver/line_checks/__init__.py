@@ -44,6 +44,8 @@ SPL045    warning   a subscriber some product keeps with nothing feeding it, and
 SPL046              a service client some product keeps with no server answering it
                     (:mod:`.dataflow`); the message names a witness product and what
                     removes the feeders, as ``spl resolve`` of that product warns
+SPL052    info      a publisher whose data no subscriber of any product reads
+                    (:mod:`.unconsumed`)
 ========  ========  ==================================================================
 
 One module a check family; this package runs them all. :class:`ActivationSolver`
@@ -64,6 +66,7 @@ from spl.resolver.line_checks.listed_products import read_listed, unresolvable_p
 from spl.resolver.line_checks.lookups import product_dependent_statements
 from spl.resolver.line_checks.no_effect import features_without_effect
 from spl.resolver.line_checks.robot_ids import shared_robot_ids
+from spl.resolver.line_checks.unconsumed import unconsumed_outputs_in_line
 from spl.resolver.line_checks.unreachable_optionals import unreachable_optional_elements
 from spl.resolver.product_line import ProductLine
 
@@ -78,6 +81,7 @@ def check_product_line(line: ProductLine, products: bool = True) -> list[Diagnos
         found += product_dependent_statements(line, solver)
         found += cross_robot_flows_in_line(line, solver, listed)
         found += unfed_inputs_in_line(line, solver)
+        found += unconsumed_outputs_in_line(line, solver)
     found += features_without_effect(line)
     found += shared_robot_ids(line)
     found += incomplete_endpoints(line)

@@ -61,7 +61,7 @@ class _Option(NamedTuple):
     inactive: tuple[rm_types.ResolutionElement, ...]
 
 
-class _Line:
+class Feeds:
     """What the questions about every input share: the solver, presence clauses, the
     statements rebinding each interface, the publishers statements put on each topic,
     and the warnings of the products resolved."""
@@ -174,7 +174,7 @@ def _key(binding: Binding, placement: Placement) -> Key | None:
 def unfed_inputs_in_line(line: ProductLine, solver: ActivationSolver) -> list[Diagnostic]:
     """The inputs some product of the line leaves unfed, each with its witness product."""
     T = tsm()
-    shared = _Line(line, solver)
+    shared = Feeds(line, solver)
     template = FlowTable.of(line.tsm)
     found: list[Diagnostic] = []
     for container in line.tsm.containers:
@@ -196,7 +196,7 @@ def unfed_inputs_in_line(line: ProductLine, solver: ActivationSolver) -> list[Di
     return found
 
 
-def _options(shared: _Line, template: FlowTable, interface: tsm_types.Interface) -> list[_Option]:
+def _options(shared: Feeds, template: FlowTable, interface: tsm_types.Interface) -> list[_Option]:
     """The ways ``interface`` may be fed, each certain to feed it where it holds: a
     template flow while neither end is rebound, a publisher a statement binds to the
     input's topic, the publishers on the topic or the server a statement binds the input
@@ -222,7 +222,7 @@ def _options(shared: _Line, template: FlowTable, interface: tsm_types.Interface)
     return options
 
 
-def _unfed(shared: _Line, options: list[_Option], interface: tsm_types.Interface) -> Clauses | None:
+def _unfed(shared: Feeds, options: list[_Option], interface: tsm_types.Interface) -> Clauses | None:
     """Clauses of a product keeping ``interface``'s node (bound, for a subscriber) in
     which none of ``options`` holds; None when every such product feeds it."""
     solver = shared.solver
@@ -246,7 +246,7 @@ def _unfed(shared: _Line, options: list[_Option], interface: tsm_types.Interface
 
 
 def _confirmed(
-    shared: _Line,
+    shared: Feeds,
     template: FlowTable,
     interface: tsm_types.Interface,
     clauses: Clauses,
@@ -271,7 +271,7 @@ def _confirmed(
 
 
 def _why(
-    shared: _Line, template: FlowTable, interface: tsm_types.Interface, selected: set[str]
+    shared: Feeds, template: FlowTable, interface: tsm_types.Interface, selected: set[str]
 ) -> str:
     """What keeps the template's feeders of ``interface`` from it in the product
     ``selected``: the resolution elements that would keep a feeder's node and are not

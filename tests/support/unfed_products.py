@@ -1,13 +1,15 @@
 """Brute force for the line-wide dataflow check (docs/semantics.md F8): every product of
 a line resolved, and the inputs each leaves unfed (SPL045) or unserved (SPL046), to be
-compared with what ``spl check`` finds without enumerating products."""
+compared with what ``spl check`` finds without enumerating products; and the publishers
+some product delivers data from, none of which it may call unconsumed (SPL052)."""
 
 from __future__ import annotations
 
 import re
 
-from spl.diagnostics import Diagnostic, ModelError
+from spl.diagnostics import Diagnostic, Location, ModelError, location_of
 from spl.resolver.engine import resolve
+from spl.resolver.flows import TOPIC
 from spl.resolver.line_checks import check_product_line
 from spl.resolver.product_line import ProductLine
 from spl.resolver.product_selection import selection_from_list
@@ -32,11 +34,24 @@ def gaps(line: ProductLine, features: str) -> set[Where] | None:
 
 def unfed_somewhere(line: ProductLine) -> dict[Where, str]:
     """Every input some product of the line leaves unfed, with the first such product."""
-    found: dict[Where, str] = {}
+    return _every_product(line)[0]
+
+
+def _every_product(line: ProductLine) -> tuple[dict[Where, str], set[Location | None]]:
+    """The inputs some product leaves unfed (with the first such product), and the
+    publishers whose data some product delivers to a subscriber."""
+    unfed: dict[Where, str] = {}
+    consumed: set[Location | None] = set()
     for features in sorted(",".join(sorted(p)) for p in line.formula.products()):
-        for gap in gaps(line, features) or ():
-            found.setdefault(gap, features)
-    return found
+        try:
+            product = resolve(line, selection_from_list(features)).product
+        except ModelError:
+            continue
+        for warning in product.warnings:
+            if warning.code in CODES:
+                unfed.setdefault(where(warning), features)
+        consumed.update(location_of(f.source) for f in product.flows if f.kind == TOPIC)
+    return unfed, consumed
 
 
 def witness_of(finding: Diagnostic) -> str:
@@ -52,7 +67,10 @@ def assert_check_agrees(line: ProductLine) -> dict[Where, Diagnostic]:
     findings = {where(d): d for d in check_product_line(line, products=False) if d.code in CODES}
     for place, finding in findings.items():
         assert place in (gaps(line, witness_of(finding)) or ()), finding
-    expected = unfed_somewhere(line)
+    expected, consumed = _every_product(line)
+    for finding in check_product_line(line, products=False):
+        if finding.code == "SPL052":  # no product consumes it: none may
+            assert finding.location not in consumed, finding
     missed = {place: product for place, product in expected.items() if place not in findings}
     assert not missed, f"unfed in some product, not reported: {missed}"
     assert set(findings) == set(expected)
