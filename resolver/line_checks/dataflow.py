@@ -5,20 +5,23 @@ An *input* is a node subscriber or a node service client. ``spl resolve`` warns 
 the flow table of the product it derives (:mod:`spl.resolver.flows`) delivers nothing
 to one (SPL045 for a subscriber, SPL046 for a client). This check asks the same for
 every product at once, with one SAT question per input: a product that keeps the
-input's node and in which none of the template's flows to it is certain to hold. A
-template flow holds in a product where the node at its other end is kept
-(:class:`.presence.Presence`) and no active statement rebinds either end to another
-topic or server (``TransformationKind.rebinds``); a migration does not break it, since
-the endpoint rewiring keeps the template's flows (docs/resolution.md). So an input for
-which the question has no answer is fed in every product, and needs no resolution.
+input's node and in which none of the ways it may be fed holds. A way is a template
+flow while the node at its other end is kept (:class:`.presence.Presence`) and no
+active statement rebinds either end (``TransformationKind.rebinds``); or a statement
+putting a publisher where its data reaches the input's topic, binding the input to a
+topic such a publisher feeds, or binding a client to a server, while its element is
+active. A migration breaks no template flow: the endpoint rewiring keeps them
+(docs/resolution.md; the rows it cannot keep it warns about itself, SPL031 and SPL032).
+Each way feeds the input wherever it holds, so an input for which the question has no
+answer is fed in every product, and needs no resolution.
 
 A product the solver finds is resolved, and the input is reported as that product's
 resolution warns about it, naming the product and what removed the feeders. A
-candidate the resolution feeds after all (a statement connected another publisher to
-its topic, or bridged one to it) is ruled out, with every product activating the same
-resolution elements (they derive the same architecture), and the solver is asked again.
-An input an interface annotation declares fed from outside the architecture
-(``fed externally "why"``, docs/tsm.md) is neither asked about nor warned.
+candidate the resolution feeds after all (a way the check does not count) is ruled out,
+with every product activating the same resolution elements (they derive the same
+architecture), and the solver is asked again, up to :data:`RETRIES` times. An input the
+.tsm declares fed from outside the architecture (``external "why"``, docs/tsm.md) is
+neither asked about nor warned.
 """
 
 from __future__ import annotations
@@ -47,8 +50,6 @@ UNSERVED = "SPL046"
 RETRIES = 16
 
 Witness = tuple[str, ...]
-
-
 Key = tuple[int, str]  # a topic as a statement names it: (id of its container, name)
 
 
