@@ -254,21 +254,41 @@ def _confirmed(
     code: str,
 ) -> list[Diagnostic]:
     """The warning of the first product the solver finds in which the resolution leaves
-    ``interface`` unfed, naming the product and why; none when no product does."""
+    ``interface`` unfed, naming the product and why; none when no product does. The
+    product is made subset-minimal first (:func:`_smallest`), and is the solver's own
+    where the smaller one's resolution feeds the input after all."""
     where = location_of(interface)
     for _ in range(RETRIES):
-        witness = shared.solver.witness_where(None, clauses)
-        if witness is None:
+        found = shared.solver.witness_where(None, clauses)
+        if found is None:
             return []
-        for warning in shared.warnings(witness):
-            if warning.code == code and warning.location == where:
-                message = f"{warning.message}, in the product {', '.join(witness)}"
-                why = _why(shared, template, interface, set(witness))
-                if why:
-                    message += f"; {why}"
-                return [Diagnostic(where, message, warning.severity, code)]
-        clauses = [*clauses, shared.ruled_out(witness)]
+        for witness in dict.fromkeys((_smallest(shared, clauses, found), found)):
+            for warning in shared.warnings(witness):
+                if warning.code == code and warning.location == where:
+                    message = f"{warning.message}, in the product {', '.join(witness)}"
+                    why = _why(shared, template, interface, set(witness))
+                    if why:
+                        message += f"; {why}"
+                    return [Diagnostic(where, message, warning.severity, code)]
+            clauses = [*clauses, shared.ruled_out(witness)]
     return []
+
+
+def _smallest(shared: Feeds, clauses: Clauses, witness: Witness) -> Witness:
+    """``witness`` with every feature left out that can be, one at a time, while the
+    feature model and ``clauses`` still hold and no feature left out comes back: a
+    product none of whose features can be dropped (not always the one with fewest)."""
+    cnf = shared.solver.cnf
+    features = cnf.names[: cnf.num_features]
+    selected = set(witness)
+    for name in witness:
+        if name not in selected:
+            continue  # left out with an earlier one
+        kept_out = [[-cnf.var[f]] for f in features if f not in selected or f == name]
+        smaller = shared.solver.witness_where(None, [*clauses, *kept_out])
+        if smaller is not None:
+            selected = set(smaller)
+    return tuple(sorted(selected))
 
 
 def _why(

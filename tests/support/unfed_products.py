@@ -34,13 +34,13 @@ def gaps(line: ProductLine, features: str) -> set[Where] | None:
 
 def unfed_somewhere(line: ProductLine) -> dict[Where, str]:
     """Every input some product of the line leaves unfed, with the first such product."""
-    return _every_product(line)[0]
+    return {place: products[0] for place, products in _every_product(line)[0].items()}
 
 
-def _every_product(line: ProductLine) -> tuple[dict[Where, str], set[Location | None]]:
-    """The inputs some product leaves unfed (with the first such product), and the
+def _every_product(line: ProductLine) -> tuple[dict[Where, list[str]], set[Location | None]]:
+    """The inputs some product leaves unfed (with every such product, in order), and the
     publishers whose data some product delivers to a subscriber."""
-    unfed: dict[Where, str] = {}
+    unfed: dict[Where, list[str]] = {}
     consumed: set[Location | None] = set()
     for features in sorted(",".join(sorted(p)) for p in line.formula.products()):
         try:
@@ -49,7 +49,7 @@ def _every_product(line: ProductLine) -> tuple[dict[Where, str], set[Location | 
             continue
         for warning in product.warnings:
             if warning.code in CODES:
-                unfed.setdefault(where(warning), features)
+                unfed.setdefault(where(warning), []).append(features)
         consumed.update(location_of(f.source) for f in product.flows if f.kind == TOPIC)
     return unfed, consumed
 
@@ -63,7 +63,8 @@ def witness_of(finding: Diagnostic) -> str:
 
 def assert_check_agrees(line: ProductLine) -> dict[Where, Diagnostic]:
     """The check reports exactly the inputs some product leaves unfed, and each witness
-    it names resolves with that very warning; returns the findings by place."""
+    it names resolves with that very warning and has no smaller product (by inclusion)
+    that does; returns the findings by place."""
     findings = {where(d): d for d in check_product_line(line, products=False) if d.code in CODES}
     for place, finding in findings.items():
         assert place in (gaps(line, witness_of(finding)) or ()), finding
@@ -71,6 +72,10 @@ def assert_check_agrees(line: ProductLine) -> dict[Where, Diagnostic]:
     for finding in check_product_line(line, products=False):
         if finding.code == "SPL052":  # no product consumes it: none may
             assert finding.location not in consumed, finding
+    for place, finding in findings.items():  # no smaller product shows it
+        witness = set(witness_of(finding).split(","))
+        smaller = [p for p in expected.get(place, ()) if set(p.split(",")) < witness]
+        assert not smaller, f"{finding}: also unfed in the smaller {smaller}"
     missed = {place: product for place, product in expected.items() if place not in findings}
     assert not missed, f"unfed in some product, not reported: {missed}"
     assert set(findings) == set(expected)
