@@ -157,6 +157,12 @@ def _interface(
     names.check(tree.name, rosnames.problem_base_name(name, "interface name"))
     if tree.type is not None:
         interface.type = ros_type(names, tree.type)
+    external: tsm_tree.Str | None = getattr(tree, "external", None)
+    if external is not None:  # an input fed from outside the architecture (docs/tsm.md)
+        reason = decode(external.value).strip()
+        missing = "external needs a reason: what outside the architecture feeds this input"
+        if names.check(external, None if reason else missing):
+            interface.external = reason
     if interface_class == "ServiceServer":
         written = cast("tsm_tree.Provides", tree).rosName
         if written is not None:

@@ -206,6 +206,12 @@ def _typed(interface: Any, peer_type: str | None) -> str:
 
 
 def _interface(interface: Any) -> str:
+    """An interface's line; an input fed from outside keeps its reason (docs/tsm.md)."""
+    text = _wired(interface)
+    return f"{text} external {_quote(interface.external)}" if interface.external else text
+
+
+def _wired(interface: Any) -> str:
     kind, name = interface.eClass.name, interface.name
     if kind == "ServiceServer":
         text = f"provides {name} : {interface.type}"

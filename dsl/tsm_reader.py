@@ -23,10 +23,8 @@ and 0.91 s instead of 13.1 s at 10,000 (14x), of the shipped .tsm files 16x fast
 ``spl check`` of the 1,000-node .tsm takes 0.15 s of CPU with it and 0.73 s without
 (4.8x), of the shipped mapping3d line 0.14 s and 0.19 s (no textX import or metamodel).
 The editor's incremental reading (``tsm_incremental``) and the excerpts textX words
-syntax errors from (``tsm_syntax_excerpt``) are built on it too.
-
-A keyword added to ``tsm.tx`` must be read here too:
-``tests/test_grammar_keywords.py`` fails on one the reader never matches.
+syntax errors from (``tsm_syntax_excerpt``) are built on it too. A keyword added to
+``tsm.tx`` must be read here too: ``tests/test_grammar_keywords.py`` checks it.
 """
 
 from __future__ import annotations
@@ -253,7 +251,7 @@ class _Reader(ExpressionReader):
         return self.interface(start, "calls", Calls, "->", self.qref)
 
     def interface(self, start: int, keyword: str, rule: Any, arrow: str, target: Any) -> Any:
-        """``KEYWORD name=Name ((':' type=TypeRef (ARROW TARGET)?) | (ARROW TARGET))``"""
+        """``KEYWORD name ((':' TypeRef (ARROW TARGET)?) | (ARROW TARGET)) ('external' Str)?``"""
         self.keyword(keyword)
         name = self.name()
         kind = found = None
@@ -266,7 +264,9 @@ class _Reader(ExpressionReader):
         else:
             self.punct(arrow)
             found = target()
-        return rule(start, name, kind, found)
+        if rule is Publishes:
+            return rule(start, name, kind, found)
+        return rule(start, name, kind, found, self.optional_string("external"))
 
     def ref(self) -> Any:
         return self.name(Ref)

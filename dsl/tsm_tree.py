@@ -106,6 +106,7 @@ if TYPE_CHECKING:
         name: Name
         type: TypeRef | None
         topic: Ref | None
+        external: Str | None
 
     class Provides(NamedTuple):
         position: int
@@ -118,6 +119,7 @@ if TYPE_CHECKING:
         name: Name
         type: TypeRef | None
         server: QRef | None
+        external: Str | None
 
     NodeMember = Parameter | Publishes | Subscribes | Provides | Calls
 
@@ -314,9 +316,9 @@ else:
     BoolValue = _rule("BoolValue", "value")
     NumberValue = _rule("NumberValue", "value")
     Publishes = _rule("Publishes", "name type topic")
-    Subscribes = _rule("Subscribes", "name type topic")
+    Subscribes = _rule("Subscribes", "name type topic external")
     Provides = _rule("Provides", "name type rosName")
-    Calls = _rule("Calls", "name type server")
+    Calls = _rule("Calls", "name type server external")
     Bridge = _rule("Bridge", "source target")
     DataType = _rule("DataType", "name fields")
     Field = _rule("Field", "name type")

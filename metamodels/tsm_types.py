@@ -191,12 +191,16 @@ class Endpoint(Located):
 
 class Interface(NamedElement):
     """The four interface kinds, owned by a Node or by an Endpoint (the endpoint's specialised
-    interfaces of the paper). `type` is the ROS message or service type.
+    interfaces of the paper). `type` is the ROS message or service type. `external` is set on a
+    node's input (a subscriber or a service client) that something outside the architecture
+    feeds, such as a driver the robot's own bring-up starts: the model's reason, for which no
+    product warns that nothing feeds it (docs/tsm.md).
     """
 
     # abstract: only its subclasses have instances
 
     type: str
+    external: str
 
     def eContainer(self) -> Endpoint | Node: ...
 
@@ -209,6 +213,7 @@ class Publisher(Interface):
         *,
         topic: Topic | None = ...,
         type: str = ...,
+        external: str = ...,
         name: str = ...,
         srcFile: str = ...,
         srcLine: int = ...,
@@ -226,6 +231,7 @@ class Subscriber(Interface):
         *,
         topic: Topic | None = ...,
         type: str = ...,
+        external: str = ...,
         name: str = ...,
         srcFile: str = ...,
         srcLine: int = ...,
@@ -243,6 +249,7 @@ class ServiceServer(Interface):
         *,
         rosName: str = ...,
         type: str = ...,
+        external: str = ...,
         name: str = ...,
         srcFile: str = ...,
         srcLine: int = ...,
@@ -260,6 +267,7 @@ class ServiceClient(Interface):
         *,
         server: ServiceServer | None = ...,
         type: str = ...,
+        external: str = ...,
         name: str = ...,
         srcFile: str = ...,
         srcLine: int = ...,

@@ -2,7 +2,8 @@
 
 A product can be valid for the feature model and still not work: a message type that
 differs across a connection is an error; a subscriber no flow feeds or a service
-client no flow serves is a warning (the data may come from outside the product).
+client no flow serves is a warning (the data may come from outside the product), unless
+the .tsm says what feeds it from outside (``external "why"``, docs/tsm.md).
 Whether a flow reaches an input is the flow table's answer (:mod:`spl.resolver.flows`),
 the one every output follows.
 """
@@ -37,6 +38,22 @@ def unfed_reason(interface: tsm_types.Subscriber, cut_routes: tuple[CutRoute, ..
     )
 
 
+def input_gap(interface: tsm_types.Interface, flows: FlowTable) -> str | None:
+    """UNFED for a node subscriber bound to a topic that no flow of the product feeds,
+    UNSERVED for a node client no flow takes to a server, unless the model says what
+    feeds it from outside (``external``, docs/tsm.md); None otherwise. The one verdict
+    resolve, validate and the rehearsal give (docs/semantics.md F6), and the one
+    ``spl check`` looks for in every product (F8)."""
+    T = tsm()
+    if interface.external:
+        return None
+    if isinstance(interface, T.Subscriber):
+        return UNFED if interface.topic is not None and not flows.feeding(interface) else None
+    if isinstance(interface, T.ServiceClient):
+        return UNSERVED if not flows.feeding(interface) else None
+    return None
+
+
 def check_architecture(
     system: tsm_types.System, flows: FlowTable, cut: tuple[CutRoute, ...] = ()
 ) -> list[Diagnostic]:
@@ -48,7 +65,6 @@ def check_architecture(
     def report(element: tsm_types.Located, message: str, severity: Severity, code: str) -> None:
         problems.append(Diagnostic(location_of(element), message, severity, code))
 
-    unserved = {id(c) for c in flows.unserved}
     stores = {id(s) for c in system.containers for s in c.stores}
     for container in system.containers:
         for node in container.nodes:
@@ -85,8 +101,8 @@ def check_architecture(
                         "error",
                         "SPL044",
                     )
-                unfed = isinstance(interface, T.Subscriber) and not flows.feeding(interface)
-                if unfed and topic is not None:
+                gap = input_gap(interface, flows)
+                if gap == UNFED and topic is not None:
                     report(
                         interface,
                         f"{qualified(interface)} subscribes {qualified(topic)}, "
@@ -96,14 +112,16 @@ def check_architecture(
                     )
                 if isinstance(interface, T.ServiceClient):
                     server = interface.server
-                    if server is None or id(interface) in unserved:
+                    if gap == UNSERVED:
                         report(
                             interface,
                             f"service client {qualified(interface)} has no server in this product",
                             "warning",
                             UNSERVED,
                         )
-                    elif interface.type and server.type and interface.type != server.type:
+                    elif (
+                        server and interface.type and server.type and interface.type != server.type
+                    ):
                         report(
                             interface,
                             f"{qualified(interface)} is {interface.type} but its server "

@@ -168,9 +168,13 @@ def _flows(element: tsm_types.NamedElement, product: ResolvedProduct, trace: Tra
         note = f"; {moved}" if moved is not None else ""
         lines.append(f"{VERBS[(flow.kind, mine)]} {_end(other)} {where}{twice}{note}")
     if not lines and isinstance(element, T.Subscriber) and element.topic is not None:
-        lines.append("fed by no flow of this product")
+        lines.append("fed by no flow of this product" + ("" if element.external else " (SPL045)"))
     if not lines and isinstance(element, T.ServiceClient):
-        lines.append("answered by no server of this product")
+        lines.append(
+            "answered by no server of this product" + ("" if element.external else " (SPL046)")
+        )
+    if element.external:  # why no product warns about it (docs/tsm.md)
+        lines.append(f"fed from outside the architecture: {element.external}")
     return lines
 
 

@@ -201,15 +201,7 @@ class FlowTable:
         flows, which the endpoint rewiring keeps): a route starts at the topic the
         publisher is bound to, wherever that is."""
         T = tsm()
-        edges: Edges = defaultdict(list)  # topic -> (conn, topic)
-        callers: Callers = defaultdict(list)  # stand-in server -> connections
-        for connection in system.connections:
-            source, target = connection.source, connection.target
-            if isinstance(source, T.Subscriber) and isinstance(target, T.Publisher):
-                if source.topic is not None and target.topic is not None:
-                    edges[id(source.topic)].append((connection, target.topic))
-            elif isinstance(source, T.ServiceServer) and isinstance(target, T.ServiceClient):
-                callers[id(source)].append(connection)
+        edges, callers = _connections(system, T)
         publishers, subscribers, clients = NodeInterfaces.of(system.containers)
         subscribers_of: dict[int, list[tsm_types.Subscriber]] = defaultdict(list)
         for subscriber in subscribers:
@@ -241,6 +233,33 @@ class FlowTable:
             else:
                 flows.append(Flow(SERVICE, client, server, route))
         return cls(flows, cut, unserved)
+
+
+def reached_topics(system: tsm_types.System) -> dict[int, list[tsm_types.Topic]]:
+    """The topics data published on each topic of ``system`` reaches (itself first), by
+    the routes of :class:`FlowTable`: what a publisher bound to the topic would feed."""
+    T = tsm()
+    edges, _ = _connections(system, T)
+    return {
+        id(topic): _Walk(topic, edges, T).order
+        for container in system.containers
+        for topic in container.topics
+    }
+
+
+def _connections(system: tsm_types.System, T: tsm_types.Metamodel) -> tuple[Edges, Callers]:
+    """The endpoint connections of ``system``: topic to topic, and stand-in server to
+    the connections taking its calls on."""
+    edges: Edges = defaultdict(list)  # topic -> (conn, topic)
+    callers: Callers = defaultdict(list)  # stand-in server -> connections
+    for connection in system.connections:
+        source, target = connection.source, connection.target
+        if isinstance(source, T.Subscriber) and isinstance(target, T.Publisher):
+            if source.topic is not None and target.topic is not None:
+                edges[id(source.topic)].append((connection, target.topic))
+        elif isinstance(source, T.ServiceServer) and isinstance(target, T.ServiceClient):
+            callers[id(source)].append(connection)
+    return edges, callers
 
 
 def _answering(

@@ -25,7 +25,7 @@ import hashlib
 import importlib
 import time
 from collections.abc import Callable, Iterable, Iterator
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Literal
 
@@ -350,14 +350,27 @@ def _results(cases: list[ProductCase], jobs: int) -> Iterator[CaseResult]:
 
 def summary(results: list[CaseResult]) -> str:
     passed = sum(1 for r in results if r.passed)
-    return f"{passed} passed, {len(results) - passed} failed"
+    warned = sum(1 for r in results if r.passed and r.warnings)
+    noted = f", {warned} of them with warnings" if warned else ""
+    return f"{passed} passed{noted}, {len(results) - passed} failed"
+
+
+def strict(results: list[CaseResult]) -> list[CaseResult]:
+    """``--strict``: a product that resolves with warnings (an input nothing feeds,
+    SPL045, ...) fails, its warnings its failure's messages (docs/ci.md)."""
+    return [
+        replace(r, outcome="failed", messages=r.warnings) if r.passed and r.warnings else r
+        for r in results
+    ]
 
 
 def describe(result: CaseResult) -> list[str]:
-    """Plain-text lines for one result (CI logs): a status line, then its messages."""
+    """Plain-text lines for one result (CI logs): a status line, then its messages, or
+    the warnings of a product that passed (a warning is no failure, docs/ci.md)."""
     head = {"passed": "ok  ", "failed": "FAIL", "error": "ERROR"}[result.outcome]
     checked = f"  ({result.checked})" if result.checked else ""
+    notes = result.warnings if result.passed else ()
     return [
         f"{head} {result.classname} :: {result.name}{checked}",
-        *(f"    {m}" for m in result.messages),
+        *(f"    {m}" for m in result.messages + notes),
     ]

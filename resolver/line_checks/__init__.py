@@ -40,6 +40,12 @@ SPL019    warning   two instances of the template (robots, cloud partitions) tha
 SPL050    warning   a flow the template draws from one robot through a private cloud
                     node to another robot, which the per-robot instances never deliver
                     (:mod:`.cross_robot`); the message names a witness product
+SPL045    warning   a subscriber some product keeps with nothing feeding it, and
+SPL046              a service client some product keeps with no server answering it
+                    (:mod:`.dataflow`); the message names a witness product and what
+                    removes the feeders, as ``spl resolve`` of that product warns
+SPL052    info      a publisher whose data no subscriber of any product reads
+                    (:mod:`.unconsumed`)
 ========  ========  ==================================================================
 
 One module a check family; this package runs them all. :class:`ActivationSolver`
@@ -52,6 +58,7 @@ from spl.diagnostics import Diagnostic, Location
 from spl.resolver.line_checks.activation import ActivationSolver
 from spl.resolver.line_checks.conflicts import reachable_conflicts
 from spl.resolver.line_checks.cross_robot import cross_robot_flows_in_line
+from spl.resolver.line_checks.dataflow import unfed_inputs_in_line
 from spl.resolver.line_checks.dead_elements import never_active_elements
 from spl.resolver.line_checks.endpoints import incomplete_endpoints
 from spl.resolver.line_checks.instance_tags import clashing_instance_tags
@@ -59,6 +66,7 @@ from spl.resolver.line_checks.listed_products import read_listed, unresolvable_p
 from spl.resolver.line_checks.lookups import product_dependent_statements
 from spl.resolver.line_checks.no_effect import features_without_effect
 from spl.resolver.line_checks.robot_ids import shared_robot_ids
+from spl.resolver.line_checks.unconsumed import unconsumed_outputs_in_line
 from spl.resolver.line_checks.unreachable_optionals import unreachable_optional_elements
 from spl.resolver.product_line import ProductLine
 
@@ -72,6 +80,8 @@ def check_product_line(line: ProductLine, products: bool = True) -> list[Diagnos
         found += reachable_conflicts(line, solver)
         found += product_dependent_statements(line, solver)
         found += cross_robot_flows_in_line(line, solver, listed)
+        found += unfed_inputs_in_line(line, solver)
+        found += unconsumed_outputs_in_line(line, solver)
     found += features_without_effect(line)
     found += shared_robot_ids(line)
     found += incomplete_endpoints(line)

@@ -26,10 +26,11 @@ from spl.diagnostics import Diagnostic, ModelError, location_of
 from spl.resolver.flows import FlowTable, node_of
 from spl.resolver.line_checks.activation import ActivationSolver
 from spl.resolver.line_checks.listed_products import Listed
+from spl.resolver.line_checks.presence import Presence
 from spl.resolver.placement import sharing_mode
 from spl.resolver.product_line import ProductLine
 from spl.resolver.product_selection import ProductSelection, selection_from_list
-from spl.resolver.transformations import sharing_targets, touched_elements
+from spl.resolver.transformations import sharing_targets
 from spl.resolver.wiring import CROSS_ROBOT, cut_off
 
 if TYPE_CHECKING:
@@ -49,10 +50,7 @@ def cross_robot_flows_in_line(
         if not isinstance(selection, ModelError) and "private" in selection.sharing.values()
         for w in _warnings(line, selection)
     ]  # fmt: skip
-    keeping: dict[int, list[int]] = {}  # optional node -> literals of elements keeping it
-    for element in line.rm.elements:
-        for node in touched_elements(element):
-            keeping.setdefault(id(node), []).append(solver.literal(element))
+    presence = Presence(line, solver)
     mode_by: dict[int, list[tuple[int, str]]] = {}  # node -> (literal, mode) of sharing elements
     for element in line.rm.elements:
         if element.feature.sharing is not None:
@@ -63,18 +61,6 @@ def cross_robot_flows_in_line(
     def can_be_private(node: tsm_types.Node) -> bool:
         modes = {mode for _, mode in mode_by.get(id(node), ())}
         return "private" in modes or sharing_mode(node) == "private"
-
-    def present(node: tsm_types.Node) -> list[list[int]] | None:
-        """Clauses keeping ``node`` in a product; None when no product can."""
-        if not node.optional:
-            return []
-        literals = keeping.get(id(node))
-        return [literals] if literals else None
-
-    def absent(node: tsm_types.Node) -> list[list[int]] | None:
-        if not node.optional:
-            return None
-        return [[-literal] for literal in keeping.get(id(node), [])]
 
     def private(node: tsm_types.Node) -> list[list[int]]:
         others = [[-lit] for lit, mode in mode_by.get(id(node), ()) if mode != "private"]
@@ -89,14 +75,14 @@ def cross_robot_flows_in_line(
         ends = [node, node_of(cut.taker)] + ([node_of(feeder)] if feeder else [])
         clauses: list[list[int]] | None = private(node)
         for end in ends:
-            keep = present(end)
+            keep = presence.present(end)
             clauses = None if keep is None or clauses is None else clauses + keep
         for flow in template.flows:  # none of the taker's robot may feed the node itself
             giver = flow.source if flow.kind == "topic" else flow.target
             taker = flow.target if flow.kind == "topic" else flow.source
             mine = taker.eContainer() is node and giver.eContainer().eContainer() is cut.robot
             if clauses is not None and mine:
-                drop = absent(node_of(giver))
+                drop = presence.absent(node_of(giver))
                 clauses = None if drop is None else clauses + drop
         if clauses is None:
             continue

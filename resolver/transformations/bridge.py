@@ -17,6 +17,7 @@ from spl.resolver.transformations.connect import (
     type_mismatch,
 )
 from spl.resolver.transformations.kind import (
+    Binding,
     Decision,
     DecisionKey,
     Predictions,
@@ -59,6 +60,15 @@ class ConnectBridge(TransformationKind["rm_types.ConnectBridge"]):
             ctx.trace.record(
                 qualified(client), "bridged", f"to server {qualified(server)} by {ctx.by()}", where
             )
+
+    def rebinds(self, t: rm_types.ConnectBridge) -> Iterator[Binding]:
+        if t.client is not None:  # a topic bridge adds routes and rebinds nothing
+            client, server = _service(t)
+            yield Binding(client, server=server)
+
+    def routes(self, t: rm_types.ConnectBridge) -> Iterator[tuple[rm_types.TopicReference, ...]]:
+        if t.sourceTopic is not None:
+            yield _topics(t)
 
     def touched(self, t: rm_types.ConnectBridge) -> Iterator[tsm_types.Node | tsm_types.Store]:
         if t.client is not None:  # a topic bridge keeps its topics, not nodes

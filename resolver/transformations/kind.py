@@ -17,7 +17,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, ClassVar, Generic, Protocol, TypeVar
+from typing import TYPE_CHECKING, ClassVar, Generic, NamedTuple, Protocol, TypeVar
 
 from spl.diagnostics import Location
 
@@ -54,6 +54,16 @@ class Decision:
         if name != other_name:
             return True
         return None not in (container, other_container) and container != other_container
+
+
+class Binding(NamedTuple):
+    """An interface a statement binds to a topic (by name; in ``container``, or where the
+    node is when the statement runs if None) or to a server."""
+
+    interface: tsm_types.Interface
+    topic: str | None = None
+    container: tsm_types.Container | None = None
+    server: tsm_types.ServiceServer | None = None
 
 
 class Predictions(Protocol):
@@ -110,6 +120,18 @@ class TransformationKind(Generic[Statement]):
 
     def touched(self, t: Statement) -> Iterator[tsm_types.Node | tsm_types.Store]:
         """The template nodes and stores an active statement keeps in the product."""
+        return iter(())
+
+    def rebinds(self, t: Statement) -> Iterator[Binding]:
+        """The template interfaces whose topic or server an active statement changes, and
+        to what: in products activating it their template flows may not hold, and new
+        ones may (the dataflow line check, docs/semantics.md F8). A migration rebinds
+        none: the endpoint rewiring keeps the template's flows (docs/resolution.md)."""
+        return iter(())
+
+    def routes(self, t: Statement) -> Iterator[tuple[rm_types.TopicReference, ...]]:
+        """The (source, target) topics an active statement bridges: data on the source
+        reaches the target's subscribers too (the dataflow line check)."""
         return iter(())
 
     def shares(self, t: Statement) -> Iterator[tsm_types.Node]:

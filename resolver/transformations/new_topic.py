@@ -17,6 +17,7 @@ from spl.resolver.transformations.connect import (
     topic_decision,
 )
 from spl.resolver.transformations.kind import (
+    Binding,
     Decision,
     DecisionKey,
     Predictions,
@@ -46,6 +47,9 @@ class ConnectToNewTopic(TransformationKind["rm_types.ConnectToNewTopic"]):
             ctx.sink.error(where, clash)
             return
         connect_interface(interface, topic, ctx, where)
+
+    def rebinds(self, t: rm_types.ConnectToNewTopic) -> Iterator[Binding]:
+        yield Binding(t.interface, t.topic.name)
 
     def touched(self, t: rm_types.ConnectToNewTopic) -> Iterator[tsm_types.Node | tsm_types.Store]:
         yield node_of(t.interface)

@@ -10,6 +10,7 @@ from spl.dsl.rm_messages import not_served_here
 from spl.resolver.context import ResolutionContext, qualified
 from spl.resolver.transformations.connect import here, node_of, server_decision
 from spl.resolver.transformations.kind import (
+    Binding,
     Decision,
     DecisionKey,
     Predictions,
@@ -39,6 +40,9 @@ class ConnectService(TransformationKind["rm_types.ConnectService"]):
             client.server = server
             reason = f"to server {qualified(server)} by {ctx.by()}"
             ctx.trace.record(qualified(client), "connected", reason, where)
+
+    def rebinds(self, t: rm_types.ConnectService) -> Iterator[Binding]:
+        yield Binding(t.client, server=t.server)
 
     def touched(self, t: rm_types.ConnectService) -> Iterator[tsm_types.Node | tsm_types.Store]:
         yield node_of(t.client)

@@ -16,6 +16,7 @@ from spl.resolver.transformations.connect import (
     type_mismatch,
 )
 from spl.resolver.transformations.kind import (
+    Binding,
     Decision,
     DecisionKey,
     Predictions,
@@ -38,6 +39,9 @@ class ConnectToTopic(TransformationKind["rm_types.ConnectToTopic"]):
         if topic is None or type_mismatch(ctx, interface, topic, where):
             return
         connect_interface(interface, topic, ctx, where)
+
+    def rebinds(self, t: rm_types.ConnectToTopic) -> Iterator[Binding]:
+        yield Binding(t.interface, t.topic.name, t.topic.container)
 
     def touched(self, t: rm_types.ConnectToTopic) -> Iterator[tsm_types.Node | tsm_types.Store]:
         yield node_of(t.interface)

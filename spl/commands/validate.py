@@ -1,8 +1,10 @@
-"""``spl validate DIR... [--all | --sample t=2] [--junit FILE] [--jobs N]``: CI validation.
+"""``spl validate DIR... [--all | --sample t=2] [--junit FILE] [--jobs N] [--strict]``: CI
+validation.
 
 Every product of each line (its ``products/*.yaml``, plus all products or a t-wise
 sample) is resolved and its whole bundle generated in memory and validated; one JUnit
-test case per product. Exit 1 when any product fails.
+test case per product, its warnings in its ``system-out``. Exit 1 when any product
+fails; with ``--strict`` a product with warnings fails too (docs/ci.md).
 """
 
 from __future__ import annotations
@@ -61,6 +63,11 @@ import click
     help="also rehearse each valid bundle live with ROS 1 (as spl smoke does)",
 )
 @click.option(
+    "--strict",
+    is_flag=True,
+    help="a product that resolves with warnings fails (an input nothing feeds, SPL045, ...)",
+)
+@click.option(
     "--diagrams",
     is_flag=True,
     help="also render each architecture.svg with Graphviz (one dot process per product)",
@@ -74,12 +81,14 @@ def command(
     scheduler: str | None,
     shard: str | None,
     smoke: bool,
+    strict: bool,
     diagrams: bool,
 ) -> None:
     """Resolve every product of the product lines, generate and validate all of its
     artifacts, and report one test case per product (products/*.yaml always included).
     With --smoke every valid bundle is also started with the real ROS 1 and its live
-    graph compared with the model (exit 2 when ROS 1 is not installed)."""
+    graph compared with the model (exit 2 when ROS 1 is not installed). A warning is
+    reported in its test case and fails it only with --strict."""
     from spl.commands.products import parse_sample
     from spl.junit_report import junit_xml
     from spl.line_validation import CaseChecks, Shard, load_lines, plan_cases, plan_digest, summary
@@ -111,7 +120,7 @@ def command(
         cases = part.of(cases)
     run = _runner(lines, cases, jobs, scheduler, CaseChecks(rehearse, diagrams), smoke)
     try:
-        results = _progress(run, len(cases))
+        results = _progress(run, len(cases), strict)
     except KeyboardInterrupt:  # workers and rehearsals have stopped what they started
         click.echo("\nvalidate: interrupted; no report written", err=True)
         sys.exit(130)
@@ -149,13 +158,17 @@ def _runner(lines, cases, jobs: int, scheduler: str | None, checks, smoke: bool)
     return on_cluster
 
 
-def _progress(run, total: int) -> list:
-    """Run the cases with a progress bar on a terminal, one line per product otherwise."""
+def _progress(run, total: int, strict: bool) -> list:
+    """Run the cases with a progress bar on a terminal, one line per product otherwise;
+    ``strict``: a product with warnings fails."""
     from spl.line_validation import describe
+    from spl.line_validation import strict as failing_on_warnings
 
+    judged = failing_on_warnings if strict else list
     if sys.stderr.isatty():
         with click.progressbar(length=total, label="validating", file=sys.stderr) as bar:
             results = run(lambda _: bar.update(1))
+        results = judged(results)
         for result in results:
             if not result.passed:
                 for text in describe(result):
@@ -163,10 +176,10 @@ def _progress(run, total: int) -> list:
         return results
 
     def show(result) -> None:
-        for text in describe(result):
+        for text in describe(judged([result])[0]):
             click.echo(text)
 
-    return run(show)
+    return judged(run(show))
 
 
 def _rehearsal():

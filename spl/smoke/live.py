@@ -18,7 +18,6 @@ from pathlib import Path
 from typing import Any
 
 from spl.diagnostics import counted
-from spl.resolver.architecture_checks import UNFED
 from spl.smoke.plan import ContainerPlan, Interface, NodePlan
 
 CALLER = "/spl_smoke"
@@ -199,6 +198,8 @@ def _interface_row(
         expected = (
             f"answer from {short(interface.server, plan.name)}"
             if interface.server
+            else f"nothing: {interface.gap}"
+            if interface.gap
             else ("an answer (no server in the model)" if interface.required else "calls forwarded")
         )
         answers = entry.get("answered_by", {})
@@ -234,8 +235,8 @@ def _generated_row(plan: ContainerPlan, node: NodePlan, interface: Interface,
 def _sources_text(interface: Interface, container: str) -> str:
     if interface.sources:
         return "from " + ", ".join(short(s, container) for s in interface.sources)
-    if interface.required and not interface.endpoint:
-        return f"nothing: unfed in the model ({UNFED})"  # resolve warned; not a failure here
+    if interface.gap:  # resolve's verdict (or the model's reason); not a failure here
+        return f"nothing: {interface.gap}"
     return "nothing"
 
 

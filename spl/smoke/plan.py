@@ -54,6 +54,9 @@ class Interface:
     # messages it sends (after as many subscribers as ``wait_for`` connected)
     values: dict[str, Any] | None = None
     required: bool = True  # must see traffic (endpoint interfaces only when on a path)
+    # a node input no flow reaches: the model's word on it, "unfed in the model (SPL045)",
+    # "unserved in the model (SPL046)" or "fed from outside the architecture: WHY"
+    gap: str = ""
     endpoint: bool = False  # an interface of the container's endpoint, not of a node
 
     @property

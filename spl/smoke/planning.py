@@ -12,6 +12,7 @@ from typing import Any
 import yaml
 
 from spl.metamodels import tsm
+from spl.resolver.architecture_checks import UNFED, UNSERVED, input_gap
 from spl.resolver.flows import SERVICE, FlowTable, container_of
 from spl.resolver.product import topic_ros_name
 from spl.resolver.ros_names import remappings, server_ros_name
@@ -32,6 +33,9 @@ from spl.smoke.plan import (
 DATA_MESSAGES = 12  # messages a stand-in publisher sends on a writer's topic
 ROS_FIELD_TYPES = {"double": "float64", "int": "int64", "string": "string", "bool": "bool"}
 TRACKING = "string source\nstring route\nuint32 seq\n"
+
+
+GAPS = {UNFED: "unfed", UNSERVED: "unserved"}  # the rehearsal's words for resolve's codes
 
 
 def load_plan(bundle: Path, generated: bool = False) -> SmokePlan:
@@ -260,6 +264,17 @@ def _expect_flows(system: Any, plans: list[ContainerPlan]) -> None:
             interface.sources = tuple(sorted(set(sources.get(interface.id, ()))))
         elif interface.kind == "client" and interface.endpoint and interface.server is None:
             interface.required = False  # no node client's calls pass through it
+    for container in system.containers:  # resolve's verdict on inputs nothing feeds
+        for node in container.nodes:
+            for model_interface in node.interfaces:
+                gap = input_gap(model_interface, flows)
+                planned = plan_of(model_interface)
+                if gap is not None:
+                    planned.gap = f"{GAPS[gap]} in the model ({gap})"
+                elif model_interface.external and not flows.feeding(model_interface):
+                    planned.gap = f"fed from outside the architecture: {model_interface.external}"
+                if planned.gap and planned.kind == "client":
+                    planned.required = False  # no answer is expected: none is modelled
     for connection in system.connections:
         if isinstance(connection.source, T.Subscriber):
             endpoint = plan_of(connection.source)

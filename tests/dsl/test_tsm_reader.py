@@ -104,6 +104,13 @@ CORNERS = {
         }
         cloud container C { optional store S { raw D refined D by T every 2 s } }""",
     "nothing but a name": "system S",
+    "inputs fed from outside (docs/tsm.md)": """
+        robot container R { topic T : a/B
+            node external { subscribes external <- T external "the bring-up's driver"
+                            subscribes s2 : a/B external ""  calls c : s/S external "x"
+                            calls c2 -> external.srv external "y"  provides srv : s/S } }""",
+    "external on a publisher": 'robot container R { node N { publishes p : a/B external "x" } }',
+    "external without its reason": "robot container R { node N { subscribes s : a/B external } }",
     "unicode after a keyword": "robot container R { nodeé }",
     "unicode in a name": "robot container Ré { }",
     "a topic marked optional": "robot container R { optional topic T : a/B }",
@@ -120,7 +127,7 @@ def test_corners_of_the_grammar_are_read_as_textx_reads_them(text: str) -> None:
 
 
 def test_valid_corners_are_read_by_the_reader_itself() -> None:
-    for label in list(CORNERS)[:5]:
+    for label in [*list(CORNERS)[:5], "inputs fed from outside (docs/tsm.md)"]:
         assert tsm_reader.read(CORNERS[label]) is not None, label
 
 
