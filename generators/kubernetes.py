@@ -86,8 +86,9 @@ LoadBalancer, port {ZENOH_PORT}; point each robot endpoint's host at it), which 
 to every instance's zenoh-bridge-ros2dds sidecar (`../zenoh/` has the robots' bridges).
 The router authenticates robots with passwords it reads from the Secret
 `{secret_name()}`, mounted read-only as files; no password is in any generated file.
-Create the Secret, in the namespace, before applying:
+Create the namespace, then the Secret in it, before applying the folder:
 
+    kubectl apply -f kubernetes/namespace.yaml
 {keys or "    #   (no robot authenticates)"}
     kubectl create secret generic {secret_name()} --namespace NAMESPACE {literals}
 """
