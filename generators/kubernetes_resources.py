@@ -15,8 +15,8 @@ defaults of :data:`DEFAULTS`, one row per kind of workload.
 A probe must fail when the workload cannot do its job, not merely when its process is
 gone: the ROS container is ready when every node of its launch file is in its ROS 2
 graph (``ros2 node list``); a Zenoh bridge or router when its admin space answers over
-its REST plugin; a data service when it answers its root over HTTPS (it starts only
-once its database has taken the schema);
+its REST plugin; a data service is ready when its root, which makes a round trip to
+the database, answers, and alive while it serves its OpenAPI document;
 PostgreSQL when ``pg_isready`` says it accepts connections.
 """
 

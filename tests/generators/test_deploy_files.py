@@ -106,6 +106,9 @@ def test_kubernetes_manifests_are_consistent(generated) -> None:
         }
         for probe in ("readinessProbe", "livenessProbe"):
             assert container[probe]["httpGet"]["scheme"] == "HTTPS"
+        # ready: the root, a round trip to the database; alive: serving its OpenAPI document
+        assert container["readinessProbe"]["httpGet"]["path"] == "/"
+        assert container["livenessProbe"]["httpGet"]["path"] == "/openapi.json"
         assert env["PORT"]["value"] == "8000"
         # secrets as read-only files, each service mounting its own keys alone
         assert not any("valueFrom" in e for e in container["env"])
