@@ -117,10 +117,12 @@ def _robot_files(deployment: FleetDeployment, entry: RobotProduct) -> dict[str, 
     product = entry.product
     files = build_bundle(product, ROBOT_TARGETS).files
     del files["manifest.json"]
-    if any(path.startswith("deploy/kubernetes/") for path in files):
+    namespace = namespace_for(product.name)
+    if namespace != namespace_for(deployment.check.fleet.name) and any(
+        path.startswith("deploy/kubernetes/") for path in files
+    ):
         # the robot's data services run in its product's namespace, which the fleet's
-        # kubernetes/ does not create (docs/kubernetes.md)
-        namespace = namespace_for(product.name)
+        # kubernetes/ does not create (docs/kubernetes.md); with --namespace, one for all
         files["deploy/kubernetes/namespace.yaml"] = namespace_file(product.name, namespace)
     errors: list[Diagnostic] = []
     placement = Placement(product.system, errors)
