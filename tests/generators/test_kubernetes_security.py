@@ -135,3 +135,40 @@ def test_resources_come_from_the_model_else_the_defaults():
         "cpu": "1",
         "memory": "768Mi",
     }
+
+
+def test_a_fleet_is_in_its_namespace_and_each_robots_services_in_their_own(tmp_path):
+    field = LINES / "data_acquisition" / "fleets" / "field.yaml"
+
+    def namespaces(out):  # type: ignore[no-untyped-def]
+        files = {
+            str(p.relative_to(out)): p.read_bytes()
+            for p in out.rglob("*.yaml")
+            if "kubernetes" in p.parts and p.name != "kustomization.yaml"
+        }
+        made = sorted(p for p in files if p.endswith("namespace.yaml"))
+        placed = {
+            path.split("/deploy/")[0]: document["metadata"]["namespace"]
+            for path, data in files.items()
+            for document in yaml.safe_load_all(data)
+            if document["kind"] != "Namespace"
+        }
+        return made, placed
+
+    assert run("fleet", "resolve", field, "-o", tmp_path / "a").exit_code == 0
+    made, placed = namespaces(tmp_path / "a")
+    assert made == [
+        "kubernetes/namespace.yaml",
+        *(
+            f"robots/{r}/deploy/kubernetes/namespace.yaml"
+            for r in ("ev3_pair", "rover_1", "rover_2")
+        ),
+    ]
+    assert {v for k, v in placed.items() if k.startswith("kubernetes/")} == {"field"}
+    for robot in ("ev3_pair", "rover_1", "rover_2"):  # each robot's product's own
+        assert placed[f"robots/{robot}"] != "field"
+    assert len({placed[f"robots/{r}"] for r in ("ev3_pair", "rover_1", "rover_2")}) == 3
+    given = run("fleet", "resolve", field, "-o", tmp_path / "b", "--namespace", "one")
+    assert given.exit_code == 0, given.output
+    made, placed = namespaces(tmp_path / "b")
+    assert made == ["kubernetes/namespace.yaml"] and set(placed.values()) == {"one"}
