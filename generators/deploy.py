@@ -2,23 +2,41 @@
 
 ``deploy/`` gets one Dockerfile per service, a docker-compose.yml running every
 service (plus PostgreSQL when the product stores in PostgreSQL), and Kubernetes
-manifests: a Deployment and Service per store, and PostgreSQL as a StatefulSet.
-Secrets are only ever named: compose reads them from the environment, Kubernetes
-from a Secret created out of band.
+manifests: a Deployment, Service and NetworkPolicy per store, and PostgreSQL as a
+StatefulSet, in the product's namespace at the restricted Pod Security level
+(docs/kubernetes.md). Secrets are only ever named: compose reads them from the
+environment, Kubernetes from a Secret created out of band and mounted read-only as
+files, which the services read through ``<VAR>_FILE``.
 """
 
 from __future__ import annotations
 
 from typing import TypedDict
 
+import yaml
+
 from spl.generators.bundle_paths import BundleFiles
 from spl.generators.jinja_templates import render
+from spl.generators.json_text import Document
+from spl.generators.kubernetes_network_policy import (
+    POSTGRES,
+    SERVICE_PORT,
+    Connection,
+    store_connections,
+    workload_policy,
+)
+from spl.generators.kubernetes_resources import resources
+from spl.generators.kubernetes_security import (
+    container_security,
+    namespace_for,
+    pod_security,
+    waiver_annotations,
+)
 from spl.generators.store_contract import StoreContext, store_context
 from spl.resolver.generated_names import dns_name
 from spl.resolver.product import ResolvedProduct
 from spl.resolver.stores import cloud_stores, database_kind
 
-SERVICE_PORT = 8000
 FIRST_HOST_PORT = 8000
 POSTGRES_IMAGE = "postgres:16"
 
@@ -38,11 +56,18 @@ def _project(product: ResolvedProduct) -> str:
     return dns_name(cleaned) if cleaned and cleaned[0].isalpha() else "spl-product"
 
 
+def _yaml(document: Document) -> str:
+    """A document as block YAML, keys in the order built (no trailing line break)."""
+    return yaml.safe_dump(document, sort_keys=False, default_flow_style=False).rstrip("\n")
+
+
 def generate(product: ResolvedProduct) -> dict[str, bytes]:
     stores = cloud_stores(product.system)
     if not stores:
         return {}
     project = _project(product)
+    namespace = namespace_for(product.name)
+    connections = store_connections(product)
     postgres = database_kind(product) == "postgresql"
     secret = f"{project}-secrets"
     entries: list[_Entry] = []
@@ -63,6 +88,12 @@ def generate(product: ResolvedProduct) -> dict[str, bytes]:
         "postgres_image": POSTGRES_IMAGE,
         "port": SERVICE_PORT,
         "secret": secret,
+        "namespace": namespace,
+        "waivers": waiver_annotations(),
+        "pod_security": _yaml(pod_security()),
+        "container_security": _yaml(container_security()),
+        "service_resources": _yaml(resources("service", product)),
+        "postgres_resources": _yaml(resources("postgres", product)),
     }
     files = BundleFiles(
         {
@@ -82,8 +113,19 @@ def generate(product: ResolvedProduct) -> dict[str, bytes]:
             store=names,
             image=entry["image"],
             token_key=entry["token_key"],
+            policy=_policy(names["dns"], project, namespace, connections),
             **common,
         )
     if postgres:
-        files["deploy/kubernetes/postgres.yaml"] = render("deploy/postgres.k8s.yaml.j2", **common)
+        files["deploy/kubernetes/postgres.yaml"] = render(
+            "deploy/postgres.k8s.yaml.j2",
+            policy=_policy(POSTGRES, project, namespace, connections),
+            **common,
+        )
     return files
+
+
+def _policy(name: str, project: str, namespace: str, connections: list[Connection]) -> str:
+    """The NetworkPolicy of data-service workload ``name`` (a store's or PostgreSQL)."""
+    labels = {"app.kubernetes.io/name": name, "app.kubernetes.io/part-of": project}
+    return _yaml(workload_policy(name, namespace, labels, connections))

@@ -42,6 +42,8 @@ from spl.diagnostics import Diagnostic, ModelError
 from spl.generators import kubernetes_fleet, ros1, ros2_launch
 from spl.generators.bundle import TARGETS, build_bundle, manifest
 from spl.generators.json_text import Document
+from spl.generators.kubernetes import namespace_file
+from spl.generators.kubernetes_security import namespace_for
 from spl.generators.launch_xml import serialize
 from spl.generators.rapyuta import configurations, declare_once, render
 from spl.generators.rapyuta_rules import check_all
@@ -115,6 +117,13 @@ def _robot_files(deployment: FleetDeployment, entry: RobotProduct) -> dict[str, 
     product = entry.product
     files = build_bundle(product, ROBOT_TARGETS).files
     del files["manifest.json"]
+    namespace = namespace_for(product.name)
+    if namespace != namespace_for(deployment.check.fleet.name) and any(
+        path.startswith("deploy/kubernetes/") for path in files
+    ):
+        # the robot's data services run in its product's namespace, which the fleet's
+        # kubernetes/ does not create (docs/kubernetes.md); with --namespace, one for all
+        files["deploy/kubernetes/namespace.yaml"] = namespace_file(product.name, namespace)
     errors: list[Diagnostic] = []
     placement = Placement(product.system, errors)
     for container in product.system.containers:

@@ -22,16 +22,23 @@ from spl.diagnostics import Diagnostic, ModelError
 from spl.generators import ros2_launch
 from spl.generators.bundle_paths import BundleFiles
 from spl.generators.json_text import Document
-from spl.generators.kubernetes_names import CONFIG_SUFFIX, ROUTER, instance_names
+from spl.generators.kubernetes_names import CONFIG_SUFFIX, ROUTER, instance_names, label_value
+from spl.generators.kubernetes_network_policy import (
+    Connection,
+    namespace_policies,
+    store_connections,
+    zenoh_connections,
+)
 from spl.generators.kubernetes_objects import (
+    MANAGED_BY,
     ROS_IMAGE,
+    Placed,
     instance_documents,
     render,
-    router_documents,
-    secret_key,
-    secret_name,
     title,
 )
+from spl.generators.kubernetes_router import router_documents, secret_key, secret_name
+from spl.generators.kubernetes_security import namespace_document, namespace_for
 from spl.generators.zenoh_bridge import ZENOH_PORT, CloudBridge, Transport, transport
 from spl.resolver.placement import Instance, Placement
 from spl.resolver.product import ResolvedProduct
@@ -47,11 +54,12 @@ def instance_file(
     instance: Instance,
     name: str,
     launch: bytes,
+    placed: Placed,
     bridges: tuple[CloudBridge, ...] = (),
     kind: str = "product",
 ) -> bytes:
     """``<name>.yaml`` of one cloud instance of ``owner``, a product or (``kind``) a fleet."""
-    documents = instance_documents(owner, instance, name, launch, list(bridges))
+    documents = instance_documents(owner, instance, name, launch, list(bridges), placed)
     what = f"{instance.place.describe()} as {instance.place.tag}"
     return render(documents, title(owner, what, kind))
 
@@ -77,15 +85,18 @@ def transport_note(wiring: Transport) -> str:
 LoadBalancer, port {ZENOH_PORT}; point each robot endpoint's host at it), which connects
 to every instance's zenoh-bridge-ros2dds sidecar (`../zenoh/` has the robots' bridges).
 The router authenticates robots with passwords it reads from the Secret
-`{secret_name()}` (`secretKeyRef`); no password is in any generated file.
-Create the Secret before applying:
+`{secret_name()}`, mounted read-only as files; no password is in any generated file.
+Create the namespace, then the Secret in it, before applying the folder:
 
+    kubectl apply -f kubernetes/namespace.yaml
 {keys or "    #   (no robot authenticates)"}
-    kubectl create secret generic {secret_name()} {literals}
+    kubectl create secret generic {secret_name()} --namespace NAMESPACE {literals}
 """
 
 
-def readme(title_text: str, rows: list[tuple[str, Instance]], transport_text: str) -> bytes:
+def readme(
+    title_text: str, rows: list[tuple[str, Instance]], transport_text: str, namespace: str
+) -> bytes:
     """How to apply the folder: the instances, the transport, the images."""
     table = "\n".join(
         f"| `{name}.yaml` | {instance.place.tag} | {instance.place.container} | "
@@ -104,8 +115,13 @@ exactly its nodes (ConfigMap `<name>{CONFIG_SUFFIX}`).
 | --- | --- | --- | --- | --- | --- |
 {table or "| (none) | | | | | |"}
 
-{transport_text}
-Apply the folder as it is (in the namespace of your choice):
+{transport_text.replace("NAMESPACE", namespace)}
+Every object is in the namespace `{namespace}` (`namespace.yaml` creates it, enforcing
+the restricted Pod Security Standard; `spl resolve --namespace` names another). Each
+pod runs as a non-root user on a read-only root filesystem, with requests, limits and
+probes, and NetworkPolicies deny all traffic in the namespace but DNS and the
+connections the resolved architecture makes (each workload's policy is in its file).
+Apply the folder as it is:
 
     kubectl apply -k kubernetes/
 
@@ -118,6 +134,15 @@ from it with them and set it without editing the manifests, in kustomization.yam
       newTag: "1.0"
 """
     return text.encode("utf-8")
+
+
+def namespace_file(owner: str, namespace: str, kind: str = "product") -> bytes:
+    """``namespace.yaml``: the Namespace (restricted Pod Security), its default deny and
+    its DNS egress."""
+    labels = {"app.kubernetes.io/part-of": label_value(owner), **MANAGED_BY}
+    documents = [namespace_document(namespace, label_value(owner))]
+    documents += namespace_policies(namespace, labels)
+    return render(documents, title(owner, f"namespace {namespace}", kind))
 
 
 def kustomization(files: list[str]) -> bytes:
@@ -140,7 +165,11 @@ def generate(product: ResolvedProduct) -> dict[str, bytes]:
     wiring = transport(product)
     if errors:
         raise ModelError(list(dict.fromkeys(errors)))
-    files = BundleFiles()
+    namespace = namespace_for(product.name)
+    connections: list[Connection] = zenoh_connections(wiring, names)
+    connections += store_connections(product)
+    placed = Placed(namespace, product, connections)
+    files = BundleFiles({"kubernetes/namespace.yaml": namespace_file(product.name, namespace)})
     for instance in instances:
         name = names[instance.place.tag]
         launch = ros2_launch.launch_file(
@@ -148,11 +177,11 @@ def generate(product: ResolvedProduct) -> dict[str, bytes]:
         )
         bridges = wiring.cloud_bridges.get(instance.place.tag, []) if wiring.carried else []
         files[f"kubernetes/{name}.yaml"] = instance_file(
-            product.name, instance, name, launch, tuple(bridges)
+            product.name, instance, name, launch, placed, tuple(bridges)
         )
     if wiring.routed:
         files[f"kubernetes/{ROUTER}.yaml"] = render(
-            router_documents(product.name, wiring), title(product.name, "Zenoh router")
+            router_documents(product.name, wiring, placed), title(product.name, "Zenoh router")
         )
     files["kubernetes/kustomization.yaml"] = kustomization(
         [path.removeprefix("kubernetes/") for path in files]
@@ -161,5 +190,6 @@ def generate(product: ResolvedProduct) -> dict[str, bytes]:
         f"product {product.name}",
         [(names[i.place.tag], i) for i in instances],
         transport_note(wiring),
+        namespace,
     )
     return {path: files[path] for path in sorted(files)}

@@ -21,7 +21,10 @@ from typing import TYPE_CHECKING, cast
 from spl.diagnostics import Diagnostic, ModelError
 from spl.generators import kubernetes, ros2_launch, zenoh
 from spl.generators.kubernetes_names import CONFIG_SUFFIX, ROUTER, ObjectNames
-from spl.generators.kubernetes_objects import render, router_documents, title
+from spl.generators.kubernetes_network_policy import zenoh_connections
+from spl.generators.kubernetes_objects import Placed, render, title
+from spl.generators.kubernetes_router import router_documents
+from spl.generators.kubernetes_security import namespace_for
 from spl.generators.zenoh_bridge import transport
 from spl.resolver.fleet_deployment import FleetDeployment, SharedInstance
 from spl.resolver.placement import Instance, Place, Placement
@@ -86,7 +89,12 @@ def fleet_files(
     if errors:
         raise ModelError(errors)
     wiring = transport(*(entry.product for entry in deployment.robots))
-    files: dict[str, bytes] = {}
+    namespace = namespace_for(fleet)
+    tags = {i.place.tag: name for (_, i, _, _), name in zip(instances, named, strict=True)}
+    connections = zenoh_connections(wiring, tags)
+    files: dict[str, bytes] = {
+        "kubernetes/namespace.yaml": kubernetes.namespace_file(fleet, namespace, "fleet")
+    }
     for (product, instance, robot, _), name in zip(instances, named, strict=True):
         launch = ros2_launch.launch_file(
             product,
@@ -96,13 +104,18 @@ def fleet_files(
         )
         bridges = tuple(wiring.cloud_bridges.get(instance.place.tag, ())) if wiring.carried else ()
         path = f"kubernetes/{name}.yaml"
-        files[path] = kubernetes.instance_file(fleet, instance, name, launch, bridges, "fleet")
+        # the robots' data services are each in their own product's namespace
+        # (robots/<robot>/deploy/), so the fleet's instances connect to Zenoh only
+        placed = Placed(namespace, product, connections)
+        files[path] = kubernetes.instance_file(
+            fleet, instance, name, launch, placed, bridges, "fleet"
+        )
         if robot is None:
             per_instance.setdefault(instance.place.tag, []).append(path)
         else:
             per_robot[robot].append(path)
     if wiring.routed:
-        documents = router_documents(fleet, wiring)
+        documents = router_documents(fleet, wiring, Placed(namespace, None, connections))
         files[f"kubernetes/{ROUTER}.yaml"] = render(
             documents, title(fleet, "Zenoh router", "fleet")
         )
@@ -114,7 +127,7 @@ def fleet_files(
         key=lambda row: row[0],
     )
     note = kubernetes.transport_note(wiring)
-    files["kubernetes/README.md"] = kubernetes.readme(f"fleet {fleet}", rows, note)
+    files["kubernetes/README.md"] = kubernetes.readme(f"fleet {fleet}", rows, note, namespace)
     if wiring.carried:
         files.update(zenoh.folder(f"fleet {fleet}", wiring))
     return files

@@ -12,12 +12,12 @@ limits and one more container per bridge; a ``Service`` ``<name>`` on the bridge
 Zenoh ports (7447, 7448, ...), which the Zenoh router connects to. The nodes run with
 ``ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST`` and the bridges with the same setting in
 their configuration, so DDS discovery stays inside the pod, where the bridges carry
-exactly the crossing topics and services.
-
-The Zenoh router (``zenohd``) robots connect to: a ``LoadBalancer`` Service on port
-7447; robots authenticate with their endpoint's user and the password named by
-``password env "VAR"``, which the router reads from a ``Secret`` key
-(``secretKeyRef``) and writes, at start, into an in-memory dictionary file.
+exactly the crossing topics and services. Every pod runs at the restricted Pod
+Security level (:mod:`spl.generators.kubernetes_security`), with requests, limits and
+probes (:mod:`spl.generators.kubernetes_resources`), in its product's namespace, behind
+a NetworkPolicy allowing only its connections
+(:mod:`spl.generators.kubernetes_network_policy`). The Zenoh router's objects are
+:mod:`spl.generators.kubernetes_router`'s.
 
 Labels name the product, TSM container, instance (placement tag) and sharing mode.
 Keys are written in the order built and YAML without anchors: same product, same bytes.
@@ -26,23 +26,27 @@ Keys are written in the order built and YAML without anchors: same product, same
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import TYPE_CHECKING, cast
+from typing import NamedTuple, cast
 
 import yaml
 
 from spl import __version__
 from spl.generators.json_text import Document
-from spl.generators.kubernetes_names import (
-    CONFIG_SUFFIX,
-    ROUTER,
-    label_value,
+from spl.generators.kubernetes_names import CONFIG_SUFFIX, label_value
+from spl.generators.kubernetes_network_policy import Connection, workload_policy
+from spl.generators.kubernetes_resources import (
+    FIRST_ADMIN_PORT,
+    admin_port_name,
+    resources,
+    ros_node_names,
+    ros_probes,
+    zenoh_probes,
 )
+from spl.generators.kubernetes_security import harden, ros_environment, waiver_annotations
 from spl.generators.kubernetes_yaml import block_yaml
-from spl.generators.zenoh_bridge import ZENOH_PORT, CloudBridge, Transport
+from spl.generators.zenoh_bridge import ZENOH_PORT, CloudBridge
 from spl.resolver.placement import Instance
-
-if TYPE_CHECKING:
-    from spl.metamodels import tsm_types
+from spl.resolver.product import ResolvedProduct
 
 ROS_IMAGE = "ros:jazzy-ros-core"
 BRIDGE_IMAGE = "eclipse/zenoh-bridge-ros2dds:1.10.0"
@@ -182,17 +186,18 @@ def instance_labels(product_name: str, instance: Instance, name: str) -> dict[st
     }
 
 
-def _resources(cloud: tsm_types.CloudContainer) -> Document:
-    amounts = {}
-    if cloud.cpu is not None:
-        amounts["cpu"] = str(cloud.cpu)
-    if cloud.memory is not None:
-        amounts["memory"] = f"{cloud.memory}Mi"
-    return {"requests": dict(amounts), "limits": dict(amounts)} if amounts else {}
-
-
 def _localhost_env() -> list[dict[str, str]]:
     return [{"name": "ROS_AUTOMATIC_DISCOVERY_RANGE", "value": "LOCALHOST"}]
+
+
+class Placed(NamedTuple):
+    """Where a product's (or fleet's) objects go and what they may connect to: the
+    namespace, the product whose feature attributes size the containers (None: the
+    defaults), and the connections the policies allow."""
+
+    namespace: str
+    product: ResolvedProduct | None
+    connections: list[Connection]
 
 
 def instance_documents(
@@ -201,16 +206,20 @@ def instance_documents(
     name: str,
     launch_xml: bytes,
     bridges: list[CloudBridge],
+    placed: Placed,
 ) -> list[Document]:
-    """ConfigMap, Deployment and (with bridges) Service of one cloud instance."""
+    """ConfigMap, Deployment, NetworkPolicy and (with bridges) Service of one instance."""
     labels = instance_labels(product_name, instance, name)
+    namespace = placed.namespace
     metadata: Document = {
         "name": name,
+        "namespace": namespace,
         "labels": labels,
         "annotations": {
             f"{LABEL}/product": product_name,
             f"{LABEL}/nodes": ", ".join(node.name for node in instance.nodes),
             f"{LABEL}/robots": ", ".join(instance.robots),
+            **waiver_annotations(),
         },
     }
     data = {"launch.xml": _Literal(launch_xml.decode("utf-8"))}
@@ -220,33 +229,46 @@ def instance_documents(
     config_map: Document = {
         "apiVersion": "v1",
         "kind": "ConfigMap",
-        "metadata": {"name": name + CONFIG_SUFFIX, "labels": labels},
+        "metadata": {"name": name + CONFIG_SUFFIX, "namespace": namespace, "labels": labels},
         "data": data,
     }
     mount = [{"name": "config", "mountPath": CONFIG_DIR, "readOnly": True}]
+    cloud = instance.container
     ros: Document = {
         "name": "ros",
         "image": ROS_IMAGE,
         "args": ["ros2", "launch", f"{CONFIG_DIR}/launch.xml"],
-        "env": _localhost_env(),
-        "volumeMounts": mount,
+        "env": _localhost_env() + ros_environment(),
+        "volumeMounts": list(mount),
+        "resources": resources("ros", placed.product, cloud.cpu, cloud.memory),
+        **ros_probes(ros_node_names(cloud.namespace, [node.name for node in instance.nodes])),
     }
-    resources = _resources(instance.container)
-    if resources:
-        ros["resources"] = resources
     containers: list[Document] = [ros]
-    for sidecar, bridge in zip(sidecars, bridges, strict=True):
+    for index, (sidecar, bridge) in enumerate(zip(sidecars, bridges, strict=True)):
+        admin = admin_port_name(index)
         containers.append(
             {
                 "name": sidecar,
                 "image": BRIDGE_IMAGE,
-                "args": ["-c", f"{CONFIG_DIR}/{sidecar}.json5"],
-                "ports": [
-                    {"name": port_name(bridge), "containerPort": bridge.port, "protocol": "TCP"}
+                "args": [
+                    "-c",
+                    f"{CONFIG_DIR}/{sidecar}.json5",
+                    "--rest-http-port",
+                    str(FIRST_ADMIN_PORT + index),
                 ],
-                "volumeMounts": mount,
+                "ports": [
+                    {"name": port_name(bridge), "containerPort": bridge.port, "protocol": "TCP"},
+                    {"name": admin, "containerPort": FIRST_ADMIN_PORT + index, "protocol": "TCP"},
+                ],
+                "volumeMounts": list(mount),
+                "resources": resources("bridge", placed.product),
+                **zenoh_probes(admin),
             }
         )
+    pod = {
+        "containers": containers,
+        "volumes": [{"name": "config", "configMap": {"name": name + CONFIG_SUFFIX}}],
+    }
     deployment: Document = {
         "apiVersion": "apps/v1",
         "kind": "Deployment",
@@ -254,19 +276,14 @@ def instance_documents(
         "spec": {
             "replicas": 1,
             "selector": {"matchLabels": {"app.kubernetes.io/name": name}},
-            "template": {
-                "metadata": {"labels": labels},
-                "spec": {
-                    "containers": containers,
-                    "volumes": [{"name": "config", "configMap": {"name": name + CONFIG_SUFFIX}}],
-                },
-            },
+            "template": {"metadata": {"labels": labels}, "spec": harden(pod)},
         },
     }
     documents: list[Document] = [config_map, deployment]
+    documents.append(workload_policy(name, namespace, labels, placed.connections))
     if bridges:
         ports = [(port_name(bridge), bridge.port) for bridge in bridges]
-        documents.append(_service(name, labels, "ClusterIP", ports))
+        documents.append(service(name, namespace, labels, "ClusterIP", ports))
     return documents
 
 
@@ -280,13 +297,14 @@ def port_name(bridge: CloudBridge) -> str:
     return "zenoh" if bridge.port == ZENOH_PORT else f"zenoh-{bridge.port}"
 
 
-def _service(
-    name: str, labels: dict[str, str], kind: str, ports: list[tuple[str, int]]
+def service(
+    name: str, namespace: str, labels: dict[str, str], kind: str, ports: list[tuple[str, int]]
 ) -> Document:
+    """A Service selecting workload ``name``'s pods on named ``ports``."""
     return {
         "apiVersion": "v1",
         "kind": "Service",
-        "metadata": {"name": name, "labels": labels},
+        "metadata": {"name": name, "namespace": namespace, "labels": labels},
         "spec": {
             "type": kind,
             "selector": {"app.kubernetes.io/name": name},
@@ -296,80 +314,3 @@ def _service(
             ],
         },
     }
-
-
-def secret_name() -> str:
-    """The Secret holding the robots' passwords, one key per ``password env`` variable."""
-    return f"{ROUTER}-credentials"
-
-
-def secret_key(variable: str) -> str:
-    """A Secret key for an environment variable (keys allow ``A-Z a-z 0-9 - _ .``)."""
-    return variable.lower().replace("_", "-")
-
-
-def router_documents(product_name: str, wiring: Transport) -> list[Document]:
-    """The Zenoh router robots connect to, with its users' passwords from a Secret."""
-    labels = {
-        "app.kubernetes.io/name": ROUTER,
-        "app.kubernetes.io/part-of": label_value(product_name),
-        **MANAGED_BY,
-    }
-    config_map: Document = {
-        "apiVersion": "v1",
-        "kind": "ConfigMap",
-        "metadata": {"name": ROUTER + CONFIG_SUFFIX, "labels": labels},
-        "data": {"zenoh-router.json5": _Literal(wiring.router_config)},
-    }
-    env = [
-        {
-            "name": variable,
-            "valueFrom": {"secretKeyRef": {"name": secret_name(), "key": secret_key(variable)}},
-        }
-        for _, variable in wiring.credentials
-    ]
-    # The router reads its users from a dictionary file ("user:password" lines); the
-    # file is written at start from the Secret's values, in memory-backed storage.
-    lines = " ".join(f"'{user}' \"${variable}\"" for user, variable in wiring.credentials)
-    start = (
-        f"printf '%s:%s\\n' {lines} > /run/zenoh/users && "
-        f"exec /zenohd -c {CONFIG_DIR}/zenoh-router.json5"
-        if wiring.credentials
-        else f"exec /zenohd -c {CONFIG_DIR}/zenoh-router.json5"
-    )
-    container = {
-        "name": "zenohd",
-        "image": ROUTER_IMAGE,
-        "command": ["/bin/sh", "-c", start],
-        "ports": [{"name": "zenoh", "containerPort": ZENOH_PORT, "protocol": "TCP"}],
-        "volumeMounts": [
-            {"name": "config", "mountPath": CONFIG_DIR, "readOnly": True},
-            {"name": "users", "mountPath": "/run/zenoh"},
-        ],
-    }
-    if env:
-        container["env"] = env
-    deployment: Document = {
-        "apiVersion": "apps/v1",
-        "kind": "Deployment",
-        "metadata": {"name": ROUTER, "labels": labels},
-        "spec": {
-            "replicas": 1,
-            "selector": {"matchLabels": {"app.kubernetes.io/name": ROUTER}},
-            "template": {
-                "metadata": {"labels": labels},
-                "spec": {
-                    "containers": [container],
-                    "volumes": [
-                        {"name": "config", "configMap": {"name": ROUTER + CONFIG_SUFFIX}},
-                        {"name": "users", "emptyDir": {"medium": "Memory"}},
-                    ],
-                },
-            },
-        },
-    }
-    return [
-        config_map,
-        deployment,
-        _service(ROUTER, labels, "LoadBalancer", [("zenoh", ZENOH_PORT)]),
-    ]

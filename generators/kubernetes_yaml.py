@@ -23,12 +23,12 @@ from spl.generators.json_text import Document
 
 # A string PyYAML writes plain when its implicit tag is str (and single-quoted, as it
 # is, when not): words of printable ASCII separated by single spaces or by colons inside
-# a word; the first starting with a letter, digit, ``_`` or ``/`` (or ``-`` before one of
-# those: a command's option), no word after a space starting with ``#``. Nothing in it is
+# a word; the first starting with a letter, digit, ``_`` or ``/`` (or ``-`` or ``--`` before
+# one of those: a command's option), no word after a space starting with ``#``. Nothing in it is
 # an indicator where it stands, a special character or a line break (the analysis of
 # PyYAML's Emitter.analyze_scalar), and it is short enough never to be folded.
 _WORD = r"[!-9;-~]"  # printable ASCII but the space and the colon
-_SIMPLE = re.compile(rf"(?:[A-Za-z0-9_/]|-(?=[A-Za-z0-9_])){_WORD}*(?:(?::|[ ](?!#)){_WORD}+)*")
+_SIMPLE = re.compile(rf"(?:[A-Za-z0-9_/]|--?(?=[A-Za-z0-9_])){_WORD}*(?:(?::|[ ](?!#)){_WORD}+)*")
 _LONGEST = 1000
 _SIMPLE_KEY = 128  # PyYAML writes a longer key as a complex key ("? ...")
 # A literal block PyYAML writes as "|" (no indicators): printable ASCII lines, the last

@@ -3,11 +3,15 @@ product of each line in product_lines/, each resolved by this checkout's `spl` c
 
 A refactoring must not change what spl writes: run this before and after and compare
 (`python scripts/bundle_digests.py > before.txt`, change, `... > after.txt`,
-`diff before.txt after.txt`). The digest covers every file's path and bytes.
+`diff before.txt after.txt`). The digest covers every file's path and bytes; with
+`--exclude PREFIX` (repeatable) it leaves out the files under that bundle path, to show
+that a change meant for some outputs (`--exclude kubernetes/ --exclude deploy/`) left the
+others byte-identical.
 """
 
 from __future__ import annotations
 
+import argparse
 import hashlib
 import json
 import subprocess
@@ -20,9 +24,14 @@ ROOT = Path(__file__).resolve().parent.parent
 SPL = [sys.executable, "-m", "spl"]
 
 
+EXCLUDED: tuple[str, ...] = ()
+
+
 def bundle_digest(folder: Path) -> str:
     digest = hashlib.sha256()
     for path in sorted(p for p in folder.rglob("*") if p.is_file()):
+        if path.relative_to(folder).as_posix().startswith(EXCLUDED):
+            continue
         digest.update(path.relative_to(folder).as_posix().encode() + b"\0")
         digest.update(path.read_bytes() + b"\0")
     return digest.hexdigest()
@@ -50,6 +59,13 @@ def resolve(line: Path, label: str, features: str) -> str:
 
 
 def main() -> None:
+    global EXCLUDED
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument(
+        "--exclude", action="append", default=[], metavar="PREFIX",
+        help="leave out the bundle files whose path starts with PREFIX (repeatable)",
+    )  # fmt: skip
+    EXCLUDED = tuple(parser.parse_args().exclude)
     jobs = [
         (line, label, features)
         for line in sorted(p for p in (ROOT / "product_lines").iterdir() if p.is_dir())

@@ -12,6 +12,7 @@ from pathlib import Path
 
 import click
 
+from spl.commands.resolve import namespace_option
 from spl.diagnostics import Diagnostic, Location, ModelError
 
 FLEET_FILE = click.Path(exists=True, dir_okay=False, path_type=Path)
@@ -128,7 +129,8 @@ def _as_dict(result) -> dict:
 @click.option(
     "-o", "--out", type=click.Path(path_type=Path), help="bundle folder (default: build/FLEET)"
 )
-def resolve(fleet_file: Path, out: Path | None) -> None:
+@namespace_option
+def resolve(fleet_file: Path, out: Path | None, namespace: str | None) -> None:
     """Write one bundle for the fleet: each robot's own files, each shared cloud instance
     once, and fleet.json. Refused, writing nothing, when the fleet check fails."""
     from spl.generators.bundle import write_bundle
@@ -144,7 +146,10 @@ def resolve(fleet_file: Path, out: Path | None) -> None:
         raise ModelError(located(result.diagnostics))
     _warn(result.diagnostics)
     deployment = deploy(result)
-    with transport_reused():  # the fleet's wiring, computed once for all that read it
+    from spl.generators.kubernetes_security import namespace_override
+
+    # the fleet's wiring, computed once for all that read it
+    with transport_reused(), namespace_override(namespace):
         files = fleet_files(deployment)
         skipped = fleet_skipped(deployment)
     for path, reason in skipped.items():

@@ -18,6 +18,27 @@ def _targets(context: click.Context, parameter: click.Parameter, value: str | No
         raise click.BadParameter(str(error)) from None
 
 
+def namespace_option(command):
+    """``--namespace NAME``: the Kubernetes namespace of the manifests (a DNS-1123
+    label, checked before anything is resolved)."""
+
+    def check(context: click.Context, parameter: click.Parameter, value: str | None):
+        from spl.generators.kubernetes_security import checked_namespace
+
+        try:
+            return None if value is None else checked_namespace(value)
+        except ValueError as error:
+            raise click.BadParameter(str(error)) from None
+
+    return click.option(
+        "--namespace",
+        metavar="NAME",
+        callback=check,
+        help="Kubernetes namespace of kubernetes/ and deploy/kubernetes/ "
+        "(default: the product's or fleet's name as a DNS-1123 label)",
+    )(command)
+
+
 @click.command("resolve")
 @click.argument("directory", type=click.Path(exists=True, file_okay=False, path_type=Path))
 @selection_options
@@ -32,6 +53,7 @@ def _targets(context: click.Context, parameter: click.Parameter, value: str | No
     help="outputs to write, comma-separated: ros1, ros2, rapyuta, diagrams, services, "
     "kubernetes, zenoh (default: all)",
 )
+@namespace_option
 def command(
     directory: Path,
     features: str | None,
@@ -40,6 +62,7 @@ def command(
     capabilities,
     out: Path | None,
     targets: tuple[str, ...],
+    namespace: str | None,
 ) -> None:
     """Derive the product selected by --features (a list or a YAML file) and/or chosen by
     a robot's --capabilities, and write its deployment bundle. The bundle is written
@@ -51,7 +74,10 @@ def command(
 
     line = pipeline.load_line(directory)
     selection = selection_from_options(features, sharing, settings, capabilities)
-    derivation = pipeline.derive(line, selection, targets)
+    from spl.generators.kubernetes_security import namespace_override
+
+    with namespace_override(namespace):
+        derivation = pipeline.derive(line, selection, targets)
     resolution, bundle = derivation.resolution, derivation.bundle
     out = out or Path("build") / resolution.product.name
     pipeline.write(derivation, out)

@@ -67,7 +67,9 @@ def test_kubernetes_manifests_are_consistent(generated) -> None:
     compose = documents(files, "deploy/docker-compose.yml")[0]
     for name, token_env in STORES.items():
         docs = {d["kind"]: d for d in documents(files, f"deploy/kubernetes/{name}.yaml")}
-        assert {"Deployment", "Service"} <= set(docs)
+        assert {"Deployment", "Service", "NetworkPolicy"} <= set(docs)
+        namespace = "data-acquisition"
+        assert {d["metadata"]["namespace"] for d in docs.values()} == {namespace}
         deployment = docs["Deployment"]
         assert deployment["apiVersion"] == "apps/v1"
         labels = deployment["spec"]["selector"]["matchLabels"]
@@ -75,12 +77,20 @@ def test_kubernetes_manifests_are_consistent(generated) -> None:
         assert docs["Service"]["spec"]["selector"] == labels
         container = deployment["spec"]["template"]["spec"]["containers"][0]
         assert container["image"] == compose["services"][name]["image"]
-        assert container["ports"][0] == {"name": "https", "containerPort": 8000}
+        assert container["ports"][0] == {"name": "https", "containerPort": 8000, "protocol": "TCP"}
         assert docs["Service"]["spec"]["ports"][0] == {
             "name": "https",
             "port": 443,
             "targetPort": "https",
+            "protocol": "TCP",
         }
+        pod = deployment["spec"]["template"]["spec"]
+        assert pod["automountServiceAccountToken"] is False
+        assert pod["securityContext"]["runAsNonRoot"] is True
+        assert pod["securityContext"]["runAsUser"] >= 10000
+        assert container["securityContext"]["readOnlyRootFilesystem"] is True
+        assert container["securityContext"]["capabilities"] == {"drop": ["ALL"]}
+        assert {"requests", "limits"} <= set(container["resources"])
         env = {e["name"]: e for e in container["env"]}
         # HTTPS from the TLS secret, mounted as files (read only), never a value here
         upper = name.replace("-", "_").upper()
@@ -90,14 +100,46 @@ def test_kubernetes_manifests_are_consistent(generated) -> None:
             "volumeMounts"
         ]
         volumes = {v["name"]: v for v in deployment["spec"]["template"]["spec"]["volumes"]}
-        assert volumes["tls"] == {"name": "tls", "secret": {"secretName": f"{name}-tls"}}
+        assert volumes["tls"] == {
+            "name": "tls",
+            "secret": {"secretName": f"{name}-tls", "defaultMode": 0o440},
+        }
         for probe in ("readinessProbe", "livenessProbe"):
             assert container[probe]["httpGet"]["scheme"] == "HTTPS"
+        # ready: the root, a round trip to the database; alive: serving its OpenAPI document
+        assert container["readinessProbe"]["httpGet"]["path"] == "/"
+        assert container["livenessProbe"]["httpGet"]["path"] == "/openapi.json"
         assert env["PORT"]["value"] == "8000"
-        token = env[token_env]["valueFrom"]["secretKeyRef"]
-        assert token == {"name": "data-acquisition-secrets", "key": f"{name}-token"}
+        # secrets as read-only files, each service mounting its own keys alone
+        assert not any("valueFrom" in e for e in container["env"])
+        assert env[f"{token_env}_FILE"]["value"] == "/run/secrets/spl/token"
+        assert {"name": "secrets", "mountPath": "/run/secrets/spl", "readOnly": True} in (
+            container["volumeMounts"]
+        )
+        secret = volumes["secrets"]["secret"]
+        assert secret["secretName"] == "data-acquisition-secrets"
+        keys = {item["key"]: item["path"] for item in secret["items"]}
+        expected = {f"{name}-token": "token"}
         if postgres:
-            assert env["DATABASE_URL"]["valueFrom"]["secretKeyRef"]["key"] == "database-url"
+            expected["database-url"] = "database-url"
+        assert keys == expected
+        policy = docs["NetworkPolicy"]["spec"]
+        assert policy["podSelector"] == {"matchLabels": labels}
+        assert policy["egress"] == (
+            [
+                {
+                    "to": [
+                        {"podSelector": {"matchLabels": {"app.kubernetes.io/name": "postgres"}}}
+                    ],
+                    "ports": [{"protocol": "TCP", "port": 5432}],
+                }
+            ]
+            if postgres
+            else []
+        )
+        if postgres:
+            assert env["DATABASE_URL_FILE"]["value"] == "/run/secrets/spl/database-url"
+            assert "DATABASE_URL" not in env
         else:
             claim = volumes["data"]
             assert (
@@ -110,6 +152,14 @@ def test_kubernetes_manifests_are_consistent(generated) -> None:
         assert stateful["spec"]["serviceName"] == docs["Service"]["metadata"]["name"]
         assert docs["Service"]["spec"]["clusterIP"] == "None"
         assert stateful["spec"]["volumeClaimTemplates"][0]["metadata"]["name"] == "data"
+        database = stateful["spec"]["template"]["spec"]["containers"][0]
+        env = {e["name"]: e for e in database["env"]}
+        assert env["POSTGRES_PASSWORD_FILE"]["value"] == "/run/secrets/spl/postgres-password"
+        assert not any("valueFrom" in e for e in database["env"])
+        ingress = docs["NetworkPolicy"]["spec"]["ingress"]
+        assert sorted(
+            r["from"][0]["podSelector"]["matchLabels"]["app.kubernetes.io/name"] for r in ingress
+        ) == sorted(STORES)
     else:
         assert "deploy/kubernetes/postgres.yaml" not in files
 

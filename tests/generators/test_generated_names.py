@@ -149,7 +149,8 @@ def test_each_store_is_deployed_on_its_own(two_clouds) -> None:
     for path in ("field-cloud-position-store", "lab-cloud-position-store"):
         for document in yaml.safe_load_all(two_clouds[f"deploy/kubernetes/{path}.yaml"]):
             names.append((document["kind"], document["metadata"]["name"]))
-    assert len(names) == len(set(names)) == 6
+    # Deployment, PersistentVolumeClaim, Service and NetworkPolicy of each store
+    assert len(names) == len(set(names)) == 8
     assert all(DNS_1035.match(name.removesuffix("-data")) for _, name in names)
     dockerfile = two_clouds["deploy/LabCloud_PositionStore/Dockerfile"].decode()
     assert "COPY services/LabCloud_PositionStore/ /app/" in dockerfile

@@ -87,6 +87,10 @@ def test_two_robots_give_two_private_instances_one_protected_one_public():
         "requests": {"cpu": "4", "memory": "4096Mi"},
         "limits": {"cpu": "4", "memory": "4096Mi"},
     }
+    # ready when the ROS 2 graph holds every node the instance launches
+    probe = deployments["mappingcloud-mappers"]["spec"]["template"]["spec"]["containers"][0]
+    script = probe["readinessProbe"]["exec"]["command"][-1]
+    assert "ros2 node list" in script and "/Database" in script and "/StrategyPlanner" in script
 
 
 def test_paper_product_bridges_each_instance_and_reads_passwords_from_a_secret():
@@ -97,6 +101,7 @@ def test_paper_product_bridges_each_instance_and_reads_passwords_from_a_secret()
         "kubernetes/kustomization.yaml",
         "kubernetes/mappingcloud-mappers.yaml",
         "kubernetes/mappingcloud-robot-1.yaml",
+        "kubernetes/namespace.yaml",
         "kubernetes/zenoh-router.yaml",
     ]
     found = objects(files)
@@ -106,15 +111,37 @@ def test_paper_product_bridges_each_instance_and_reads_passwords_from_a_secret()
         service = found[("Service", name)]["spec"]
         assert service["selector"] == {"app.kubernetes.io/name": name}
         assert service["ports"][0]["port"] == 7447
-    router = found[("Deployment", "zenoh-router")]["spec"]["template"]["spec"]["containers"][0]
-    assert router["env"] == [
-        {
-            "name": "RCE_PASSWORD",
-            "valueFrom": {
-                "secretKeyRef": {"name": "zenoh-router-credentials", "key": "rce-password"}
-            },
-        }
-    ]
+        # only the router reaches the bridge, on its port; the pod dials nobody
+        policy = found[("NetworkPolicy", name)]["spec"]
+        assert policy["ingress"] == [
+            {
+                "from": [
+                    {"podSelector": {"matchLabels": {"app.kubernetes.io/name": "zenoh-router"}}}
+                ],
+                "ports": [{"protocol": "TCP", "port": 7447}],
+            }
+        ]
+        assert policy["egress"] == []
+    pod = found[("Deployment", "zenoh-router")]["spec"]["template"]["spec"]
+    router = pod["containers"][0]
+    # the password is a read-only file of the Secret, never an environment variable
+    assert "env" not in router
+    assert {"name": "credentials", "mountPath": "/run/secrets/zenoh-router", "readOnly": True} in (
+        router["volumeMounts"]
+    )
+    assert {
+        "name": "credentials",
+        "secret": {"secretName": "zenoh-router-credentials", "defaultMode": 0o440},
+    } in pod["volumes"]
+    assert "$(cat /run/secrets/zenoh-router/rce-password)" in router["command"][2]
+    (namespace,) = [o for (kind, _), o in found.items() if kind == "Namespace"]
+    assert namespace["metadata"]["labels"]["pod-security.kubernetes.io/enforce"] == "restricted"
+    assert {o["metadata"]["namespace"] for o in found.values() if o is not namespace} == {
+        namespace["metadata"]["name"]
+    }
+    assert {key[0] for key in found} == {
+        "Namespace", "NetworkPolicy", "ConfigMap", "Deployment", "Service",
+    }  # fmt: skip
     assert found[("Service", "zenoh-router")]["spec"]["type"] == "LoadBalancer"
     readme = files["kubernetes/README.md"].decode()
     assert "kubectl apply -k kubernetes/" in readme

@@ -116,3 +116,15 @@ def test_only_http_and_https_urls_are_used(bundle: Path) -> None:
     for url in ("file:///etc/passwd", "ftp://store.example.org", "store.example.org:8000"):
         with pytest.raises(ValueError, match="only http and https are used"):
             writer.StoreClient(url)
+
+
+def test_a_node_given_another_scheme_stops_at_start_with_a_clear_message(bundle: Path) -> None:
+    reader = module(bundle, "command_reader", "scheme_reader")
+    assert reader.client_for("https://store.example.org").base.startswith("https://")
+    for url in ("file:///etc/passwd", "ftp://store.example.org"):
+        with pytest.raises(SystemExit) as stopped:
+            reader.client_for(url)
+        assert str(stopped.value) == (
+            f"store URL {url!r}: only http and https are used; set the store_url parameter "
+            "to the http:// or https:// URL of the FollowStore service"
+        )

@@ -321,3 +321,21 @@ def test_stores_of_one_name_and_long_names_share_one_database(
             "SELECT relname FROM pg_class WHERE relname LIKE '%raw%'")]  # fmt: skip
     assert len(names) == len(set(names)) and max(len(n) for n in names) <= 63
     assert {"field_cloud_position_store_raw", "lab_cloud_position_store_raw"} <= set(names)
+
+
+def test_the_readiness_route_fails_while_the_database_is_gone(bundle: Path) -> None:
+    """The root the readiness probe GETs makes a round trip to the database: with the
+    database gone it is a 500 (no traffic routed to the service), while /openapi.json,
+    the liveness probe's, still answers (the service is not restarted for it)."""
+    base = Path(tempfile.mkdtemp(prefix="spl-pg-", dir="/tmp"))
+    own = PostgresCluster(BINARIES, base).start()
+    running = _service(bundle, own, "PositionStore", "position_store").start()
+    try:
+        assert request("GET", f"{running.url}/", token=None)[0] == 200
+        own.stop()
+        assert request("GET", f"{running.url}/", token=None)[0] == 500
+        assert request("GET", f"{running.url}/openapi.json", token=None)[0] == 200
+    finally:
+        running.stop()
+        own.stop()
+        shutil.rmtree(base, ignore_errors=True)
