@@ -41,7 +41,7 @@ from spl.line_validation import (
 )
 
 if TYPE_CHECKING:
-    from distributed import Client
+    from distributed import Client, Future
 
 INSTALL = "pip install 'spl-robotics[cluster]'"
 # A product whose workers die this many times is reported as an error, not lost.
@@ -205,7 +205,11 @@ def run_on_cluster(
     return results
 
 
-def _submit(client: Client, line: object, case: ProductCase, diagrams: bool, smoke: bool):
+def _submit(
+    client: Client, line: object, case: ProductCase, diagrams: bool, smoke: bool
+) -> Future:
+    """One product as a task of its own (``pure=False``: a product run twice, after its
+    worker died, is a new task, not the lost one's result)."""
     return client.submit(run_remote, line, case, diagrams, smoke, pure=False)
 
 
