@@ -48,6 +48,7 @@ ROOT = Path(__file__).resolve().parents[1]
 BROKEN = "\nbridge Robot.T0 -> Nowhere.T0\n"
 SYNTAX_BROKEN = "\nbridge Robot.\n"
 VALID = "valid:"  # an edit that leaves the model valid
+EXTRA_NODE = "ExtraNode"  # the node it adds, which the line's warning names
 
 
 class Session:
@@ -75,14 +76,17 @@ class Session:
         await self.client.stop()
 
     async def until(
-        self, uri: str, since: float, errors: bool, timeout: float = 600, severity: int = 1
+        self, uri: str, since: float, errors: bool, timeout: float = 600, about: str = ""
     ) -> float:
-        """Seconds from ``since`` until ``uri`` shows (or no longer shows) a finding of
-        ``severity`` or worse (1: an error, 2: a warning)."""
+        """Seconds from ``since`` until ``uri`` shows (or no longer shows) an error, or,
+        with ``about``, any finding whose message names it."""
         deadline = time.perf_counter() + timeout
         while time.perf_counter() < deadline:
             arrived, found = self.seen.get(uri, (0.0, []))
-            shown = any((d.severity or 1) <= severity for d in found)
+            if about:
+                shown = any(about in d.message for d in found)
+            else:
+                shown = any(d.severity == types.DiagnosticSeverity.Error for d in found)
             if arrived > since and shown == errors:
                 return arrived - since
             await asyncio.sleep(0.005)
@@ -119,7 +123,7 @@ async def measure(path: Path, text: str, edits: list[tuple[int, str]], runs: int
     """Open, then each edit (at, inserted) made and undone ``runs`` times: the open
     time, and per edit the times the error took to show and to clear. An edit that
     leaves the model valid (``VALID`` before the inserted text) is timed until the
-    line's warning about it shows and clears, each time with a new text (a count
+    line's warning about the node it adds shows and clears, each time with a new text (a count
     appended to it): the line's checks must run on it."""
     session = Session()
     await session.start(path.parent)
@@ -135,12 +139,12 @@ async def measure(path: Path, text: str, edits: list[tuple[int, str]], runs: int
                 change = inserted.removeprefix(VALID) + (str(run) if valid else "")
                 version += 1
                 started = session.edit(uri, version, text, at, at, change)
-                severity = 2 if valid else 1
-                shown.append(await session.until(uri, started, True, severity=severity))
+                about = EXTRA_NODE if valid else ""
+                shown.append(await session.until(uri, started, True, about=about))
                 edited = text[:at] + change + text[at:]
                 version += 1
                 started = session.edit(uri, version, edited, at, at + len(change), "")
-                cleared.append(await session.until(uri, started, False, severity=severity))
+                cleared.append(await session.until(uri, started, False, about=about))
             times.append((shown, cleared))
     finally:
         await session.stop()
@@ -176,7 +180,7 @@ async def main_async(sizes: list[int], runs: int, in_line: bool) -> None:
                 "middle, syntax": (middle, "{ "),
             }
             if in_line:  # a valid change only the line's checks see: a node in no product
-                extra = "\ncloud container Extra {\n    optional node ExtraNode {\n"
+                extra = f"\ncloud container Extra {{\n    optional node {EXTRA_NODE} {{\n"
                 extra += "        implementation pkg/extra\n    }\n}\n// "
                 edits["end, valid"] = (len(text), VALID + extra)
             opened, *found = await measure(tsm, text, list(edits.values()), runs)

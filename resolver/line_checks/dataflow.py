@@ -28,7 +28,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, NamedTuple
 
-from spl.diagnostics import Diagnostic, ModelError, location_of
+from spl.diagnostics import Diagnostic, Location, ModelError, location_of
 from spl.dsl.rm_names import Names, Placement
 from spl.metamodels import tsm
 from spl.resolver.context import describe, qualified
@@ -133,23 +133,29 @@ class Feeds:
                         self.publishing.setdefault(there, []).extend(carried)
         # the feature variables of the elements: products alike on them derive alike
         self.variables = sorted({abs(solver.literal(e)) for e in line.rm.elements})
-        self.resolved: dict[Witness, list[Diagnostic]] = {}
+        # each witness's warnings by code and place: a line with many unfed inputs asks
+        # one product about each of them
+        self.resolved: dict[Witness, dict[tuple[str | None, Location | None], Diagnostic]] = {}
 
     def rebinders(self, interface: tsm_types.Interface) -> list[rm_types.ResolutionElement]:
         return [element for element, _, _ in self.rebinding.get(id(interface), ())]
 
-    def warnings(self, witness: Witness) -> list[Diagnostic]:
-        """The warnings of the product ``witness`` (none when it fails for other reasons,
-        which resolve, validate and the other checks report)."""
+    def warning(self, witness: Witness, code: str, where: Location | None) -> Diagnostic | None:
+        """The warning ``code`` at ``where`` of the product ``witness`` (none when the
+        product fails for other reasons, which resolve, validate and the other checks
+        report)."""
         if witness not in self.resolved:
             from spl.resolver.engine import resolve  # the engine imports the line checks' kin
 
             try:
                 product = resolve(self.line, selection_from_list(",".join(witness))).product
-                self.resolved[witness] = list(product.warnings)
+                warnings = product.warnings
             except ModelError:
-                self.resolved[witness] = []
-        return self.resolved[witness]
+                warnings = ()
+            found = self.resolved[witness] = {}
+            for warning in warnings:
+                found.setdefault((warning.code, warning.location), warning)
+        return self.resolved[witness].get((code, where))
 
     def ruled_out(self, witness: Witness) -> list[int]:
         """A clause excluding every product that activates the resolution elements
@@ -263,13 +269,13 @@ def _confirmed(
         if found is None:
             return []
         for witness in dict.fromkeys((_smallest(shared, clauses, found), found)):
-            for warning in shared.warnings(witness):
-                if warning.code == code and warning.location == where:
-                    message = f"{warning.message}, in the product {', '.join(witness)}"
-                    why = _why(shared, template, interface, set(witness))
-                    if why:
-                        message += f"; {why}"
-                    return [Diagnostic(where, message, warning.severity, code)]
+            warning = shared.warning(witness, code, where)
+            if warning is not None:
+                message = f"{warning.message}, in the product {', '.join(witness)}"
+                why = _why(shared, template, interface, set(witness))
+                if why:
+                    message += f"; {why}"
+                return [Diagnostic(where, message, warning.severity, code)]
             clauses = [*clauses, shared.ruled_out(witness)]
     return []
 

@@ -23,13 +23,13 @@ def test_the_bench_line_has_100_unfed_inputs_and_one_witness(tmp_path, monkeypat
     bench.dataflow_line(tmp_path)
     line = load_product_line(tmp_path)
     resolved: list[tuple[str, ...]] = []
-    warnings = Feeds.warnings
+    warning = Feeds.warning
 
-    def counted(self, witness):
+    def counted(self, witness, code, where):
         resolved.append(witness)
-        return warnings(self, witness)
+        return warning(self, witness, code, where)
 
-    monkeypatch.setattr(Feeds, "warnings", counted)
+    monkeypatch.setattr(Feeds, "warning", counted)
     with ActivationSolver(line) as solver:
         found = unfed_inputs_in_line(line, solver)
     assert len(found) == 100 and {d.code for d in found} == {"SPL045"}
