@@ -137,9 +137,8 @@ def _check_versions(client: Client) -> None:
 
 
 def _spl_version() -> str:
-    from spl import __version__ as version
-
-    return version
+    """Run on each worker: the spl that worker imports."""
+    return __version__
 
 
 def run_on_cluster(
@@ -205,9 +204,7 @@ def run_on_cluster(
     return results
 
 
-def _submit(
-    client: Client, line: object, case: ProductCase, diagrams: bool, smoke: bool
-) -> Future:
+def _submit(client: Client, line: object, case: ProductCase, diagrams: bool, smoke: bool) -> Future:
     """One product as a task of its own (``pure=False``: a product run twice, after its
     worker died, is a new task, not the lost one's result)."""
     return client.submit(run_remote, line, case, diagrams, smoke, pure=False)

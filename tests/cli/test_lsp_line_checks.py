@@ -66,8 +66,6 @@ def test_the_line_check_follows_every_edit_and_reuses_only_unchanged_inputs(tmp_
     _, ran = check(original)
     assert ran
     # ... and the listed products
-    listed = folder / "products" / "scout_only.yaml"
-    shutil.copy(listed, folder / "products" / "broken.yaml")
     (folder / "products" / "broken.yaml").write_text("product: broken\nfeatures: [Nothing]\n")
     with_broken, ran = check(original)
     assert ran and any(d.code == "SPL015" for d in with_broken)

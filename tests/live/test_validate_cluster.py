@@ -8,12 +8,13 @@ from __future__ import annotations
 import os
 import re
 import signal
-import socket
 import subprocess
 import sys
 import time
 import uuid
 from pathlib import Path
+
+from spl.smoke.processes import free_port
 
 from support.smoke_runs import ROOT, leftovers, run_spl, spl_command, tagged_env
 
@@ -34,12 +35,6 @@ def test_a_local_cluster_gives_the_report_of_one_job(tmp_path: Path) -> None:
     assert b'tests="228"' in one.read_bytes()
 
 
-def _free_port() -> int:
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        return probe.getsockname()[1]
-
-
 def _dask(tag: str, *args: str) -> subprocess.Popen:
     module = "distributed.cli.dask_" + args[0]
     return subprocess.Popen(
@@ -56,7 +51,7 @@ def test_a_killed_worker_loses_no_product_of_a_smoke_run(tmp_path: Path) -> None
     by_one = run_spl(["validate", *SMOKED, "--smoke", "--junit", str(reference)])
     assert by_one.returncode == 0, by_one.stdout + by_one.stderr
 
-    tag, port = uuid.uuid4().hex, _free_port()
+    tag, port = uuid.uuid4().hex, free_port()
     address = f"tcp://127.0.0.1:{port}"
     scheduler = _dask(
         tag, "scheduler", "--host", "127.0.0.1", "--port", str(port), "--no-dashboard"
@@ -101,7 +96,7 @@ def _verdicts(output: str) -> list[str]:
 
 def test_no_scheduler_is_a_clear_error() -> None:
     started = time.monotonic()
-    port = _free_port()
+    port = free_port()
     result = run_spl(["validate", SMOKED[0], "--scheduler", f"tcp://127.0.0.1:{port}"])
     assert result.returncode == 2
     assert result.stderr.startswith(f"error: no Dask scheduler answers at tcp://127.0.0.1:{port}")
