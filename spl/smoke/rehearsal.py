@@ -226,7 +226,7 @@ class _Rehearsal:
         self.environments[container.name] = env
         self.masters[container.name] = Master(uri)
         argv = [self.ros.roscore, "-p", str(port), "--sigint-timeout=1", "--sigterm-timeout=1"]
-        self.cores[container.name] = self.processes.start(f"roscore-{container.name}", argv, env)
+        self.cores[container.name] = self.processes.start(_core_label(container.name), argv, env)
 
     def _launch(self, container: ContainerPlan) -> None:
         env = self.environments[container.name]
@@ -268,6 +268,7 @@ class _Rehearsal:
         last_change, before, up_after = start, None, None
         while True:
             now = time.monotonic()
+            lost = False  # a master that ended with no restart left: nothing more to see
             for container in self.plan.containers:
                 name = container.name
                 if name in self.launched:
@@ -283,6 +284,8 @@ class _Rehearsal:
                     self.core_starts += 1
                     self.processes.retire(self.cores[name])
                     self._start_master(container)
+                else:
+                    lost = lost or self.cores[name].poll() is not None
             if self.data is not None:
                 self.data.step(self.data.expected_raw(self.plan))
                 # the restart's own time is no quiet spell: the writers were waiting on it
@@ -310,20 +313,25 @@ class _Rehearsal:
             if self.data is not None and self.data.fault is not None:
                 quiet = max(quiet, WRITER_RETRY)
             settled = up and now - last_change >= quiet
-            if (all_up and everything_ok and ready >= stand_ins) or settled or now >= deadline:
+            passed = all_up and everything_ok and ready >= stand_ins
+            if passed or settled or lost or now >= deadline:
                 break
             time.sleep(POLL)
             raise_if_signalled()
         if not all_up:
             down = [c.name for c in self.plan.containers if c.name not in self.launched]
-            problems.append(f"roscore did not come up for {', '.join(down)} in time")
+            problems.append(f"roscore did not come up for {', '.join(down)}")
         elif not everything_ok and now >= deadline:
             problems.append(f"timed out after {now - start:.1f} s")
         return rows, problems
 
     def _snapshot(self) -> tuple[dict[str, list[Row]], int, int, int]:
         rows, ready, stand_ins, given_up = {}, 0, 0, 0
-        dead = {self.labels[label] for label, _, _ in self.processes.exited()}
+        ended = {label for label, _, _ in self.processes.exited()}
+        dead = {self.labels[label] for label in ended if label in self.labels}
+        # a master that ended after its roslaunch started takes every node with it; one
+        # that ended before is started again by :meth:`watch` (or reported there)
+        lost_masters = {c for c in self.launched if _core_label(c) in ended}
         dead |= {(container, node) for container, node, _ in self._died_in_roslaunch()}
         every_status = {
             c.name: read_statuses(self.status_dir / c.name) for c in self.plan.containers
@@ -347,8 +355,10 @@ class _Rehearsal:
                     node.role == "generated" and registered
                 ):
                     ready += 1
-                elif (container.name, node.ros_name) in dead or (
-                    node.role in ("launched", "generated") and (container.name, None) in dead
+                elif (
+                    (container.name, node.ros_name) in dead
+                    or container.name in lost_masters
+                    or (node.role in ("launched", "generated") and (container.name, None) in dead)
                 ):
                     given_up += 1  # its process (or its roslaunch) ended: it never will be
         if self.data is not None:
@@ -381,6 +391,10 @@ class _Rehearsal:
             if not (status == 0 and self.labels.get(label) in idle)
         ]
         return ended + [f"roslaunch-{c}: {line}" for c, _, line in self._died_in_roslaunch()]
+
+
+def _core_label(container: str) -> str:
+    return f"roscore-{container}"
 
 
 def _launch_executables(launch: Path) -> list[tuple[str, str, str]]:

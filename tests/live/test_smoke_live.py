@@ -8,6 +8,7 @@ roslaunch or stand-in of that run is still alive (see ``smoke_runs``).
 
 from __future__ import annotations
 
+import json
 import signal
 import subprocess
 import time
@@ -270,3 +271,43 @@ def test_a_killed_validate_leaves_no_worker_nor_rehearsal(tmp_path):
     process.wait()
     # without the parent-death signal the rehearsal runs on to its verdict (5 s and more)
     assert leftovers(tag, wait=3.0) == []
+
+
+@pytest.mark.parametrize(
+    "script",
+    [
+        "exit 3",  # never comes up: started again, then reported
+        # serves its container until roslaunch has started Navigator there, then ends
+        'roscore "$@" & core=$!\n'
+        "until rosnode list 2>/dev/null | grep -q Navigator; do sleep 0.2; done\n"
+        "kill -INT $core; wait $core; exit 3",
+    ],
+    ids=["at-once", "mid-run"],
+)
+def test_a_roscore_that_ends_is_a_failed_rehearsal_not_an_internal_error(tmp_path, script):
+    """A master that ends (another program took its port, an OOM kill) fails the
+    rehearsal, named, without waiting for the timeout; it used to be ``internal error:
+    KeyError: 'roscore-Scout'``. Navigator listens on a wrong topic, so the rehearsal
+    cannot pass before Scout's master is gone."""
+    import os
+    import shutil
+
+    bundle = write_product(ROOT / "tests" / "models" / "launch", "CloudMapping", tmp_path / "b")
+    launch = bundle / "ros1" / "Scout.launch"
+    good = '<remap from="scan" to="/scan"/>\n    <remap from="map"'
+    text = launch.read_text(encoding="utf-8")
+    assert good in text
+    launch.write_text(text.replace(good, good.replace("/scan", "/wrong")))
+    fake = tmp_path / "bin"
+    fake.mkdir()
+    real = shutil.which("roscore")
+    assert real is not None
+    (fake / "roscore").write_text(f"#!/bin/sh\nPATH={Path(real).parent}:$PATH\n{script}\n")
+    (fake / "roscore").chmod(0o755)
+    result = run_spl(["smoke", str(bundle), "--json", "--timeout", "90"],
+                     PATH=f"{fake}{os.pathsep}{os.environ['PATH']}")  # fmt: skip
+    assert result.returncode == 1, result.stderr
+    assert "internal error" not in result.stdout + result.stderr
+    failures = json.loads(result.stdout)["failures"]
+    assert any(f.startswith("roscore-Scout exited with status 3") for f in failures), failures
+    assert json.loads(result.stdout)["seconds"] < 80  # not the timeout
