@@ -22,16 +22,14 @@ import subprocess
 import tempfile
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
 
 from lxml import etree
 
 from spl.lifetime import raise_if_signalled
 from spl.pipeline import read_bundle
 from spl.smoke.data_path import DATA_ROWS, DataPath, cloud_stores, missing
-from spl.smoke.live import NOT_MODELLED, Master, Row, compare, read_statuses
+from spl.smoke.live import Master, Row, compare, read_statuses
 from spl.smoke.plan import ContainerPlan, SmokePlan
 from spl.smoke.planning import load_plan
 from spl.smoke.processes import (
@@ -46,6 +44,7 @@ from spl.smoke.processes import (
     write_messages,
     write_sandbox,
 )
+from spl.smoke.report import Progress, SmokeResult
 
 DEFAULT_TIMEOUT = 30.0
 DEFAULT_SETTLE = 5.0
@@ -57,64 +56,6 @@ POLL = 0.25
 # roslaunch's line for a node process that ended: "[ns/Name-1] process has died [...]"
 NODE_DIED = re.compile(r"\[([^\]\s]+)-\d+\] process has (?:died|finished)")
 MASTER_RETRIES = 3  # roscores started again, in all, when one loses its port
-
-
-@dataclass
-class Progress:
-    seconds: float
-    masters_up: int
-    containers: int
-    ready: int
-    stand_ins: int
-    rows_ok: int
-    rows: int
-
-    def line(self) -> str:
-        return (
-            f"smoke: {self.masters_up}/{self.containers} masters, {self.ready}/{self.stand_ins} "
-            f"nodes up, {self.rows_ok}/{self.rows} checks ok, {self.seconds:.1f} s"
-        )
-
-
-@dataclass
-class SmokeResult:
-    product: str
-    bundle: str
-    seconds: float
-    rows: dict[str, list[Row]]  # container -> rows, in model order
-    problems: list[str] = field(default_factory=list)  # what failed outside the rows
-    skipped: str | None = None  # why the data path was not rehearsed, when it was not
-
-    @property
-    def passed(self) -> bool:
-        return not self.problems and all(r.ok for rows in self.rows.values() for r in rows)
-
-    def failures(self) -> list[str]:
-        """One line per failed check, naming container, node and interface."""
-        failed = [
-            f"{r.container}.{r.node}.{r.interface} ({r.topic}): {r.seen}, not in the model"
-            if r.expected == NOT_MODELLED
-            else f"{r.container}.{r.node}.{r.interface} ({r.topic}): expected {r.expected}; "
-            f"seen {r.seen}"
-            for rows in self.rows.values()
-            for r in rows
-            if not r.ok
-        ]
-        return [*self.problems, *failed]
-
-    def as_dict(self) -> dict[str, Any]:
-        return {
-            "product": self.product,
-            "bundle": self.bundle,
-            "passed": self.passed,
-            "seconds": round(self.seconds, 2),
-            "containers": [
-                {"name": name, "rows": [r.as_dict() for r in rows]}
-                for name, rows in self.rows.items()
-            ],
-            "failures": self.failures(),
-            "skipped": self.skipped,
-        }
 
 
 def run_smoke(

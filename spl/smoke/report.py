@@ -1,4 +1,5 @@
-"""Text output of a smoke rehearsal: one table per container and a verdict.
+"""What a smoke rehearsal found (:class:`SmokeResult`), its progress line, and its
+text output: one table per container and a verdict.
 
 Columns: whether the check passed, the node (``endpoint`` for the container's Rapyuta
 endpoint), the interface (or ``param NAME``, or ``(node)`` for the node itself), the
@@ -8,9 +9,70 @@ showed.
 
 from __future__ import annotations
 
+from dataclasses import dataclass, field
+from typing import Any
+
 from spl.diagnostics import counted
-from spl.smoke.live import Row
-from spl.smoke.rehearsal import SmokeResult
+from spl.smoke.live import NOT_MODELLED, Row
+
+
+@dataclass
+class Progress:
+    seconds: float
+    masters_up: int
+    containers: int
+    ready: int
+    stand_ins: int
+    rows_ok: int
+    rows: int
+
+    def line(self) -> str:
+        return (
+            f"smoke: {self.masters_up}/{self.containers} masters, {self.ready}/{self.stand_ins} "
+            f"nodes up, {self.rows_ok}/{self.rows} checks ok, {self.seconds:.1f} s"
+        )
+
+
+@dataclass
+class SmokeResult:
+    product: str
+    bundle: str
+    seconds: float
+    rows: dict[str, list[Row]]  # container -> rows, in model order
+    problems: list[str] = field(default_factory=list)  # what failed outside the rows
+    skipped: str | None = None  # why the data path was not rehearsed, when it was not
+
+    @property
+    def passed(self) -> bool:
+        return not self.problems and all(r.ok for rows in self.rows.values() for r in rows)
+
+    def failures(self) -> list[str]:
+        """One line per failed check, naming container, node and interface."""
+        failed = [
+            f"{r.container}.{r.node}.{r.interface} ({r.topic}): {r.seen}, not in the model"
+            if r.expected == NOT_MODELLED
+            else f"{r.container}.{r.node}.{r.interface} ({r.topic}): expected {r.expected}; "
+            f"seen {r.seen}"
+            for rows in self.rows.values()
+            for r in rows
+            if not r.ok
+        ]
+        return [*self.problems, *failed]
+
+    def as_dict(self) -> dict[str, Any]:
+        return {
+            "product": self.product,
+            "bundle": self.bundle,
+            "passed": self.passed,
+            "seconds": round(self.seconds, 2),
+            "containers": [
+                {"name": name, "rows": [r.as_dict() for r in rows]}
+                for name, rows in self.rows.items()
+            ],
+            "failures": self.failures(),
+            "skipped": self.skipped,
+        }
+
 
 HEADER = ("", "NODE", "INTERFACE", "TOPIC", "EXPECTED", "SEEN")
 
