@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING
 
 from spl.diagnostics import Diagnostic, Location, ModelError
 from spl.dsl import rm
+from spl.dsl.cyclic_gc import without_cyclic_gc
 
 if TYPE_CHECKING:
     from spl.metamodels import fm_types, rm_types, tsm_types
@@ -73,4 +74,5 @@ def find_resolution_model(directory: Path) -> Path:
 
 def load_product_line(directory: str | Path) -> ProductLine:
     directory = Path(directory)
-    return ProductLine(directory, rm.load(find_resolution_model(directory)))
+    with without_cyclic_gc():  # the models live on: the collector need not walk them
+        return ProductLine(directory, rm.load(find_resolution_model(directory)))

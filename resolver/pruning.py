@@ -19,6 +19,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, TypeVar
 
 from spl.diagnostics import location_of
+from spl.emf import remove_all
 from spl.resolver.context import qualified
 from spl.resolver.trace import Trace
 
@@ -38,18 +39,19 @@ def prune_unkept(system: tsm_types.System, kept: set[int], trace: Trace) -> None
 
 
 def _prune(collection: Many[Optional], what: str, kept: set[int], trace: Trace) -> None:
-    for element in list(collection):
+    removed = []
+    for element in collection:
         if element.optional and id(element) in kept:
             element.optional = False
         elif element.optional:
-            subject = qualified(element) if what == "store" else element.name
-            collection.remove(element)  # named first: qualified needs its container
+            removed.append(element)
             trace.record(
-                subject,
+                qualified(element) if what == "store" else element.name,
                 "removed",
                 f"optional {what} that no active resolution element requires or transforms",
                 location_of(element),
             )
+    remove_all(collection, removed)  # named first: qualified needs their container
 
 
 LEFT_OUT = {

@@ -55,6 +55,7 @@ One module a check family; this package runs them all. :class:`ActivationSolver`
 from __future__ import annotations
 
 from spl.diagnostics import Diagnostic, Location
+from spl.dsl.cyclic_gc import without_cyclic_gc
 from spl.resolver.line_checks.activation import ActivationSolver
 from spl.resolver.line_checks.conflicts import reachable_conflicts
 from spl.resolver.line_checks.cross_robot import cross_robot_flows_in_line
@@ -73,6 +74,14 @@ from spl.resolver.product_line import ProductLine
 
 def check_product_line(line: ProductLine, products: bool = True) -> list[Diagnostic]:
     """Every line check, sorted by location; ``products`` includes the listed products."""
+    # what the checks build (witness products, their resolutions, clauses) is dropped
+    # with them: a 10,000-node line's checks took twice as long with the collector on
+    with without_cyclic_gc("dropped"):
+        found = _line_checks(line, products)
+    return sorted(found, key=diagnostic_order)
+
+
+def _line_checks(line: ProductLine, products: bool) -> list[Diagnostic]:
     listed = read_listed(line)
     with ActivationSolver(line) as solver:
         found = never_active_elements(line, solver)
@@ -88,7 +97,7 @@ def check_product_line(line: ProductLine, products: bool = True) -> list[Diagnos
     found += clashing_instance_tags(line, listed)
     if products:
         found += unresolvable_products(line, listed)
-    return sorted(found, key=diagnostic_order)
+    return found
 
 
 def diagnostic_order(d: Diagnostic) -> tuple:

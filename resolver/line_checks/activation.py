@@ -116,18 +116,22 @@ class ActivationSolver:
         return self._top
 
     def witness_where(
-        self, element: rm_types.ResolutionElement | None, clauses: list[list[int]]
+        self,
+        element: rm_types.ResolutionElement | None,
+        clauses: list[list[int]],
+        assuming: list[int] | None = None,
     ) -> tuple[str, ...] | None:
         """A product activating ``element`` (if one is given) in which ``clauses`` (over
-        activation literals and :meth:`fresh` variables) hold, or None. The clauses are
-        asked about once: a selector variable switches them on for this question and off
-        for good after it."""
+        activation literals and :meth:`fresh` variables) hold and the literals
+        ``assuming`` are true, or None. The clauses are asked about once: a selector
+        variable switches them on for this question and off for good after it; the
+        literals are assumptions, which leave nothing behind in the solver."""
         selector = self.fresh()
         for clause in clauses:
             self.solver.add_clause([-selector, *clause])
         self.solver.set_phases(self._phases)
         active = [] if element is None else [self.literal(element)]
-        found = self.solver.solve(assumptions=[*active, selector])
+        found = self.solver.solve(assumptions=[*active, *(assuming or ()), selector])
         model = self.solver.get_model()[: self.cnf.num_features] if found else None
         self.solver.add_clause([-selector])
         if model is None:

@@ -290,8 +290,8 @@ def _smallest(shared: Feeds, clauses: Clauses, witness: Witness) -> Witness:
     for name in witness:
         if name not in selected:
             continue  # left out with an earlier one
-        kept_out = [[-cnf.var[f]] for f in features if f not in selected or f == name]
-        smaller = shared.solver.witness_where(None, [*clauses, *kept_out])
+        kept_out = [-cnf.var[f] for f in features if f not in selected or f == name]
+        smaller = shared.solver.witness_where(None, clauses, kept_out)
         if smaller is not None:
             selected = set(smaller)
     return tuple(sorted(selected))

@@ -30,7 +30,9 @@ class Presence:
         self.keeping: dict[int, list[rm_types.ResolutionElement]] = {}
         for element in line.rm.elements:
             for node in touched_elements(element):
-                self.keeping.setdefault(id(node), []).append(element)
+                keeping = self.keeping.setdefault(id(node), [])
+                if not keeping or keeping[-1] is not element:  # required and transformed
+                    keeping.append(element)
         self.solver = solver
 
     def keepers(self, node: tsm_types.Node) -> list[rm_types.ResolutionElement]:
