@@ -12,6 +12,7 @@ client sends it:
   edits that leave a syntax error there (a bridge cut short at the end, a brace in
   the middle of a node);
 * fix: the edit undone, until the error is gone;
+* with ``--in-line``, the same break and fix of a ``require`` in the line's .rm;
 
 each break and fix ``--runs`` times in one session (what an editor does), reported as
 min and median; and the same break/fix on the .rm of the shipped orchard line, whose
@@ -190,6 +191,16 @@ async def main_async(sizes: list[int], runs: int, in_line: bool) -> None:
                 print(
                     f"| .tsm, {size} nodes, {where} | {lines} | {name} | {opened:.2f} "
                     f"| {spread(shown)} | {spread(cleared)} |",
+                    flush=True,
+                )
+            if in_line:  # the line's .rm: its .tsm is not built again (reusing_models)
+                rm = folder / "synthetic.rm"
+                text = rm.read_text(encoding="utf-8")
+                at = text.index("require ") + len("require ")
+                opened, (shown, cleared) = await measure(rm, text, [(at, "Un")], runs)
+                print(
+                    f"| synthetic.rm of the {size}-node line | {text.count(chr(10))} | require "
+                    f"| {opened:.2f} | {spread(shown)} | {spread(cleared)} |",
                     flush=True,
                 )
         line = Path(tmp) / "orchard"

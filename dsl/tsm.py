@@ -16,6 +16,9 @@ they share, ``tsm_syntax`` the wording of syntax errors. The text is read by
 
 from __future__ import annotations
 
+from collections.abc import Iterator
+from contextlib import contextmanager
+from contextvars import ContextVar
 from functools import cache
 from pathlib import Path
 from typing import Any
@@ -62,6 +65,7 @@ __all__ = [
     "normalize_endpoints",
     "parse_file",
     "parse_text",
+    "reusing_models",
     "summary",
 ]
 
@@ -84,10 +88,37 @@ def parse_file(path: str | Path) -> Any:
 def parse_text(text: str, filename: str = "<string>") -> Any:
     """Parse and check .tsm text; ``filename`` is what diagnostics name."""
     _raise_if_refused(text, filename)
+    reused = _BUILT.get(filename) if _REUSING.get() else None
+    if reused is not None and reused[0] == text:
+        return reused[1]
     # Parsing creates a parse tree and model objects that all stay alive until the end:
     # the collector's passes over them free nothing and grew with the file.
     with without_cyclic_gc():
-        return _parse(text, filename, tsm_metamodel())
+        system = _parse(text, filename, tsm_metamodel())
+    if _REUSING.get():
+        _BUILT[filename] = (text, system)
+    return system
+
+
+# The System each file's text last built inside :func:`reusing_models`.
+_BUILT: dict[str, tuple[str, Any]] = {}
+_REUSING: ContextVar[bool] = ContextVar("reusing_tsm_models", default=False)
+
+
+@contextmanager
+def reusing_models() -> Iterator[None]:
+    """Inside the block, a text parsed before (inside such a block) gives the same
+    System again instead of a new one. The language server checks a product line this
+    way after every edit, so an edit of the line's .rm or .fm builds none of a large
+    .tsm again. Sound only for callers that leave the model as parsed: loading and
+    checking a line do (the engine resolves a copy; tests/resolver/
+    test_template_untouched.py holds them to it); a caller that edits a model must not
+    use this."""
+    token = _REUSING.set(True)
+    try:
+        yield
+    finally:
+        _REUSING.reset(token)
 
 
 # The last text of each file that :func:`check_text` refused, with its problems. The

@@ -115,9 +115,10 @@ def _parse_featureide(path: str, text: str) -> Any:
 def check_line(folder: str, texts: Mapping[str, str]) -> tuple[Diagnostic, ...]:
     """``spl check FOLDER``: every finding, in every file of the line, a product-line
     check's error shown as a warning (:func:`editor_severity`)."""
+    from spl.dsl.tsm import reusing_models
     from spl.pipeline import NothingToCheck, check_models
 
-    with unsaved_texts(texts):
+    with unsaved_texts(texts), reusing_models():
         try:
             _, found = check_models(Path(folder), count=False)
         except ModelError as exc:

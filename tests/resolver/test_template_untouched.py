@@ -1,0 +1,49 @@
+"""Loading and checking a product line leave its template model as parsed.
+
+The language server relies on this: it keeps the System a .tsm text built and checks
+the line again with it after an edit of the .rm or .fm (``spl.dsl.tsm.reusing_models``),
+which is only right when nothing on the way (the .rm builder, the line checks, the
+resolutions of their witness products and of the listed products) changes the model.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from spl.diagnostics import ModelError
+from spl.dsl import tsm
+from spl.emf import copy_model, differences
+from spl.pipeline import check_line, load_line
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def _lines() -> list[Path]:
+    folders = {p.parent for p in (ROOT / "product_lines").glob("*/*.rm")}
+    folders |= {p.parent for p in (ROOT / "tests" / "models").rglob("*.rm")}
+    return sorted(f for f in folders if len(list(f.glob("*.rm"))) == 1)
+
+
+@pytest.mark.parametrize("folder", _lines(), ids=lambda f: str(f.relative_to(ROOT)))
+def test_checking_a_line_leaves_its_template_as_parsed(folder: Path) -> None:
+    try:
+        line = load_line(folder)
+    except ModelError:
+        pytest.skip("a line whose models do not load is never checked as a line")
+    before = copy_model(line.tsm)
+    check_line(line)
+    assert list(differences(before, line.tsm)) == []
+
+
+def test_a_text_parsed_again_gives_the_same_model_only_while_reusing(tmp_path: Path) -> None:
+    text = (ROOT / "product_lines" / "mapping3d" / "mapping.tsm").read_text(encoding="utf-8")
+    name = str(tmp_path / "m.tsm")
+    assert tsm.parse_text(text, name) is not tsm.parse_text(text, name)
+    with tsm.reusing_models():
+        first = tsm.parse_text(text, name)
+        assert tsm.parse_text(text, name) is first
+        changed = tsm.parse_text(text + "\n", name)
+        assert changed is not first and tsm.parse_text(text + "\n", name) is changed
+    assert tsm.parse_text(text + "\n", name) is not changed
