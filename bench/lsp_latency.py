@@ -12,7 +12,9 @@ client sends it:
   edits that leave a syntax error there (a bridge cut short at the end, a brace in
   the middle of a node);
 * fix: the edit undone, until the error is gone;
-* with ``--in-line``, the same break and fix of a ``require`` in the line's .rm;
+* with ``--in-line``, a valid edit of the .tsm (a node no product keeps, until the
+  line's warning names it) and, on the line's .rm, a break and fix of a ``require``
+  and a valid edit (a conflicting implementation, until SPL012 names it);
 
 each break and fix ``--runs`` times in one session (what an editor does), reported as
 min and median; and the same break/fix on the .rm of the shipped orchard line, whose
@@ -48,8 +50,8 @@ from resolve_scaling import synthetic_line
 ROOT = Path(__file__).resolve().parents[1]
 BROKEN = "\nbridge Robot.T0 -> Nowhere.T0\n"
 SYNTAX_BROKEN = "\nbridge Robot.\n"
-VALID = "valid:"  # an edit that leaves the model valid
-EXTRA_NODE = "ExtraNode"  # the node it adds, which the line's warning names
+EXTRA_NODE = "ExtraNode"  # the node a valid .tsm edit adds, which the line's warning names
+CONFLICT = "bench/conflict"  # the implementation a valid .rm edit gives, which SPL012 names
 
 
 class Session:
@@ -120,12 +122,12 @@ class Session:
         return started
 
 
-async def measure(path: Path, text: str, edits: list[tuple[int, str]], runs: int) -> list:
-    """Open, then each edit (at, inserted) made and undone ``runs`` times: the open
-    time, and per edit the times the error took to show and to clear. An edit that
-    leaves the model valid (``VALID`` before the inserted text) is timed until the
-    line's warning about the node it adds shows and clears, each time with a new text (a count
-    appended to it): the line's checks must run on it."""
+async def measure(path: Path, text: str, edits: list[tuple[int, str, str]], runs: int) -> list:
+    """Open, then each edit (at, inserted, about) made and undone ``runs`` times: the
+    open time, and per edit the times the error took to show and to clear. An edit that
+    leaves the model valid (``about`` not empty) is timed until the line's finding whose
+    message names ``about`` shows and clears, each time with a new text (the run's count
+    in place of ``{run}``): the line's checks must run on it."""
     session = Session()
     await session.start(path.parent)
     times: list = []
@@ -133,14 +135,12 @@ async def measure(path: Path, text: str, edits: list[tuple[int, str]], runs: int
         uri, started = session.open(path, text)
         times.append(await session.until(uri, started, errors=False))
         version = 1
-        for at, inserted in edits:
+        for at, inserted, about in edits:
             shown, cleared = [], []
-            valid = inserted.startswith(VALID)
             for run in range(runs):
-                change = inserted.removeprefix(VALID) + (str(run) if valid else "")
+                change = inserted.replace("{run}", str(run))
                 version += 1
                 started = session.edit(uri, version, text, at, at, change)
-                about = EXTRA_NODE if valid else ""
                 shown.append(await session.until(uri, started, True, about=about))
                 edited = text[:at] + change + text[at:]
                 version += 1
@@ -175,15 +175,15 @@ async def main_async(sizes: list[int], runs: int, in_line: bool) -> None:
             subscribed = [m.end() for m in re.finditer(r"subscribes \w+ <- ", text)]
             middle = subscribed[len(subscribed) // 2]
             edits = {
-                "end": (len(text), BROKEN),
-                "middle": (middle, "x"),
-                "end, syntax": (len(text), SYNTAX_BROKEN),
-                "middle, syntax": (middle, "{ "),
+                "end": (len(text), BROKEN, ""),
+                "middle": (middle, "x", ""),
+                "end, syntax": (len(text), SYNTAX_BROKEN, ""),
+                "middle, syntax": (middle, "{ ", ""),
             }
             if in_line:  # a valid change only the line's checks see: a node in no product
                 extra = f"\ncloud container Extra {{\n    optional node {EXTRA_NODE} {{\n"
-                extra += "        implementation pkg/extra\n    }\n}\n// "
-                edits["end, valid"] = (len(text), VALID + extra)
+                extra += "        implementation pkg/extra\n    }\n}\n// {run}"
+                edits["end, valid"] = (len(text), extra, EXTRA_NODE)
             opened, *found = await measure(tsm, text, list(edits.values()), runs)
             lines = text.count(chr(10))
             where = "in its product line" if in_line else "alone"
@@ -197,18 +197,25 @@ async def main_async(sizes: list[int], runs: int, in_line: bool) -> None:
                 rm = folder / "synthetic.rm"
                 text = rm.read_text(encoding="utf-8")
                 at = text.index("require ") + len("require ")
-                opened, (shown, cleared) = await measure(rm, text, [(at, "Un")], runs)
-                print(
-                    f"| synthetic.rm of the {size}-node line | {text.count(chr(10))} | require "
-                    f"| {opened:.2f} | {spread(shown)} | {spread(cleared)} |",
-                    flush=True,
+                # valid: a second implementation of a node, a conflict only the line's
+                # checks find (SPL012)
+                valid = (
+                    f"\nwhen F7 selected {{\n    implementation RobotN0 = {CONFLICT}{{run}}\n}}\n"
                 )
+                rm_edits = {"require": (at, "Un", ""), "end, valid": (len(text), valid, CONFLICT)}
+                opened, *found = await measure(rm, text, list(rm_edits.values()), runs)
+                for name, (shown, cleared) in zip(rm_edits, found, strict=True):
+                    print(
+                        f"| synthetic.rm of the {size}-node line | {text.count(chr(10))} "
+                        f"| {name} | {opened:.2f} | {spread(shown)} | {spread(cleared)} |",
+                        flush=True,
+                    )
         line = Path(tmp) / "orchard"
         shutil.copytree(ROOT / "product_lines" / "orchard", line)
         rm = line / "orchard.rm"
         text = rm.read_text(encoding="utf-8")
         at = text.index("require YieldMapper") + len("require ")
-        opened, (shown, cleared) = await measure(rm, text, [(at, "Un")], runs)
+        opened, (shown, cleared) = await measure(rm, text, [(at, "Un", "")], runs)
         print(
             f"| orchard.rm (spl check FOLDER) | {text.count(chr(10))} | require | {opened:.2f} "
             f"| {spread(shown)} | {spread(cleared)} |"

@@ -85,9 +85,9 @@ def copy_with_map(root: EObject) -> tuple[EObject, dict[int, EObject]]:
         values, references = _plan(src)
         if references:
             pending.append((src, dst, references))
-        state = src.__dict__
+        state = getattr(src, "__dict__", None)  # none: a plain element (spl.dsl.tsm_plain)
         for name, many, containment, default, feature in values:
-            if many:
+            if many or state is None:
                 value = getattr(src, name)
             else:  # read as pyecore's descriptor does, without the descriptor call
                 slot = state.get(name)

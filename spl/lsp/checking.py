@@ -115,10 +115,9 @@ def _parse_featureide(path: str, text: str) -> Any:
 def check_line(folder: str, texts: Mapping[str, str]) -> tuple[Diagnostic, ...]:
     """``spl check FOLDER``: every finding, in every file of the line, a product-line
     check's error shown as a warning (:func:`editor_severity`)."""
-    from spl.dsl.tsm import reusing_models
     from spl.pipeline import NothingToCheck, check_models
 
-    with unsaved_texts(texts), reusing_models():
+    with unsaved_texts(texts):
         try:
             _, found = check_models(Path(folder), count=False)
         except ModelError as exc:
@@ -137,7 +136,9 @@ class LineChecks:
     loaded, each .tsm is checked with the plain, incremental build (what ``spl check
     FILE.tsm`` runs): when it refuses the text, loading the line meets the same problems
     without building the model again (:func:`spl.dsl.tsm.parse_text`), and the answer is
-    that of ``spl check FOLDER``, only sooner. A text that builds is checked in full."""
+    that of ``spl check FOLDER``, only sooner. A text that builds is checked in full;
+    the line's pyecore model is copied from the plain model just checked, and a .tsm the
+    edit left alone is not built again (:func:`spl.dsl.tsm.reusing_models`)."""
 
     KEPT = 4  # input sets kept per folder
 
@@ -153,8 +154,12 @@ class LineChecks:
         for known, found in kept:
             if known == key:
                 return found, []
-        plain = [check_file(path, texts, trees) for path in sorted(inputs) if path.endswith(".tsm")]
-        found = check_line(folder, texts)
+        from spl.dsl.tsm import reusing_models
+
+        with reusing_models():  # the line is loaded from the plain models checked here
+            tsm_files = sorted(p for p in inputs if p.endswith(".tsm"))
+            plain = [check_file(path, texts, trees) for path in tsm_files]
+            found = check_line(folder, texts)
         kept.append((key, found))
         del kept[: -self.KEPT]
         return found, plain

@@ -1,8 +1,11 @@
-"""The plain-object build of a .tsm (``spl.dsl.tsm.check_text``, what ``spl check
-FILE.tsm`` and the editor run) finds exactly what the pyecore build (``parse_text``)
-finds: the same diagnostics, in the same order, and for a text without errors the
-same summary and the same printed model. Checked on every shipped and test model,
-the mutation corpus of tests/dsl/test_tsm_reader.py and generated, mutated lines.
+"""The builder run over plain objects (``spl.dsl.tsm.check_text``, what ``spl check
+FILE.tsm`` and the editor run) finds exactly what it finds run over pyecore's own
+classes: the same diagnostics, in the same order, and for a text without errors the
+same summary, printed model and places. ``parse_text`` builds over plain objects and
+copies the result into pyecore (``spl.emf.copy_model``): its model equals the one
+built through pyecore, feature by feature (``spl.emf.differences``). Checked on every
+shipped and test model, the mutation corpus of tests/dsl/test_tsm_reader.py and
+generated, mutated lines.
 """
 
 from __future__ import annotations
@@ -17,6 +20,8 @@ from test_tsm_reader import SHIPPED, SUBSTITUTES
 from spl.diagnostics import ModelError
 from spl.dsl import tsm, tsm_plain
 from spl.dsl.tsm_printer import print_model
+from spl.emf import differences
+from spl.metamodels import tsm as ecore_metamodel
 
 from support import textx_trees
 from support.hypothesis_budget import examples
@@ -49,10 +54,22 @@ def places(element: Any) -> list[str]:
     return found
 
 
+def through_pyecore(text: str, filename: str) -> Any:
+    """The builder run over pyecore's classes, every feature set through pyecore."""
+    return tsm._parse(text, filename, ecore_metamodel())
+
+
 def assert_same(text: str) -> None:
-    tsm._REFUSED.clear()  # the pyecore build itself, not a refusal the plain one remembered
-    built = outcome(tsm.parse_text, text)
+    tsm._REFUSED.clear()  # each build itself, not a refusal the plain one remembered
+    built = outcome(through_pyecore, text)
     assert outcome(tsm.check_text, text) == built
+    tsm._REFUSED.clear()
+    assert outcome(tsm.parse_text, text) == built
+    try:
+        model = tsm.parse_text(text, "m.tsm")
+    except ModelError:
+        return  # refused, with the diagnostics compared above
+    assert list(differences(through_pyecore(text, "m.tsm"), model)) == []
 
 
 def mutated_texts(count: int, seed: int) -> list[str]:
@@ -80,9 +97,7 @@ def test_generated_and_mutated_lines_check_alike_in_plain_objects(spec, data) ->
 
 def test_plain_elements_answer_like_the_metamodels_objects() -> None:
     """Defaults, containment, eContainer, eClass and enum literals as pyecore has them."""
-    from spl.metamodels import tsm as ecore
-
-    T, E = tsm_plain.metamodel(), ecore()
+    T, E = tsm_plain.metamodel(), ecore_metamodel()
     node, ecore_node = T.Node(name="n"), E.Node(name="n")
     for feature in ("name", "optional", "sharing", "package", "args", "srcLine"):
         assert getattr(node, feature) == getattr(ecore_node, feature), feature

@@ -37,11 +37,13 @@ def test_checking_a_line_leaves_its_template_as_parsed(folder: Path) -> None:
     assert list(differences(before, line.tsm)) == []
 
 
-def test_a_text_parsed_again_gives_the_same_model_only_while_reusing(tmp_path: Path) -> None:
+def test_a_text_built_again_gives_the_same_model_only_while_reusing(tmp_path: Path) -> None:
     text = (ROOT / "product_lines" / "mapping3d" / "mapping.tsm").read_text(encoding="utf-8")
     name = str(tmp_path / "m.tsm")
     assert tsm.parse_text(text, name) is not tsm.parse_text(text, name)
     with tsm.reusing_models():
+        checked = tsm.check_text(text, name)
+        assert tsm.check_text(text, name) is checked  # the plain model, checked once
         first = tsm.parse_text(text, name)
         assert tsm.parse_text(text, name) is first
         changed = tsm.parse_text(text + "\n", name)
