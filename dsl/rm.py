@@ -372,7 +372,7 @@ class _Builder:
                 MIGRATION_TARGET,
             )
             return None
-        resident = next((n for n in target.nodes if n.name == node.name), None)
+        resident = self.names.declared_node(target, node.name)
         if resident is not None and self.names.places(resident) == [target]:
             self.error(stmt, name_taken(node, target, resident))
             return None

@@ -218,6 +218,14 @@ class Names:
             raise NameProblem(f"{name} is ambiguous: {listed}; qualify it with its container")
         return found[0]
 
+    def declared_node(self, container: tsm_types.Container, name: str) -> tsm_types.Node | None:
+        """The node ``name`` the template declares in ``container`` (looked up, not
+        searched: a line migrating many nodes of a large container asks often)."""
+        for member in self.declared.get(name, ()):
+            if isinstance(member, self.T.Node) and member.eContainer() is container:
+                return member
+        return None
+
     def _kind(self, member: Member) -> str:
         return "store" if isinstance(member, self.T.Store) else "node"
 
