@@ -32,6 +32,7 @@ from spl.dsl.rm_messages import (
 )
 from spl.dsl.rm_models import referenced_models
 from spl.dsl.rm_names import BRIDGE_FORMS, NameProblem, Names
+from spl.dsl.tsm_data import PERIOD_RANGE, period_fits
 from spl.metamodels import rm as rm_metamodel
 from spl.metamodels import tsm as tsm_metamodel
 
@@ -352,8 +353,8 @@ class _Builder:
         if problem or text is None:  # (no problem: a text)
             self.error(stmt, f"{what} is {ptype}: {problem}")
             return None
-        if refinement is not None and float(text) <= 0:
-            self.error(stmt, f"{what} must be a positive number of seconds")
+        if refinement is not None and not period_fits(float(text)):
+            self.error(stmt, f"{what} must be {PERIOD_RANGE}")
             return None
         return self.R.ParameterValue(parameter=parameter, refinement=refinement, value=text)
 

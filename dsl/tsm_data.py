@@ -69,18 +69,23 @@ def _resolve_store(names: Names, store: Any, tree: tsm_tree.Store) -> None:
         store.refinements.append(refinement)
 
 
-MAX_PERIOD = 86400 * 366  # seconds: a transformer runs at least once a year
+# seconds: a transformer or a polling reader runs at most a thousand times a second (a
+# shorter period is a busy loop against the store, 5e-324 s one in name only) and at
+# least once a year
+MIN_PERIOD = 0.001
+MAX_PERIOD = 86400 * 366
+PERIOD_RANGE = "at least 0.001 s and at most a year"
 
 
 def period_fits(value: float) -> bool:
-    """Whether a transformer period (s) is one: positive, finite, at most a year."""
-    return math.isfinite(value) and 0 < value <= MAX_PERIOD
+    """Whether a transformer's or reader's period (s) is one: from 1 ms to a year."""
+    return math.isfinite(value) and MIN_PERIOD <= value <= MAX_PERIOD
 
 
 def _period(names: Names, tree: tsm_tree.Period) -> float | None:
     value = float(tree.value)
     if not period_fits(value):
-        names.error(tree, f"period {tree.value} s must be positive and at most a year")
+        names.error(tree, f"period {tree.value} s must be {PERIOD_RANGE}")
         return None
     return value
 

@@ -7,7 +7,7 @@ from typing import TYPE_CHECKING, cast
 
 from spl.diagnostics import Location, location_of
 from spl.dsl import literals
-from spl.dsl.tsm_data import period_fits
+from spl.dsl.tsm_data import PERIOD_RANGE, period_fits
 from spl.resolver.context import ResolutionContext, qualified, subject_name
 from spl.resolver.product import AttributeValue
 from spl.resolver.transformations.kind import (
@@ -137,7 +137,7 @@ def _set_period(t: rm_types.ParameterValue, ctx: ResolutionContext, where: Locat
         ctx.sink.error(
             where,
             f"the transformer period of {store.name}.{refinement.output.name} cannot be "
-            f"{source} s: it must be positive and at most a year",
+            f"{source} s: it must be {PERIOD_RANGE}",
         )
         return
     ctx.keep(store, f"its transformer period is set by {ctx.by()}", where)

@@ -530,7 +530,7 @@ def test_old_mac_line_ends_count_as_lines(tmp_path):
     assert errors(run("check", path)) == errors(result)
 
 
-@pytest.mark.parametrize("value", ["0", "-5", "1e9"])
+@pytest.mark.parametrize("value", ["0", "-5", "1e9", "5e-324", "0.0005"])
 def test_a_period_attribute_out_of_range_is_located_where_it_is_used(tmp_path, value):
     # was: "data.tsm:40:17: error: store PositionStore: the period of PositionInDEG must
     # be positive", at the store, far from the value that made it so
@@ -549,8 +549,8 @@ def test_a_period_attribute_out_of_range_is_located_where_it_is_used(tmp_path, v
     shown = repr(float(value))
     assert errors(result)[0] == (
         f"{DATA / 'data.rm'}:21:5: error: the transformer period of PositionStore.PositionInDEG "
-        f"cannot be feature attribute FastRefresh.period = {shown} s: it must be positive and "
-        "at most a year"
+        f"cannot be feature attribute FastRefresh.period = {shown} s: it must be at least "
+        "0.001 s and at most a year"
     )
 
 
@@ -587,4 +587,22 @@ def test_a_group_asking_for_more_features_than_it_has_is_refused(tmp_path):
     assert [e.split(": ")[2] for e in errors(run("check", path))] == [
         "bad cardinality [3..*]",
         "bad cardinality [3]",
+    ]
+
+
+@pytest.mark.parametrize("value", ["5e-324", "0.0009", "1e9"])
+def test_a_period_literal_out_of_range_is_refused_by_the_rm(tmp_path, value):
+    # was: 5e-324 s (a busy loop) accepted; 1e9 passed the .rm and failed only at resolve
+    line = tmp_path / "data"
+    shutil.copytree(DATA, line)
+    rm = line / "data.rm"
+    text = rm.read_text(encoding="utf-8")
+    used = "parameter PositionStore.PositionInDEG.period = feature FastRefresh.period"
+    assert used in text
+    rm.write_text(text.replace(used, used.replace("feature FastRefresh.period", value)))
+    result = run("check", line)
+    assert result.exit_code == 1
+    assert errors(result) == [
+        f"{rm}:21:5: error: PositionStore.PositionInDEG.period must be at least 0.001 s and "
+        "at most a year"
     ]

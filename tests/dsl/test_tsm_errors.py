@@ -450,7 +450,7 @@ def test_store_transform_and_writer_types_agree() -> None:
         }
         """,
         "transform T reads In, but store S keeps Other",
-        "period 0 s must be positive and at most a year",
+        "period 0 s must be at least 0.001 s and at most a year",
         "writer W writes In, but store S takes raw Other",
         "store S keeps no In (it keeps Other, Out)",
     )
