@@ -20,6 +20,7 @@ chose which feature, and a selection that contradicts the robot is refused namin
 
 from __future__ import annotations
 
+import datetime
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -33,6 +34,7 @@ from spl.dsl.fm_printer import format_capability
 from spl.resolver.located_yaml import read_yaml
 
 KEY = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
+YAML_SET = "tag:yaml.org,2002:set"
 Scalar = str | int | float | bool
 Capability = Scalar | list[Scalar]  # a capability's value in a robot's file
 
@@ -99,10 +101,15 @@ def load_capabilities(path: str | Path) -> RobotCapabilities:
                 sink.error(at(key_node), f"capability {name} given twice")
                 continue
             capabilities.locations[name] = at(key_node)
+            expected = f"capability {name}: expected a string, number, true/false or a list of them"
+            if isinstance(value_node, yaml.MappingNode) and value_node.tag == YAML_SET:
+                # read as a mapping it would report each member's missing value
+                message = f"capability {name}: a set (!!set) is not a list; write it as [A, B]"
+                sink.error(at(value_node), message)
+                continue
             if isinstance(value_node, yaml.MappingNode):
                 read(value_node, f"{name}.")
                 continue
-            expected = f"capability {name}: expected a string, number, true/false or a list of them"
             try:  # a tag safe YAML has no constructor for, a scalar its tag cannot convert
                 value = yaml.safe_load(yaml.serialize(value_node))
             except yaml.YAMLError as exc:
@@ -112,14 +119,27 @@ def load_capabilities(path: str | Path) -> RobotCapabilities:
                 sink.error(at(value_node), f"{expected} ({exc})")
                 continue
             items = value if isinstance(value, list) else [value]
-            if not items or not all(_scalar(item) for item in items):
-                sink.error(at(value_node), expected)
+            odd = [item for item in items if not _scalar(item)]
+            if not items or odd:
+                got = f" (got {_kind(odd[0])})" if odd else " (got an empty list)"
+                sink.error(at(value_node), expected + got)
                 continue
             capabilities.values[name] = cast("Capability", value)  # scalars, checked
 
     read(root, "")
     sink.raise_if_errors()
     return capabilities
+
+
+def _kind(value: object) -> str:
+    """What a capability's value is instead of a scalar, in the YAML's words."""
+    if isinstance(value, datetime.date):  # (datetimes too) an unquoted 2024-01-01
+        return "a date or time: quote it to give a string"
+    if isinstance(value, float):
+        return "an infinite or not-a-number value"
+    kinds = {type(None): "an empty value", bytes: "binary data", dict: "a mapping"}
+    kinds[list] = "a list in the list"
+    return kinds.get(type(value), "a value of another kind")
 
 
 def _scalar(value: object) -> bool:

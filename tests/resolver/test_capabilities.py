@@ -146,6 +146,13 @@ def test_a_capability_of_the_wrong_kind_is_located_in_the_robot_file(tmp_path) -
         ),
         ("sensors: [a, !!int x]\n", "1:10: error: capability sensors: expected a string"),
         ("built: !!timestamp 2024-13-01\n", "(month must be in 1..12)"),
+        # were "expected a string ..." at each member, or with no word of what was given
+        ("sensors: !!set {a, b}\n", "1:10: error: capability sensors: a set (!!set) is not a list"),
+        ("built: 2024-01-01\n", "(got a date or time: quote it to give a string)"),
+        ("base: !!binary aGk=\n", "them (got binary data)"),
+        ("sensors: []\n", "them (got an empty list)"),
+        ("sensors: [a, [b]]\n", "them (got a list in the list)"),
+        ("range: .inf\n", "them (got an infinite or not-a-number value)"),
         # was an internal RecursionError
         ("base: &a {x: *a}\n", "1:7: error: invalid YAML: a recursive alias (a node that holds"),
     ],
