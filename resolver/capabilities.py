@@ -137,9 +137,15 @@ def _kind(value: object) -> str:
         return "a date or time: quote it to give a string"
     if isinstance(value, float):
         return "an infinite or not-a-number value"
-    kinds = {type(None): "an empty value", bytes: "binary data", dict: "a mapping"}
-    kinds[list] = "a list in the list"
-    return kinds.get(type(value), "a value of another kind")
+    return _KINDS.get(type(value), "a value of another kind")
+
+
+_KINDS: dict[type, str] = {
+    type(None): "an empty value",
+    bytes: "binary data",
+    dict: "a mapping",
+    list: "a list in the list",
+}
 
 
 def _scalar(value: object) -> bool:

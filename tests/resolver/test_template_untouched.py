@@ -12,7 +12,6 @@ from pathlib import Path
 
 import pytest
 
-from spl.diagnostics import ModelError
 from spl.dsl import tsm
 from spl.emf import copy_model, differences
 from spl.pipeline import check_line, load_line
@@ -20,18 +19,18 @@ from spl.pipeline import check_line, load_line
 ROOT = Path(__file__).resolve().parents[2]
 
 
+UNLOADABLE = {"bad_migration", "unloadable"}  # test lines made not to load
+
+
 def _lines() -> list[Path]:
     folders = {p.parent for p in (ROOT / "product_lines").glob("*/*.rm")}
     folders |= {p.parent for p in (ROOT / "tests" / "models").rglob("*.rm")}
-    return sorted(f for f in folders if len(list(f.glob("*.rm"))) == 1)
+    return sorted(f for f in folders if len(list(f.glob("*.rm"))) == 1 and f.name not in UNLOADABLE)
 
 
 @pytest.mark.parametrize("folder", _lines(), ids=lambda f: str(f.relative_to(ROOT)))
 def test_checking_a_line_leaves_its_template_as_parsed(folder: Path) -> None:
-    try:
-        line = load_line(folder)
-    except ModelError:
-        pytest.skip("a line whose models do not load is never checked as a line")
+    line = load_line(folder)
     before = copy_model(line.tsm)
     check_line(line)
     assert list(differences(before, line.tsm)) == []
