@@ -11,7 +11,10 @@ same), ``eContainer()``, ``eGet``/``eSet``, containment that sets the container 
 list for a many-valued feature, a property for a single one), and the metamodel's
 own enum literals. The metamodel declares no eOpposite, so no reference has a
 counterpart to keep in step. The builder runs unchanged over them
-(``tests/test_tsm_plain.py`` compares the diagnostics of both builds).
+(``tests/dsl/test_tsm_plain.py`` compares the diagnostics of both builds), and
+``spl.dsl.tsm.parse_text`` builds over them too, then copies the checked model into
+pyecore in one pass (``spl.emf.copy_model`` reads plain elements as it reads pyecore
+objects), which costs half of building through pyecore.
 """
 
 from __future__ import annotations
