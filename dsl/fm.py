@@ -35,6 +35,7 @@ from spl.dsl.fm_vocabulary import SHARING_MODES as SHARING_MODES
 from spl.dsl.fm_vocabulary import canonical_value, formula_too_deep, too_deep
 from spl.dsl.fm_vocabulary import is_feature_name as is_feature_name
 from spl.dsl.parse_tree import Positions
+from spl.dsl.textx_text import model_from_text
 from spl.metamodels import fm as fm_metamodel
 
 
@@ -73,7 +74,7 @@ def _textx_tree(text: str, filename: str) -> Any:
     from textx import TextXSyntaxError
 
     try:
-        return _grammar().model_from_str(text, file_name=filename)
+        return model_from_text(_grammar(), text, filename)
     except TextXSyntaxError as exc:
         raise ModelError([syntax_diagnostic(exc, filename)]) from None
 

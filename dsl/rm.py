@@ -32,6 +32,7 @@ from spl.dsl.rm_messages import (
 )
 from spl.dsl.rm_models import referenced_models
 from spl.dsl.rm_names import BRIDGE_FORMS, NameProblem, Names
+from spl.dsl.textx_text import model_from_text
 from spl.dsl.tsm_data import PERIOD_RANGE, period_fits
 from spl.metamodels import rm as rm_metamodel
 from spl.metamodels import tsm as tsm_metamodel
@@ -112,7 +113,7 @@ def _textx_tree(text: str, filename: str) -> Any:
     from textx import TextXSyntaxError
 
     try:
-        return _grammar().model_from_str(text, file_name=filename)
+        return model_from_text(_grammar(), text, filename)
     except TextXSyntaxError as exc:
         rules = [r for r in exc.expected_rules or [] if not is_comment(r)]
         expected = ", ".join(sorted({_expected(r) for r in rules})) or None

@@ -42,6 +42,7 @@ from spl.dsl import (
     tsm_transforms,
 )
 from spl.dsl.cyclic_gc import without_cyclic_gc
+from spl.dsl.textx_text import model_from_text
 from spl.dsl.tsm_bridges import (
     bridged_clients,
     endpoint_client_name,
@@ -236,8 +237,8 @@ def _textx_tree(text: str, filename: str) -> Any:
     try:
         if excerpt is not None:
             # the reader gave up where it did: textX words the error from an excerpt
-            _grammar().model_from_str(excerpt, file_name=filename)
-        return _grammar().model_from_str(text, file_name=filename)
+            model_from_text(_grammar(), excerpt, filename)
+        return model_from_text(_grammar(), text, filename)
     except TextXSyntaxError as exc:
         raise ModelError([syntax_diagnostic(exc, text, filename)]) from None
 
