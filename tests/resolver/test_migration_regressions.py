@@ -354,3 +354,51 @@ def test_two_bridges_from_one_topic_keep_their_order_when_resolved_again(tmp_pat
     assert text.endswith("bridge Cloud1.Data -> Robot2.Scan\nbridge Cloud1.Data -> Robot2.Scan_2\n")
     again = write_line(tmp_path / "again", text, "")
     assert print_model(product(again).system) == text
+
+
+RELAY = f"""robot container Robot0 {{
+    {ENDPOINT}
+    topic Scan : geometry_msgs/PoseStamped name "/goal"
+    node N0 {{
+        implementation pkg/n0
+        publishes p0 -> Scan
+    }}
+}}
+cloud container Cloud1 {{
+    topic Scan : geometry_msgs/PoseStamped name "/goal"
+    node N1 {{
+        implementation pkg/n1
+        subscribes s0 <- Scan
+    }}
+}}
+robot container Robot2 {{
+    {ENDPOINT.replace('"r"', '"r2"')}
+    topic Scan : geometry_msgs/PoseStamped name "/goal"
+    node N2 {{
+        implementation pkg/n2
+        publishes p0 -> Scan
+    }}
+}}
+bridge Robot0.Scan -> Cloud1.Scan
+bridge Robot2.Scan -> Robot0.Scan
+"""
+
+
+def test_a_flow_another_robot_would_relay_is_cut_and_its_subscriber_still_fed(tmp_path):
+    # shrunk from a random line (the property's oracle had missed docs/semantics.md F3):
+    # N2's data reaches Cloud1 only through Robot0, which passes on only its own data, so
+    # the product drops the bridge from Robot2; N1 is still fed by N0, so nothing warns
+    resolved = product(write_line(tmp_path / "line", RELAY, "M0"))
+    assert view(resolved.system)["bridges"] == [
+        "Robot0.endpoint.sub_Scan -> Cloud1.endpoint.pub_Scan"
+    ]
+    assert [w.code for w in resolved.warnings if w.code in ("SPL045", "SPL031", "SPL032")] == []
+    # without N0, N1 is fed only through the relay: unfed, and said why
+    alone = RELAY.replace(
+        "    node N0 {\n        implementation pkg/n0\n        publishes p0 -> Scan\n    }\n", ""
+    )
+    resolved = product(write_line(tmp_path / "alone", alone, "M0"))
+    (unfed,) = [w for w in resolved.warnings if w.code == "SPL045"]
+    assert unfed.message.startswith("N1.s0 subscribes Cloud1.Scan") and (
+        "a robot passes on no data but its own" in unfed.message
+    )

@@ -51,6 +51,34 @@ def template_flows(spec: LineSpec) -> set[tuple[Endpoint, Endpoint]]:
     }
 
 
+def relayed_flows(spec: LineSpec) -> set[tuple[Endpoint, Endpoint]]:
+    """The template flows that only reach their subscriber through another robot: data
+    that reaches a robot container's topic from elsewhere goes no further
+    (docs/semantics.md F3), so the product may cut them."""
+    graph = nx.DiGraph(spec.topic_bridges)
+    topic_of = {
+        (node.name, i.name): (node.container, i.topic)
+        for node in spec.nodes
+        for i in node.interfaces
+        if i.topic is not None
+    }
+    relayed = set()
+    for publisher, subscriber in template_flows(spec):
+        source, target = topic_of[publisher], topic_of[subscriber]
+        reached, frontier = {source}, [source]
+        while frontier:  # a robot's topic reached from elsewhere passes nothing on
+            topic = frontier.pop()
+            if topic != source and spec.containers[topic[0]] == "robot":
+                continue
+            for onward in graph.successors(topic) if topic in graph else ():
+                if onward not in reached:
+                    reached.add(onward)
+                    frontier.append(onward)
+        if target not in reached:
+            relayed.add((publisher, subscriber))
+    return relayed
+
+
 def template_calls(spec: LineSpec) -> dict[Endpoint, Endpoint]:
     """Client -> the server it calls, directly or through a service bridge."""
     calls = {
@@ -154,6 +182,9 @@ def check_resolved(spec: LineSpec, selected: set[str], system: Any, warnings=())
     # every template flow between kept nodes is still delivered, or it cannot be and the
     # engine says so
     blocked = undeliverable(spec, selected)
+    relayed = relayed_flows(spec)
+    fed: set[Endpoint] = set()  # subscribers some template flow still reaches
+    cut: list[Endpoint] = []  # subscribers of flows cut where another robot would relay
     reported = {str(w) for w in warnings if w.code == "SPL031"}
     looping = {str(w) for w in warnings if w.code == "SPL032"}
     carried: set[tuple[int, int]] = set()  # (publisher topic, subscriber topic) of flows
@@ -165,6 +196,11 @@ def check_resolved(spec: LineSpec, selected: set[str], system: Any, warnings=())
         delivered = source is target or (
             id(source) in data and id(target) in data and nx.has_path(data, id(source), id(target))
         )
+        if delivered:
+            fed.add(subscriber)
+        elif (publisher, subscriber) in relayed:
+            cut.append(subscriber)
+            continue
         if (publisher, subscriber) in blocked and not delivered:
             names = (".".join(subscriber) + " was fed by " + ".".join(publisher)).split()
             assert any(all(n in w for n in names) for w in reported), (
@@ -188,6 +224,14 @@ def check_resolved(spec: LineSpec, selected: set[str], system: Any, warnings=())
                 f"hairpin: every route of {publisher} -> {subscriber} re-enters a container"
             )
             carried.add((id(source), id(target)))
+
+    # a subscriber that only another robot's relay fed is unfed, and the engine says why
+    unfed = [str(w) for w in warnings if w.code == "SPL045"]
+    for subscriber in set(cut) - fed:
+        said = [w for w in unfed if f"{'.'.join(subscriber)} subscribes" in w]
+        assert any("a robot passes on no data but its own" in w for w in said), (
+            f"{subscriber} is fed only through another robot, and no SPL045 says so"
+        )
 
     # minimal: every bridge lies on the way of some flow of the template
     def reaches(a: int, b: int) -> bool:
