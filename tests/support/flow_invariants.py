@@ -51,17 +51,22 @@ def template_flows(spec: LineSpec) -> set[tuple[Endpoint, Endpoint]]:
     }
 
 
-def relayed_flows(spec: LineSpec) -> set[tuple[Endpoint, Endpoint]]:
-    """The template flows that only reach their subscriber through another robot: data
-    that reaches a robot container's topic from elsewhere goes no further
-    (docs/semantics.md F3), so the product may cut them."""
-    graph = nx.DiGraph(spec.topic_bridges)
-    topic_of = {
+def _topics_of(spec: LineSpec) -> dict[Endpoint, tuple[str, str]]:
+    """(container, topic) of each bound interface of the template."""
+    return {
         (node.name, i.name): (node.container, i.topic)
         for node in spec.nodes
         for i in node.interfaces
         if i.topic is not None
     }
+
+
+def relayed_flows(spec: LineSpec) -> set[tuple[Endpoint, Endpoint]]:
+    """The template flows that only reach their subscriber through another robot: data
+    that reaches a robot container's topic from elsewhere goes no further
+    (docs/semantics.md F3), so the product may cut them."""
+    graph = nx.DiGraph(spec.topic_bridges)
+    topic_of = _topics_of(spec)
     relayed = set()
     for publisher, subscriber in template_flows(spec):
         source, target = topic_of[publisher], topic_of[subscriber]
@@ -115,12 +120,7 @@ def undeliverable(spec: LineSpec, selected: set[str]) -> set[tuple[Endpoint, End
     forbidden), which is impossible when their unmoved members already use two topics."""
     where = placement(spec, selected)
     moved = {n for e in active_elements(spec, selected) for n, _ in e.migrations}
-    topic_of = {
-        (node.name, i.name): (node.container, i.topic)
-        for node in spec.nodes
-        for i in node.interfaces
-        if i.topic is not None
-    }
+    topic_of = _topics_of(spec)
     local = [
         (p, s)
         for p, s in template_flows(spec)
