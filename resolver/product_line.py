@@ -15,6 +15,7 @@ from spl.dsl.cyclic_gc import without_cyclic_gc
 if TYPE_CHECKING:
     from spl.metamodels import fm_types, rm_types, tsm_types
     from spl.resolver.analysis import FeatureModelFormula
+    from spl.resolver.flows import FlowTable
 
 
 @dataclass(eq=False)
@@ -40,6 +41,14 @@ class ProductLine:
         from spl.resolver.analysis import formula_of
 
         return formula_of(self.fm)
+
+    @cached_property
+    def template_flows(self) -> FlowTable:
+        """Who talks to whom in the template (before any resolution), built once for the
+        line checks that follow data through it."""
+        from spl.resolver.flows import FlowTable
+
+        return FlowTable.of(self.tsm)
 
     @property
     def name(self) -> str:

@@ -23,7 +23,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from spl.diagnostics import Diagnostic, ModelError, location_of
-from spl.resolver.flows import FlowTable, node_of
+from spl.resolver.flows import node_of
 from spl.resolver.line_checks.activation import ActivationSolver
 from spl.resolver.line_checks.listed_products import Listed
 from spl.resolver.line_checks.presence import Presence
@@ -68,7 +68,7 @@ def cross_robot_flows_in_line(
             return others
         return [*others, [lit for lit, mode in mode_by.get(id(node), ()) if mode == "private"]]
 
-    template = FlowTable.of(line.tsm)
+    template = line.template_flows
     for cut in cut_off(template, can_be_private):
         node = node_of(cut.giver)
         feeder = cut.feeders[0][1].source if cut.feeders[0][1].kind == "topic" else None

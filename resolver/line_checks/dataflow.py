@@ -182,7 +182,7 @@ def unfed_inputs_in_line(line: ProductLine, solver: ActivationSolver) -> list[Di
     """The inputs some product of the line leaves unfed, each with its witness product."""
     T = tsm()
     shared = Feeds(line, solver)
-    template = FlowTable.of(line.tsm)
+    template = line.template_flows
     found: list[Diagnostic] = []
     for container in line.tsm.containers:
         for node in container.nodes:

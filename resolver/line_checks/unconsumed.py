@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING
 from spl.diagnostics import Diagnostic, location_of
 from spl.metamodels import tsm
 from spl.resolver.context import qualified
-from spl.resolver.flows import TOPIC, FlowTable, node_of, reached_topics
+from spl.resolver.flows import TOPIC, node_of, reached_topics
 from spl.resolver.line_checks.activation import ActivationSolver
 from spl.resolver.line_checks.presence import Presence
 from spl.resolver.product_line import ProductLine
@@ -46,7 +46,7 @@ def unconsumed_outputs_in_line(line: ProductLine, solver: ActivationSolver) -> l
             names.update(source.name for source, _ in kind.routes(t))
             if (move := kind.move(t)) is not None:
                 touched.update((id(move[0]), id(move[1])))
-    template = FlowTable.of(line.tsm)
+    template = line.template_flows
     reached = reached_topics(line.tsm)
     found = []
     for container in line.tsm.containers:
