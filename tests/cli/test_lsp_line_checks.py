@@ -57,6 +57,11 @@ def test_the_line_check_follows_every_edit_and_reuses_only_unchanged_inputs(tmp_
 
     assert check(original) == (found, False)  # the edit undone
 
+    # an emptied buffer is checked as empty, not as the file saved on disk (textX read
+    # that when given an empty text): the .rm's names then lead nowhere
+    emptied, ran = check("")
+    assert ran and "unknown node or store FruitDetector" in [d.message for d in emptied]
+
     extended, ran = check(original + EXTRA)  # valid, and only the line's checks see it
     assert ran and any(d.code == "SPL011" and "ExtraNode" in d.message for d in extended)
 
