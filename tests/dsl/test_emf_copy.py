@@ -125,3 +125,29 @@ def test_a_copy_is_the_one_pyecore_builds_by_setting_each_feature(path, monkeypa
                 assert type(slot) is type(own) and fields == vars(own), feature.name
                 compared += 1
     assert compared > 0
+
+
+@pytest.mark.parametrize("count", [3, 12])  # the few one by one, many in one pass
+def test_removing_many_members_leaves_what_removing_each_leaves(count):
+    """A product dropping many optional nodes of one container (spl.emf.remove_all):
+    the same members in the same order, the removed ones detached, the kept ones
+    contained, as when pyecore removes each."""
+    from spl.emf import remove_all
+    from spl.metamodels import tsm
+
+    T = tsm()
+    one_by_one, at_once = T.CloudContainer(name="a"), T.CloudContainer(name="b")
+    for container in (one_by_one, at_once):
+        container.nodes.extend(T.Node(name=f"N{i}") for i in range(2 * count))
+    for container, remove in ((one_by_one, None), (at_once, remove_all)):
+        dropped = [n for i, n in enumerate(container.nodes) if i % 2]
+        if remove is None:
+            for node in dropped:
+                container.nodes.remove(node)
+        else:
+            remove(container.nodes, dropped)
+        assert [n.name for n in container.nodes] == [f"N{i}" for i in range(0, 2 * count, 2)]
+        assert all(n.eContainer() is container for n in container.nodes)
+        assert all(n.eContainer() is None for n in dropped)
+        container.nodes.append(dropped[0])  # a member removed can be added again
+        assert container.nodes[-1] is dropped[0] and dropped[0].eContainer() is container
