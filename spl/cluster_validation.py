@@ -21,6 +21,7 @@ import atexit
 import contextlib
 import hashlib
 import logging
+import os
 import shutil
 import tempfile
 import threading
@@ -29,6 +30,7 @@ from dataclasses import dataclass, replace
 from functools import cache
 from pathlib import Path
 from typing import TYPE_CHECKING
+from urllib.parse import urlsplit
 
 from spl import __version__
 from spl.line_validation import (
@@ -48,6 +50,7 @@ INSTALL = "pip install 'spl-robotics[cluster]'"
 ATTEMPTS = 3
 # How long a separately started scheduler may take to have a worker.
 WORKER_WAIT = 60.0
+LOCAL_WORKERS_PER_CPU = 4  # local:N at most, per CPU of the machine
 
 
 class ClusterProblem(Exception):
@@ -88,15 +91,13 @@ def connect(address: str) -> Iterator[Client]:
         from distributed import Client, LocalCluster
     except ImportError:
         raise ClusterProblem(f"--scheduler needs Dask distributed: {INSTALL}") from None
+    workers = _local_workers(address)
     logging.getLogger("distributed").setLevel(logging.ERROR)
     with contextlib.ExitStack() as stack:
-        if address.startswith("local:"):
-            count = address.removeprefix("local:")
-            if not (count.isascii() and count.isdigit() and int(count) > 0):
-                raise ClusterProblem(f"--scheduler {address}: local:N needs N >= 1 workers")
+        if workers is not None:
             cluster = stack.enter_context(
                 LocalCluster(
-                    n_workers=int(count),
+                    n_workers=workers,
                     threads_per_worker=1,
                     processes=True,
                     dashboard_address=None,
@@ -104,7 +105,7 @@ def connect(address: str) -> Iterator[Client]:
                 )
             )
             client = stack.enter_context(Client(cluster))
-        elif address.startswith(("tcp://", "tls://")):
+        else:
             try:
                 client = stack.enter_context(Client(address, timeout="10s"))
             except (OSError, TimeoutError) as exc:
@@ -116,13 +117,38 @@ def connect(address: str) -> Iterator[Client]:
                     f"the scheduler at {address} has had no worker for {WORKER_WAIT:.0f} s: "
                     f"start some with 'dask worker {address} --nthreads 1'"
                 ) from None
-        else:
-            raise ClusterProblem(
-                f"--scheduler {address}: give tcp://HOST:PORT (a running scheduler) or "
-                "local:N (N workers on this machine)"
-            )
         _check_versions(client)
         yield client
+
+
+def _local_workers(address: str) -> int | None:
+    """N of ``local:N``, None for a scheduler's ``tcp://HOST:PORT`` (or ``tls://``); a
+    ClusterProblem for anything else, before anything is started. N is at most four
+    per CPU: a rehearsal mostly waits on its ROS masters, but a LocalCluster of
+    thousands of processes would only bring the machine down."""
+    if address.startswith("local:"):
+        count, most = address.removeprefix("local:"), LOCAL_WORKERS_PER_CPU * (os.cpu_count() or 1)
+        if not (count.isascii() and count.isdigit() and len(count) < 7 and 1 <= int(count) <= most):
+            raise ClusterProblem(
+                f"--scheduler {address}: local:N takes 1 to {most} workers "
+                f"({LOCAL_WORKERS_PER_CPU} per CPU of this machine)"
+            )
+        return int(count)
+    if not address.startswith(("tcp://", "tls://")):
+        raise ClusterProblem(
+            f"--scheduler {address}: give tcp://HOST:PORT (a running scheduler) or "
+            "local:N (N workers on this machine)"
+        )
+    try:
+        parts = urlsplit(address)
+        complete = bool(parts.hostname and parts.port) and not (parts.path or parts.query)
+    except ValueError:  # a port out of range or not a number
+        complete = False
+    if not complete:
+        raise ClusterProblem(
+            f"--scheduler {address}: give the scheduler's host and port, as tcp://HOST:PORT"
+        )
+    return None
 
 
 def _check_versions(client: Client) -> None:
