@@ -4,6 +4,7 @@ joining a fleet."""
 
 from __future__ import annotations
 
+import errno
 import socket
 import threading
 import time
@@ -81,8 +82,12 @@ def serve(workspace, host: str, port: int, open_browser: bool) -> None:
         listener.listen(64)
     except OSError as exc:
         listener.close()
+        taken = exc.errno in (errno.EADDRINUSE, errno.EACCES)
+        advice = (
+            "choose another --port" if taken else "give one of this machine's addresses as --host"
+        )
         raise click.ClickException(
-            f"cannot listen on {host}:{port}: {exc.strerror or exc} (choose another --port)"
+            f"cannot listen on {host}:{port}: {exc.strerror or exc} ({advice})"
         ) from None
     bound = listener.getsockname()[1]
     shown = f"[{host}]" if family == socket.AF_INET6 else host

@@ -140,9 +140,10 @@ def test_a_malformed_attribute_is_refused_with_the_type_and_the_selection_unchan
     assert after == before
     huge = api.post("/api/attribute", json={"key": "CloudDetection.threshold", "value": "1e999"})
     assert huge.status_code == 422  # out of a double's range
-    assert api.post("/api/attribute", json={"key": "Scouting.speed", "value": "1"}).json()[
-        "error"
-    ] == "unknown feature attribute Scouting.speed"
+    assert (
+        api.post("/api/attribute", json={"key": "Scouting.speed", "value": "1"}).json()["error"]
+        == "unknown feature attribute Scouting.speed"
+    )
     taken = api.post("/api/attribute", json={"key": "CloudDetection.threshold", "value": "0.7"})
     assert taken.status_code == 200 and taken.json()["attributes"] == {
         "CloudDetection.threshold": "0.7"
@@ -305,7 +306,14 @@ def test_the_command_refuses_bad_input_with_a_message(tmp_path: Path) -> None:
         port = str(taken.getsockname()[1])
         result = runner.invoke(main, ["configure", str(MAPPING), "--no-browser", "--port", port])
     assert result.exit_code == 1
-    assert f"cannot listen on 127.0.0.1:{port}: Address already in use" in result.output
+    assert f"cannot listen on 127.0.0.1:{port}: Address already in use (choose another --port)" in (
+        result.output
+    )
+    # an address not this machine's: the advice is about the host, not the port
+    result = runner.invoke(main, ["configure", str(MAPPING), "--no-browser", "--host", "x..y"])
+    assert result.exit_code == 1
+    assert "cannot listen on x..y:8765: " in result.output
+    assert result.output.rstrip().endswith("(give one of this machine's addresses as --host)")
 
 
 @pytest.mark.parametrize("line", sorted(p.name for p in (ROOT / "product_lines").iterdir()))
