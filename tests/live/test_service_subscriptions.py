@@ -210,6 +210,44 @@ def test_websockets_need_the_token_where_reads_do(directory: Path, tmp_path: Pat
         running.stop()
 
 
+# The service, with the read of the newest id (where a subscription starts) made slow, as
+# on a loaded machine: what a client writes once its connection is open must reach it.
+SLOW_NEWEST = """
+import asyncio, os, sys
+
+sys.path.insert(0, os.getcwd())  # the service's folder, as for python -m
+from position_store_service import __main__ as entry, subscriptions
+
+read = subscriptions.Hub.newest
+
+async def slow(self, collection):
+    await asyncio.sleep(0.5)
+    return await read(self, collection)
+
+subscriptions.Hub.newest = slow
+entry.main()
+"""
+
+
+def test_a_record_written_as_soon_as_the_websocket_is_open_is_pushed(
+    directory: Path, tmp_path: Path
+) -> None:
+    (tmp_path / "slow_newest.py").write_text(SLOW_NEWEST, encoding="utf-8")
+    running = _service(directory, DATABASE_URL=f"sqlite:///{tmp_path}/open.db")
+    running.command = [sys.executable, str(tmp_path / "slow_newest.py")]
+    running.start()
+    try:
+        url = websocket_url(running.url, f"{STORE}/records")
+        frames = Frames(url, {"Accept": "application/json"})
+        try:
+            (record_id,) = post(running.url, [record("eager", 1)])
+            assert [f["id"] for f in frames.json(1, timeout=10)] == [record_id]
+        finally:
+            frames.close()
+    finally:
+        running.stop()
+
+
 def test_a_transformer_of_its_own_feeds_the_subscribers(directory: Path, tmp_path: Path) -> None:
     env = {"DATABASE_URL": f"sqlite:///{tmp_path}/worker.db", "TRANSFORMER": "off"}
     running = _service(directory, **env).start()

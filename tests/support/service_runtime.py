@@ -41,7 +41,8 @@ def free_port() -> int:
 
 class RunningService:
     """One generated service process; ``kill()`` is kill -9, ``start()`` starts it again.
-    With an SSL ``context`` it is reached by HTTPS (the service's TLS variables set)."""
+    With an SSL ``context`` it is reached by HTTPS (the service's TLS variables set);
+    setting ``command`` starts it otherwise than ``python -m PACKAGE``."""
 
     def __init__(
         self,
@@ -51,6 +52,7 @@ class RunningService:
         context: ssl.SSLContext | None = None,
     ) -> None:
         self.directory = directory
+        self.command = [sys.executable, "-m", package]  # what start() runs
         self.context = context
         self.package = package
         self.port = free_port()
@@ -66,7 +68,7 @@ class RunningService:
     def start(self) -> RunningService:
         log = self.log.open("ab")
         self.process = subprocess.Popen(
-            [sys.executable, "-m", self.package],
+            self.command,
             cwd=self.directory,
             env=self.env,
             stdout=log,
