@@ -41,13 +41,12 @@ from spl.line_validation import (
     load_lines,
     run_planned,
 )
+from spl.validation_workers import ATTEMPTS  # as many tries as on this machine's workers
 
 if TYPE_CHECKING:
     from distributed import Client, Future
 
 INSTALL = "pip install 'spl-robotics[cluster]'"
-# A product whose workers die this many times is reported as an error, not lost.
-ATTEMPTS = 3
 # How long a separately started scheduler may take to have a worker.
 WORKER_WAIT = 60.0
 LOCAL_WORKERS_PER_CPU = 4  # local:N at most, per CPU of the machine

@@ -8,10 +8,11 @@ run. The products are the line's own ``products/*.yaml`` (always, named by their
 ``product`` name) plus, on request, every product of the feature model or a t-wise
 covering array of it (named by their non-core features).
 
-The models of a line are parsed once. With ``jobs > 1`` the products run in a pool of
-forked processes that inherit the parsed lines (and their SAT formulas) from the parent,
+The models of a line are parsed once. With ``jobs > 1`` the products run in forked
+worker processes that inherit the parsed lines (and their SAT formulas) from the parent,
 so nothing is parsed or pickled per product; results come back in submission order, so
-the report does not depend on scheduling.
+the report does not depend on scheduling, and a worker that dies has its product run
+again (:mod:`spl.validation_workers`).
 
 A caller may add a check of the generated files (``rehearse``: ``spl validate --smoke``
 passes the live ROS rehearsal); its problems fail the product like any other and its
@@ -263,11 +264,13 @@ def _run_in_worker(case: ProductCase) -> CaseResult:
     return run_planned(_LINES[case.line], case, _CHECKS)
 
 
-def _run_chunk_in_worker(cases: list[ProductCase]) -> list[CaseResult]:
-    """Several products per task: fewer round trips through the pool's pipes. (Pool's
-    own ``chunksize`` would hand back a generator without ``next(timeout)``.)"""
-    with checkpointed():  # a signal swallowed during the task unwinds at its end
-        return [_run_in_worker(case) for case in cases]
+def _run_in_forked_worker(case: ProductCase) -> CaseResult:
+    with checkpointed():  # a signal swallowed during the product unwinds at its end
+        return _run_in_worker(case)
+
+
+def _lost(case: ProductCase, why: str) -> CaseResult:
+    return CaseResult(_LINES[case.line].name, case.name, "error", (f"lost: {why}",))
 
 
 def run_cases(
@@ -293,8 +296,8 @@ def run_cases(
 
 
 def _start_worker() -> None:
-    """Workers end on Ctrl-C (SIGINT from the terminal) and on SIGTERM (the pool's
-    terminate) by unwinding quietly, so the task's own cleanup runs (a smoke rehearsal
+    """Workers end on Ctrl-C (SIGINT from the terminal) and on SIGTERM (an interrupted
+    run stopping them) by unwinding quietly, so the task's own cleanup runs (a smoke rehearsal
     stops the processes it started), and end with a killed spl (a CI timeout)."""
     unwind_on_signals(pool_worker=True)
     die_with_parent()
@@ -326,26 +329,12 @@ def _results(cases: list[ProductCase], jobs: int) -> Iterator[CaseResult]:
     # generators are imported already), and every worker forked afterwards inherits them
     # warm (otherwise each worker pays that first-product cost again).
     yield _run_in_worker(cases[0])
-    import multiprocessing  # here: a run with one job does without its ~15 ms import
+    from spl.validation_workers import ForkedWorkers  # a run with one job does without
 
     rest = cases[1:]
-    context = multiprocessing.get_context("fork")
-    size = max(1, min(16, len(rest) // (jobs * 8)))
-    chunks = [rest[i : i + size] for i in range(len(rest)) if i % size == 0]
-    with context.Pool(min(jobs, len(rest)), initializer=_start_worker) as pool:
-        results = pool.imap(_run_chunk_in_worker, chunks)
-        while True:  # in steps, so a Ctrl-C that Python swallowed still ends the wait
-            try:
-                yield from results.next(timeout=0.2)
-            except multiprocessing.TimeoutError:
-                raise_if_signalled()
-            except StopIteration:
-                break
-        # every task done: the workers end on the pool's sentinels, with no signal to
-        # race (leaving it to the with-block's terminate SIGTERMs workers idle on the
-        # queue; the suite hung once joining one that never ended)
-        pool.close()
-        pool.join()
+    chunk = max(1, min(16, len(rest) // (jobs * 8)))  # products given to a worker at once
+    workers = ForkedWorkers(rest, _run_in_forked_worker, _lost, jobs, _start_worker, chunk)
+    yield from workers.results()
 
 
 def summary(results: list[CaseResult]) -> str:
