@@ -62,7 +62,7 @@ def _leave(signum: int, _frame: object) -> None:
 def _quiet_unraisable(unraisable: sys.UnraisableHookArgs) -> None:
     if _signalled is not None and isinstance(unraisable.exc_value, SystemExit | KeyboardInterrupt):
         if _end_when_swallowed:
-            # a pool worker waits for work in multiprocessing's own loop, which has no
+            # a pool worker waits for its next products in a loop that has no
             # checkpoint: it would wait for ever, and its pool for it (a hang seen in the
             # suite: the pool's SIGTERM landed in a weakref callback after a product). The
             # signal's default action ends it; its children have die_with_parent.
