@@ -17,6 +17,7 @@ The workers are forked after the lines are loaded, so they inherit the parsed mo
 
 from __future__ import annotations
 
+import contextlib
 import signal
 from collections import deque
 from collections.abc import Callable, Iterator, Sequence
@@ -144,19 +145,22 @@ class ForkedWorkers(Generic[Task, Result]):
             self.done[current] = self.lost(self.tasks[current], why)
 
     def _stop(self) -> None:
-        """The workers end: idle ones when their pipe closes, busy ones (the run was
-        interrupted: Ctrl-C, an error) on SIGTERM, which they unwind through their own
-        cleanup; SIGKILL after 30 s."""
+        """The workers end: idle ones when told to (None: the pipe's closing is not
+        enough, as workers forked later hold copies of its end here), busy ones (the run
+        was interrupted: Ctrl-C, an error) on SIGTERM, which they unwind through their
+        own cleanup; SIGKILL after 30 s."""
         for worker in self.workers:
             if worker.assigned and worker.process.exitcode is None:
                 worker.process.terminate()
-        for worker in self.workers:
-            worker.connection.close()
+            else:
+                with contextlib.suppress(OSError):
+                    worker.connection.send(None)
         for worker in self.workers:
             worker.process.join(30)
             if worker.process.exitcode is None:
                 worker.process.kill()
                 worker.process.join()
+            worker.connection.close()
         self.workers = []
 
 
@@ -173,13 +177,15 @@ def _serve(
     work: Callable[[Task], Result],
     start: Callable[[], None],
 ) -> None:
-    """A worker: runs the tasks it is given, sending each result at once, until its run
-    closes the pipe."""
+    """A worker: runs the tasks it is given, sending each result at once, until told to
+    end (None)."""
     start()
     while True:
         try:
             chunk = connection.recv()
-        except EOFError:
+        except EOFError:  # the run has gone without a word
+            return
+        if chunk is None:
             return
         for index in chunk:
             connection.send((index, work(tasks[index])))
