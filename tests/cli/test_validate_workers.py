@@ -10,6 +10,7 @@ import os
 import signal
 import subprocess
 import threading
+from collections.abc import Iterator
 from pathlib import Path
 
 from support.smoke_runs import ROOT, run_spl, spl_command
@@ -42,15 +43,15 @@ def validate(*lines: str) -> subprocess.Popen[str]:
     )
 
 
-def finished(run: subprocess.Popen[str]) -> tuple[str, str]:
-    """The rest of the run's output; it is killed after 120 s (a hang fails the test)."""
-    timer = threading.Timer(120, run.kill)
+@contextlib.contextmanager
+def killed_after(run: subprocess.Popen[str], seconds: float = 120) -> Iterator[None]:
+    """The run is killed if it has not ended within ``seconds``: a hang fails the test."""
+    timer = threading.Timer(seconds, run.kill)
     timer.start()
     try:
-        out, err = run.communicate()
+        yield
     finally:
         timer.cancel()
-    return out, err
 
 
 def test_a_killed_worker_loses_no_product() -> None:
@@ -58,14 +59,15 @@ def test_a_killed_worker_loses_no_product() -> None:
     assert by_one.returncode == 0, by_one.stdout + by_one.stderr
     run = validate(*LINES)
     assert run.stdout is not None
-    # stdout is read through its buffer only: communicate() after readline() would read
-    # the pipe past what readline() buffered
-    first = run.stdout.readline() + run.stdout.readline()  # the workers are running
-    workers = children(run.pid)
-    assert workers, first
-    os.kill(workers[0], signal.SIGKILL)
-    rest = run.stdout.read()
-    out, err = finished(run)
+    with killed_after(run):
+        # stdout is read through its buffer only: communicate() after readline() would
+        # read the pipe past what readline() buffered
+        first = run.stdout.readline() + run.stdout.readline()  # the workers are running
+        workers = children(run.pid)
+        assert workers, first
+        os.kill(workers[0], signal.SIGKILL)
+        rest = run.stdout.read()
+        out, err = run.communicate()
     assert run.returncode == 0, first + rest + out + err
     assert first + rest + out == by_one.stdout  # every product, once, in the plan's order
     assert "Traceback" not in err
@@ -85,7 +87,8 @@ def test_a_product_whose_workers_keep_ending_is_an_error_not_a_hang() -> None:
     killer = threading.Thread(target=kill_every_worker, daemon=True)
     killer.start()
     try:
-        out, err = finished(run)
+        with killed_after(run):
+            out, err = run.communicate()
     finally:
         stop.set()
         killer.join()
