@@ -5,8 +5,6 @@ from __future__ import annotations
 
 import os
 import shutil
-import subprocess
-import sys
 from pathlib import Path
 from types import SimpleNamespace
 
@@ -17,6 +15,8 @@ from lxml import etree
 from spl.cli import main
 from spl.junit_report import junit_xml
 from spl.line_validation import CaseResult
+
+from support.smoke_runs import run_spl
 
 ROOT = Path(__file__).resolve().parents[2]
 LINES = ROOT / "product_lines"
@@ -32,9 +32,7 @@ def run(*args: object):
     argv = ["validate", *map(str, args)]
     if "--jobs" not in argv or argv[argv.index("--jobs") + 1] == "1":
         return CliRunner().invoke(main, argv)
-    done = subprocess.run(
-        [sys.executable, "-m", "spl", *argv], capture_output=True, text=True, timeout=600
-    )
+    done = run_spl(argv, timeout=600)  # which also finds no process of it left behind
     return SimpleNamespace(
         exit_code=done.returncode, stdout=done.stdout, output=done.stdout + done.stderr
     )
