@@ -27,9 +27,10 @@ from spl.resolver.flows import node_of
 from spl.resolver.line_checks.activation import ActivationSolver
 from spl.resolver.line_checks.listed_products import Listed
 from spl.resolver.line_checks.presence import Presence
+from spl.resolver.line_checks.witnesses import witness_warnings
 from spl.resolver.placement import sharing_mode
 from spl.resolver.product_line import ProductLine
-from spl.resolver.product_selection import ProductSelection, selection_from_list
+from spl.resolver.product_selection import ProductSelection
 from spl.resolver.transformations import sharing_targets
 from spl.resolver.wiring import CROSS_ROBOT, cut_off
 
@@ -93,8 +94,8 @@ def cross_robot_flows_in_line(
 
 
 def _warnings(line: ProductLine, selection: ProductSelection) -> list[Diagnostic]:
-    """The SPL050 warnings of one product (none when it fails for other reasons, which
-    resolve and validate report)."""
+    """The SPL050 warnings of one listed product (none when it fails for other reasons,
+    which resolve and validate report)."""
     from spl.resolver.engine import resolve  # the engine checks products; checks import it late
 
     try:
@@ -112,6 +113,6 @@ def _confirmed(
     named = f", in the product {', '.join(witness)}"
     return [
         Diagnostic(w.location, w.message + named, w.severity, w.code)
-        for w in _warnings(line, selection_from_list(",".join(witness)))
-        if w.location == where
+        for w in witness_warnings(line, witness)
+        if w.code == CROSS_ROBOT and w.location == where
     ]

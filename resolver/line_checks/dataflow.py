@@ -28,15 +28,15 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, NamedTuple
 
-from spl.diagnostics import Diagnostic, Location, ModelError, location_of
+from spl.diagnostics import Diagnostic, Location, location_of
 from spl.dsl.rm_names import Names, Placement
 from spl.metamodels import tsm
 from spl.resolver.context import describe, qualified
 from spl.resolver.flows import SERVICE, FlowTable, node_of, reached_topics
 from spl.resolver.line_checks.activation import ActivationSolver
 from spl.resolver.line_checks.presence import Clauses, Presence
+from spl.resolver.line_checks.witnesses import Witness, witness_warnings
 from spl.resolver.product_line import ProductLine
-from spl.resolver.product_selection import selection_from_list
 from spl.resolver.transformations import kind_of
 from spl.resolver.transformations.kind import Binding
 
@@ -49,7 +49,6 @@ UNSERVED = "SPL046"
 # resolution, and a line needs many only when statements feed an input in most products
 RETRIES = 16
 
-Witness = tuple[str, ...]
 Key = tuple[int, str]  # a topic as a statement names it: (id of its container, name)
 
 
@@ -145,15 +144,8 @@ class Feeds:
         product fails for other reasons, which resolve, validate and the other checks
         report)."""
         if witness not in self.resolved:
-            from spl.resolver.engine import resolve  # the engine imports the line checks' kin
-
-            try:
-                product = resolve(self.line, selection_from_list(",".join(witness))).product
-                warnings = product.warnings
-            except ModelError:
-                warnings = ()
             found = self.resolved[witness] = {}
-            for warning in warnings:
+            for warning in witness_warnings(self.line, witness):
                 found.setdefault((warning.code, warning.location), warning)
         return self.resolved[witness].get((code, where))
 

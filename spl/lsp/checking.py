@@ -31,6 +31,7 @@ from spl.diagnostics import Diagnostic, Location, ModelError, unsaved_texts
 
 if TYPE_CHECKING:
     from spl.dsl.tsm_incremental import Trees
+    from spl.resolver.line_checks.witnesses import WitnessResolutions
 
 MODEL_SUFFIXES = (".tsm", ".fm", ".rm")
 FEATURE_MODEL_SUFFIXES = (".uvl", ".xml")
@@ -137,13 +138,16 @@ class LineChecks:
     FILE.tsm`` runs): when it refuses the text, loading the line meets the same problems
     without building the model again (:func:`spl.dsl.tsm.parse_text`), and the answer is
     that of ``spl check FOLDER``, only sooner. A text that builds is checked in full;
-    the line's pyecore model is copied from the plain model just checked, and a .tsm the
-    edit left alone is not built again (:func:`spl.dsl.tsm.reusing_models`)."""
+    the line's pyecore model is copied from the plain model just checked, a .tsm the
+    edit left alone is not built again (:func:`spl.dsl.tsm.reusing_models`), and a
+    witness product whose resolution reads nothing the edit changed is not resolved
+    again (:mod:`spl.resolver.line_checks.witnesses`)."""
 
     KEPT = 4  # input sets kept per folder
 
     def __init__(self) -> None:
         self._kept: dict[str, list[tuple[tuple[object, ...], tuple[Diagnostic, ...]]]] = {}
+        self._witnesses: dict[str, WitnessResolutions] = {}
 
     def check(
         self, folder: str, texts: Mapping[str, str], trees: Trees, inputs: set[str]
@@ -155,8 +159,12 @@ class LineChecks:
             if known == key:
                 return found, []
         from spl.dsl.tsm import reusing_models
+        from spl.resolver.line_checks.witnesses import WitnessResolutions, remembering
 
-        with reusing_models():  # the line is loaded from the plain models checked here
+        witnesses = self._witnesses.setdefault(folder, WitnessResolutions())
+        # the line is loaded from the plain models checked here, and witness products
+        # are resolved again only when what they read changed
+        with reusing_models(), remembering(witnesses):
             tsm_files = sorted(p for p in inputs if p.endswith(".tsm"))
             plain = [check_file(path, texts, trees) for path in tsm_files]
             found = check_line(folder, texts)

@@ -97,3 +97,64 @@ def test_a_refused_tsm_is_built_once_in_plain_objects(tmp_path, monkeypatch) -> 
     found, _ = checking.LineChecks().check(str(folder), {path: broken}, Trees(), inputs)
     assert [d.message for d in found] == ["unknown container Nowhere"]
     assert builds == ["plain"]
+
+
+def test_witness_products_are_resolved_again_only_when_what_they_read_changed(
+    tmp_path, monkeypatch
+) -> None:
+    """The dataflow check resolves a witness product per unfed input; the editor keeps
+    those resolutions while the template, the feature model and the elements the witness
+    activates stay as they were, and answers as a full check does either way."""
+    from spl.resolver import engine
+
+    folder = tmp_path / "warehouse"
+    shutil.copytree(ROOT / "tests" / "models" / "line_checks" / "warehouse", folder)
+    rm, fm = str(folder / "warehouse.rm"), str(folder / "warehouse.fm")
+    original = {rm: Path(rm).read_text(encoding="utf-8"), fm: Path(fm).read_text(encoding="utf-8")}
+    inputs = {os.path.join(folder, name) for name in os.listdir(folder)}
+    checks, trees = checking.LineChecks(), Trees()
+    resolved: list[str] = []
+    real = engine.resolve
+
+    def counted(line, selection):
+        resolved.append(",".join(selection.features))
+        return real(line, selection)
+
+    monkeypatch.setattr(engine, "resolve", counted)
+
+    def check(**edits: str) -> tuple[list[str], int]:
+        texts = dict(original)
+        texts.update({rm if name == "rm" else fm: text for name, text in edits.items()})
+        resolved.clear()
+        found, _ = checks.check(str(folder), texts, trees, inputs)
+        resolutions = len(resolved)
+        assert found == full_check(folder, texts)
+        codes = [d.code or "" for d in found if d.code in ("SPL045", "SPL046", "SPL012")]
+        return codes, resolutions
+
+    unfed, resolutions = check()
+    assert unfed == ["SPL045", "SPL046"] and resolutions == 2  # one witness each
+
+    # a new element for a feature neither witness selects: nothing they read changed
+    lidar = "\nwhen LidarSensing selected {\n    implementation Lidar = x/y\n}\n"
+    assert check(rm=original[rm] + lidar) == (["SPL045", "SPL046"], 0)
+    # a comment at the end of the feature model: the same model, at the same places
+    assert check(fm=original[fm] + "// reviewed\n") == (["SPL045", "SPL046"], 0)
+
+    # an element both witnesses activate, which makes them fail to resolve: the inputs
+    # are no longer reported with them (a kept resolution would still report them)
+    conflict = (
+        "\nwhen Sensing selected {\n    implementation Localizer = a/b\n}\n"
+        "when CameraSensing selected {\n    implementation Localizer = c/d\n}\n"
+    )
+    unfed, resolutions = check(rm=original[rm] + conflict)
+    assert unfed == ["SPL012"] and resolutions > 0
+
+    # the elements the witnesses activate moved down a line: their places are read again
+    moved = original[rm].replace("when CameraSensing", "\nwhen CameraSensing")
+    unfed, resolutions = check(rm=moved)
+    assert unfed == ["SPL045", "SPL046"] and resolutions == 2
+    # a feature added to the feature model: resolved again
+    more = original[fm].replace("optional Offload", "optional Offload\n    optional Docking")
+    unfed, resolutions = check(fm=more)
+    assert unfed == ["SPL045", "SPL046"] and resolutions == 2
