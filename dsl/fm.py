@@ -34,6 +34,7 @@ from spl.dsl.fm_vocabulary import RESERVED_WORDS as RESERVED_WORDS
 from spl.dsl.fm_vocabulary import SHARING_MODES as SHARING_MODES
 from spl.dsl.fm_vocabulary import canonical_value, formula_too_deep, too_deep
 from spl.dsl.fm_vocabulary import is_feature_name as is_feature_name
+from spl.dsl.model_reuse import Built, keep, reused
 from spl.dsl.parse_tree import Positions
 from spl.dsl.textx_text import model_from_text
 from spl.metamodels import fm as fm_metamodel
@@ -55,7 +56,21 @@ def parse_file(path: str | Path) -> Any:
 
 
 def parse_text(text: str, filename: str = "<string>") -> Any:
-    """Parse .fm source text; ``filename`` is only used in locations."""
+    """Parse .fm source text; ``filename`` is only used in locations. A text built
+    before inside :func:`spl.dsl.model_reuse.reusing_models` gives the same model (a
+    line's .rm built before refers to its features, and is then built no more)."""
+    known = reused(_BUILT, text, filename)
+    if known is not None:
+        return known
+    model = _parse(text, filename)
+    keep(_BUILT, text, filename, model)
+    return model
+
+
+_BUILT: Built = {}
+
+
+def _parse(text: str, filename: str) -> Any:
     try:
         # the fast reader takes what it can; textX parses the rest and words syntax errors
         tree = fm_reader.read(text)

@@ -17,7 +17,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, cast
 
 from spl.diagnostics import Diagnostic, DiagnosticSink, Location, ModelError, counted, model_text
-from spl.dsl import literals, rm_reader, rosnames
+from spl.dsl import literals, rm_reader, rm_reuse, rosnames
 from spl.dsl.fm import all_features
 from spl.dsl.grammar_comments import COMMENT, is_comment
 from spl.dsl.parse_tree import Positions
@@ -81,19 +81,26 @@ def load(path: str | Path) -> ResolutionModelFiles:
 def parse_text(
     text: str, filename: str = "<string>", base: Path | None = None
 ) -> ResolutionModelFiles:
+    base = base or Path(filename).parent
+    again = rm_reuse.kept(text, filename)  # the editor's model of this text, if any
+    if again is not None:
+        sink = DiagnosticSink()
+        system, feature_model = referenced_models(again.header, again.where, base, sink)
+        if not sink.errors and rm_reuse.still_meant(again, system, feature_model):
+            return ResolutionModelFiles(again.model, system, feature_model, Path(filename))
     # the fast reader takes what it can; textX parses the rest and words syntax errors
     tree = rm_reader.read(text)
     if tree is None:
         tree = _textx_tree(text, filename)
-    base = base or Path(filename).parent
     positions = Positions(text, filename)
     sink = DiagnosticSink()
     header = _header_lines(text, positions, positions.of(tree))
     system, feature_model = referenced_models(tree, header, base, sink)
     sink.raise_if_errors()
     model = _Builder(positions, system, feature_model, sink).build(tree)
-    sink.raise_if_errors()
     model.tsmPath, model.fmPath = tree.tsm, tree.fm
+    rm_reuse.remember(text, filename, tree, header, system, feature_model, model, not sink.errors)
+    sink.raise_if_errors()
     return ResolutionModelFiles(model, system, feature_model, Path(filename))
 
 

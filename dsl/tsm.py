@@ -16,9 +16,6 @@ they share, ``tsm_syntax`` the wording of syntax errors. The text is read by
 
 from __future__ import annotations
 
-from collections.abc import Iterator
-from contextlib import contextmanager
-from contextvars import ContextVar
 from functools import cache
 from pathlib import Path
 from typing import Any
@@ -35,6 +32,7 @@ from spl.dsl import (
     transform_types,
     tsm_bridges,
     tsm_containers,
+    tsm_declarations,
     tsm_incremental,
     tsm_plain,
     tsm_reader,
@@ -42,6 +40,7 @@ from spl.dsl import (
     tsm_transforms,
 )
 from spl.dsl.cyclic_gc import without_cyclic_gc
+from spl.dsl.model_reuse import Built, keep, reused, reusing, reusing_models
 from spl.dsl.textx_text import model_from_text
 from spl.dsl.tsm_bridges import (
     bridged_clients,
@@ -56,6 +55,7 @@ from spl.dsl.tsm_syntax import kind, syntax_diagnostic
 from spl.emf import copy_model
 
 __all__ = [
+    "built_template",
     "check_file",
     "check_text",
     "endpoint_client_name",
@@ -89,9 +89,9 @@ def parse_file(path: str | Path) -> Any:
 def parse_text(text: str, filename: str = "<string>") -> Any:
     """Parse and check .tsm text; ``filename`` is what diagnostics name."""
     _raise_if_refused(text, filename)
-    reused = _reused(_BUILT, text, filename)
-    if reused is not None:
-        return reused
+    known = reused(_BUILT, text, filename)
+    if known is not None:
+        return known
     # Built and checked over plain objects, then set up in pyecore in one pass, which
     # skips pyecore's descriptors, type checks and notifications: half the time of
     # building through them (a 10,000-node file: 0.56 s against 1.06 s), the same
@@ -99,45 +99,24 @@ def parse_text(text: str, filename: str = "<string>") -> Any:
     plain = check_text(text, filename)
     # the model's objects all stay alive: the collector's passes over them free nothing
     with without_cyclic_gc():
-        system = copy_model(plain)
-    _keep(_BUILT, text, filename, system)
-    return system
+        if not reusing():
+            return copy_model(plain)
+        # the editor's: what the last build of the file holds and the edit left alone is
+        # taken over, and the declarations are kept for the next build
+        built = tsm_declarations.build(plain, _TEMPLATES.get(filename))
+    _TEMPLATES[filename] = built
+    keep(_BUILT, text, filename, built.system)
+    return built.system
 
 
 # The System (pyecore, and plain) each file's text last built inside
 # :func:`reusing_models`.
-_BUILT: dict[str, tuple[str, Any]] = {}
-_CHECKED: dict[str, tuple[str, Any]] = {}
-_REUSING: ContextVar[bool] = ContextVar("reusing_tsm_models", default=False)
-
-
-@contextmanager
-def reusing_models() -> Iterator[None]:
-    """Inside the block, a text parsed or checked before (inside such a block) gives
-    the same System again instead of a new one. The language server checks a product
-    line this way after every edit: the plain model its check of an edited .tsm built
-    is the one the line's pyecore model is copied from, and an edit of the line's .rm
-    or .fm builds none of a large .tsm again. Sound only for callers that leave the
-    models as built: loading and checking a line do (the engine resolves a copy;
-    tests/resolver/test_template_untouched.py holds them to it); a caller that edits
-    a model must not use this."""
-    token = _REUSING.set(True)
-    try:
-        yield
-    finally:
-        _REUSING.reset(token)
-
-
-def _reused(built: dict[str, tuple[str, Any]], text: str, filename: str) -> Any:
-    kept = built.get(filename) if _REUSING.get() else None
-    return kept[1] if kept is not None and kept[0] == text else None
-
-
-def _keep(built: dict[str, tuple[str, Any]], text: str, filename: str, system: Any) -> None:
-    if _REUSING.get():
-        built[filename] = (text, system)
-
-
+_BUILT: Built = {}
+_CHECKED: Built = {}
+# The last template of each file built inside :func:`reusing_models`, with its
+# declarations: the next build of the file takes over what an edit left alone. A build
+# takes its elements out of the template before it, which is not used again.
+_TEMPLATES: dict[str, tsm_declarations.BuiltTemplate] = {}
 # The last text of each file that :func:`check_text` refused, with its problems. The
 # pyecore build finds exactly those (tests/dsl/test_tsm_plain.py compares the two
 # builds), so a later reading of the same text raises them without building anything:
@@ -167,9 +146,9 @@ def check_text(
     line's and the editor's diagnostics of one .tsm). With ``trees`` (the last reading
     of each file), a file read before is read again incrementally."""
     _raise_if_refused(text, filename)
-    reused = _reused(_CHECKED, text, filename)
-    if reused is not None:
-        return reused
+    known = reused(_CHECKED, text, filename)
+    if known is not None:
+        return known
     try:
         with without_cyclic_gc():
             system = _parse(text, filename, tsm_plain.metamodel(), trees)
@@ -177,7 +156,7 @@ def check_text(
         _REFUSED[filename] = (text, tuple(exc.diagnostics))
         raise
     _REFUSED.pop(filename, None)
-    _keep(_CHECKED, text, filename, system)
+    keep(_CHECKED, text, filename, system)
     return system
 
 
@@ -319,3 +298,9 @@ def normalize_endpoints(system: Any) -> None:
         if [i for _, i in ranked] != interfaces:
             container.endpoint.interfaces.clear()
             container.endpoint.interfaces.extend(i for _, i in ranked)
+
+
+def built_template(system: Any) -> tsm_declarations.BuiltTemplate | None:
+    """The declarations of a template built inside :func:`reusing_models` and still the
+    last of its file; None for any other."""
+    return next((b for b in _TEMPLATES.values() if b.system is system), None)

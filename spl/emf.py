@@ -76,6 +76,18 @@ def copy_with_map(root: EObject) -> tuple[EObject, dict[int, EObject]]:
     map to find the element they mean in the copy. Values equal to the feature's
     default are not set again: a copy costs what the model holds, not its metamodel.
     """
+    copies, mapping = copy_trees([root])
+    return copies[0], mapping
+
+
+def copy_trees(
+    roots: list[EObject], outside: Callable[[EObject], EObject] | None = None
+) -> tuple[list[EObject], dict[int, EObject]]:
+    """Deep copies of the containment trees under ``roots``, each reference to an element
+    of one of them remapped to its copy, and each other reference to what ``outside``
+    gives for its target (kept as it is without ``outside``); with the map of
+    :func:`copy_with_map`. The template rebuilt after an edit copies the declarations the
+    edit changed this way, their references into the others going to those kept."""
     mapping: dict[int, EObject] = {}
     pending: list[tuple[EObject, EObject, tuple]] = []
 
@@ -114,13 +126,19 @@ def copy_with_map(root: EObject) -> tuple[EObject, dict[int, EObject]]:
                 setattr(dst, name, value)
         return dst
 
-    copy = clone(root)
+    def mapped(value: EObject) -> EObject:
+        found = mapping.get(id(value))
+        if found is not None:
+            return found
+        return outside(value) if outside is not None else value
+
+    copies = [clone(root) for root in roots]
     for src, dst, references in pending:
         for name, many, reference in references:
             value = getattr(src, name)
             if many:
                 if value:
-                    items = [mapping.get(id(v), v) for v in value]
+                    items = [mapped(v) for v in value]
                     if reference is not None:
                         _extend(dst, reference, name, items, False)
                     else:
@@ -128,10 +146,10 @@ def copy_with_map(root: EObject) -> tuple[EObject, dict[int, EObject]]:
             elif value is None:
                 continue
             elif reference is not None:
-                _set_reference(dst, reference, name, mapping.get(id(value), value), False)
+                _set_reference(dst, reference, name, mapped(value), False)
             else:
-                setattr(dst, name, mapping.get(id(value), value))
-    return copy, mapping
+                setattr(dst, name, mapped(value))
+    return copies, mapping
 
 
 # The fields EValue(owner, attribute) sets besides owner, feature and _value, which are
@@ -263,41 +281,37 @@ def differences(a: EObject, b: EObject, where: str = "") -> Iterator[str]:
                 yield f"{here}: -> {pa} != -> {pb}"
 
 
-def fingerprint(root: EObject, by_identity: Callable[[EObject], bool]) -> tuple:
-    """The content of the containment tree under ``root``, as nested tuples: equal for
-    two trees that hold the same values, source locations included, and refer to the
-    same things. A target ``by_identity`` accepts is the very object (its id: the
-    caller keeps the model it belongs to alive); any other is named by its path of
-    (class, name, place in its container's feature), so two readings of one file match.
+Step = tuple[str, int]  # a containment feature, and the position in it (-1: single-valued)
 
-    For memos keyed on a model's content (the editor's witness resolutions): cheaper
-    than building anything from the model, and exact where :func:`differences` is
-    lenient (locations)."""
 
-    def target(value: EObject) -> object:
-        if by_identity(value):
-            return id(value)
-        steps = []
-        while value is not None:
-            owner = value.eContainer()
-            feature = value.eContainmentFeature() if owner is not None else None
-            place = 0
-            if feature is not None and feature.many:
-                place = owner.eGet(feature).index(value)
-            steps.append((value.eClass.name, getattr(value, "name", None), place))
-            value = owner
-        return tuple(steps)
+def fingerprint(
+    root: EObject,
+    target: Callable[[EObject], object],
+    visit: Callable[[EObject, tuple[Step, ...]], None] | None = None,
+) -> tuple:
+    """The content of the containment tree under ``root``, as nested tuples: the class
+    and values of each element, source locations included, its children, and what
+    ``target`` makes of each element it refers to (the caller's choice: the object's
+    identity, a name, a path). Equal for two trees that hold the same values at the same
+    places and refer to the same things, for memos keyed on a model's content (the
+    editor's witness resolutions, the template's declarations); cheaper than building
+    anything from the model, and exact where :func:`differences` is lenient (locations).
+    ``visit`` is told each element with its path of steps from ``root``. Reads plain
+    elements (``spl.dsl.tsm_plain``) as it reads pyecore objects."""
 
-    def walk(obj: EObject) -> tuple:
+    def walk(obj: EObject, path: tuple[Step, ...]) -> tuple:
+        if visit is not None:
+            visit(obj, path)
         values, references = _plan(obj)
         found: list[object] = [obj.eClass.name]
         for name, many, containment, _, _ in values:
             value = getattr(obj, name)
-            if containment:
-                children = value if many else ([value] if value is not None else [])
-                found.append(tuple(walk(child) for child in children))
-            else:
+            if not containment:
                 found.append(tuple(value) if many else value)
+            elif many:
+                found.append(tuple(walk(c, (*path, (name, i))) for i, c in enumerate(value)))
+            else:
+                found.append(None if value is None else walk(value, (*path, (name, -1))))
         for name, many, _ in references:
             value = getattr(obj, name)
             if many:
@@ -306,4 +320,55 @@ def fingerprint(root: EObject, by_identity: Callable[[EObject], bool]) -> tuple:
                 found.append(None if value is None else target(value))
         return tuple(found)
 
-    return walk(root)
+    return walk(root, ())
+
+
+def element_at(root: EObject, path: tuple[Step, ...]) -> EObject:
+    """The element at ``path`` (steps of :func:`fingerprint`) below ``root``."""
+    element = root
+    for feature, position in path:
+        value = getattr(element, feature)
+        element = value if position < 0 else value[position]
+    return element
+
+
+def references(root: EObject) -> Iterator[tuple[EObject, EStructuralFeature, EObject]]:
+    """Every reference of the tree under ``root`` that is no containment: (the element
+    referring, the reference, the element referred to)."""
+    stack = [root]
+    while stack:
+        element = stack.pop()
+        for feature in _features(element):
+            if isinstance(feature, EAttribute) or feature.derived:
+                continue
+            value = element.eGet(feature)
+            values = (value if feature.many else [value]) if value is not None else []
+            if feature.containment:
+                stack.extend(values)
+            else:
+                for target in values:
+                    yield element, feature, target
+
+
+def forget_references(root: EObject) -> None:
+    """Drop the records pyecore keeps, on each element the tree under ``root`` refers to,
+    of those references. A model referring into a long-lived one (a resolution model
+    into a template the editor keeps) would otherwise stay reachable from it after its
+    last use, one more with every edit."""
+    for element, feature, target in references(root):
+        inverse = getattr(target, "_inverse_rels", None)
+        if inverse is not None and not feature.eOpposite:
+            inverse.discard((element, feature))
+
+
+def adopt(owner: EObject, name: str, children: list[EObject]) -> None:
+    """``children``, elements another model contained, appended to ``owner``'s
+    containment ``name`` as a copy adds its own (:func:`_extend`). The model they leave
+    must not be used again: its collection still lists them, but they are ``owner``'s,
+    and they no longer keep it alive."""
+    feature = owner.eClass.findEStructuralFeature(name)
+    for child in children:
+        before = child.eContainer()
+        if before is not None:
+            child._inverse_rels.discard((before, child._containment_feature))
+    _extend(owner, feature, name, children, True)
