@@ -21,7 +21,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
-from spl.emf import Step, adopt, copy_trees, element_at, fingerprint
+from spl.emf import Step, adopt, copy_trees, element_at, fingerprint, forget_references
 from spl.metamodels import tsm as tsm_metamodel
 
 FEATURES = ("dataTypes", "transforms", "containers", "connections")  # in model order
@@ -121,6 +121,10 @@ def build(plain: Any, previous: BuiltTemplate | None = None) -> BuiltTemplate:
                 break
             kept -= dropped
     rebuilt = [k for k in found.items if k not in kept]
+    if previous is not None:  # what is not taken over is dropped: forget its references
+        for key, element in previous.elements.items():
+            if key not in kept:
+                forget_references(element)
 
     def taken_over(target: Any) -> Any:
         key, inner = found.paths[id(target)]

@@ -158,3 +158,69 @@ def test_witness_products_are_resolved_again_only_when_what_they_read_changed(
     more = original[fm].replace("optional Offload", "optional Offload\n    optional Docking")
     unfed, resolutions = check(fm=more)
     assert unfed == ["SPL045", "SPL046"] and resolutions == 2
+
+
+SPARE = """
+cloud container Spare {
+    topic Seen : std_msgs/String
+    optional node Watcher {
+        implementation spare/watcher
+        subscribes seen <- Seen
+    }
+}
+"""
+
+
+def test_a_tsm_edit_builds_again_only_what_it_touched(tmp_path, monkeypatch) -> None:
+    """After an edit of the .tsm, the line's .rm model is built again only when the edit
+    touched a declaration it refers into or declares a name it mentions, and a witness
+    product is resolved again only when the edit touched a container it keeps; every
+    answer is a full check's. What each model refers to is forgotten when the next is
+    built: the template holds no more references after many edits than after one."""
+    from spl.dsl import rm
+    from spl.resolver import engine
+
+    folder = tmp_path / "warehouse"
+    shutil.copytree(ROOT / "tests" / "models" / "line_checks" / "warehouse", folder)
+    path = str(folder / "warehouse.tsm")
+    original = Path(path).read_text(encoding="utf-8")
+    inputs = {os.path.join(folder, name) for name in os.listdir(folder)}
+    checks, trees = checking.LineChecks(), Trees()
+    counts = {"rm": 0, "resolve": 0}
+
+    def counting(name, real):
+        def counted(*args, **kwargs):
+            counts[name] += 1
+            return real(*args, **kwargs)
+
+        return counted
+
+    monkeypatch.setattr(rm._Builder, "build", counting("rm", rm._Builder.build))
+    monkeypatch.setattr(engine, "resolve", counting("resolve", engine.resolve))
+
+    def check(text: str) -> tuple[list[str], int, int]:
+        counts.update(rm=0, resolve=0)
+        found, _ = checks.check(str(folder), {path: text}, trees, inputs)
+        done = counts["rm"], counts["resolve"]
+        assert found == full_check(folder, {path: text})
+        codes = [d.code or "" for d in found if d.code in ("SPL045", "SPL046")]
+        return codes, *done
+
+    def references() -> int:
+        system = tsm.built_template(tsm._BUILT[path][1]).system  # type: ignore[union-attr]
+        return sum(len(e._inverse_rels) for e in system.eAllContents())
+
+    assert check(original) == (["SPL045", "SPL046"], 1, 2)
+    # a container every product drops, named with words the .rm does not use
+    assert check(original + SPARE) == (["SPL045", "SPL046"], 0, 0)
+    held = references()
+    # its node now named as a node the .rm requires: the name is ambiguous there
+    codes, built, _ = check(original + SPARE.replace("Watcher", "Lidar"))
+    assert built and not codes
+    # a value of a node both witnesses keep: the .rm refers into its container
+    value = original.replace("amcl/amcl", "amcl/amcl_fast")
+    assert check(value) == (["SPL045", "SPL046"], 1, 2)
+    for edit in range(3):  # new texts: an answer kept from before would build nothing
+        check(original.replace("amcl/amcl", f"amcl/amcl_{edit}"))
+        check(original + SPARE + f"// {edit}\n")
+    assert references() == held

@@ -1,0 +1,98 @@
+"""The editor's template built from the one before it (``spl.dsl.tsm_declarations.build``)
+is the model a full copy of the checked text gives: the same declarations, values,
+places and references, through chains of edits of every shipped model and of generated
+lines. It takes over from the template before exactly the declarations an edit left
+alone, and nothing of that template stays reachable from it."""
+
+from __future__ import annotations
+
+import random
+from pathlib import Path
+
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from test_tsm_incremental import edits_of
+from test_tsm_reader import SHIPPED
+
+from spl.diagnostics import ModelError
+from spl.dsl import tsm
+from spl.dsl.tsm_declarations import BuiltTemplate, build, declarations
+from spl.emf import copy_model
+
+from support.hypothesis_budget import examples
+from support.model_mutations import mutate, mutations
+from support.random_lines import line_specs, tsm_text
+
+FILE = "edited.tsm"
+SHIPPED_LINE = Path(__file__).resolve().parents[2] / "product_lines" / "orchard"
+EXTRA = """
+cloud container Extra {
+    topic Seen : std_msgs/String
+    optional node Watcher {
+        subscribes seen <- Seen
+    }
+}
+"""
+
+
+def printed(system) -> tuple:
+    found = declarations(system)
+    return found.own, [(key, d.print) for key, d in found.items.items()]
+
+
+def build_chain(texts: list[str]) -> list[BuiltTemplate]:
+    """Each text that checks built from the last template built, as the editor builds
+    them, and compared with a full copy."""
+    built: list[BuiltTemplate] = []
+    for text in texts:
+        try:
+            plain = tsm.check_text(text, FILE)
+        except ModelError:
+            continue
+        previous = built[-1] if built else None
+        template = build(plain, previous)
+        assert printed(template.system) == printed(copy_model(tsm.check_text(text, FILE)))
+        for key, element in template.elements.items():
+            assert element.eContainer() is template.system
+            if previous is not None and key not in template.rebuilt:
+                assert element is previous.elements[key]
+        # nothing but the template itself refers to its elements: the template before,
+        # and what of it was not taken over, are not kept alive by them
+        inside = {id(template.system), *(id(e) for e in template.system.eAllContents())}
+        for element in template.system.eAllContents():
+            assert all(id(owner) in inside for owner, _ in element._inverse_rels)
+        built.append(template)
+    return built
+
+
+def test_edits_of_every_shipped_model_build_what_a_full_copy_builds() -> None:
+    rng = random.Random(23)
+    for path in SHIPPED:
+        text = path.read_text(encoding="utf-8")
+        build_chain([text, *edits_of(text, rng, 10), text])
+
+
+@settings(max_examples=examples(25), deadline=None)
+@given(line_specs(), st.data())
+def test_edits_of_generated_lines_build_what_a_full_copy_builds(spec, data) -> None:
+    text = tsm_text(spec)
+    build_chain([text, mutate(text, data.draw(mutations(text))), text + EXTRA, text])
+
+
+def test_an_edit_takes_over_every_declaration_it_left_alone() -> None:
+    """A container added at the end is the one declaration copied; a value changed in a
+    container copies it and the bridges into it; lines added before every declaration
+    move them all, so all are copied."""
+    text = (SHIPPED_LINE / "orchard.tsm").read_text(encoding="utf-8")
+    first, added, changed, moved = build_chain(
+        [
+            text,
+            text + EXTRA,
+            text + EXTRA.replace("subscribes seen", "subscribes heard"),
+            "// a comment\n" + text + EXTRA,
+        ]
+    )
+    assert first.rebuilt == set(first.elements)
+    assert added.rebuilt == {("containers", "Extra")}
+    assert changed.rebuilt == {("containers", "Extra")}
+    assert moved.rebuilt == set(moved.elements)
