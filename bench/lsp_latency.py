@@ -12,9 +12,10 @@ client sends it:
   edits that leave a syntax error there (a bridge cut short at the end, a brace in
   the middle of a node);
 * fix: the edit undone, until the error is gone;
-* with ``--in-line``, a valid edit of the .tsm (a node no product keeps, until the
-  line's warning names it) and, on the line's .rm, a break and fix of a ``require``
-  and a valid edit (a conflicting implementation, until SPL012 names it);
+* with ``--in-line``, valid edits of the .tsm (a node no product keeps, until the
+  line's warning names it: in a container of its own at the end, and in the middle of
+  a container the products keep) and, on the line's .rm, a break and fix of a
+  ``require`` and a valid edit (a conflicting implementation, until SPL012 names it);
 
 each break and fix ``--runs`` times in one session (what an editor does), reported as
 min and median; and the same break/fix on the .rm of the shipped orchard line, whose
@@ -51,6 +52,7 @@ ROOT = Path(__file__).resolve().parents[1]
 BROKEN = "\nbridge Robot.T0 -> Nowhere.T0\n"
 SYNTAX_BROKEN = "\nbridge Robot.\n"
 EXTRA_NODE = "ExtraNode"  # the node a valid .tsm edit adds, which the line's warning names
+MIDDLE_NODE = "MiddleNode"  # the same, added in the middle of a container
 CONFLICT = "bench/conflict"  # the implementation a valid .rm edit gives, which SPL012 names
 
 
@@ -184,6 +186,11 @@ async def main_async(sizes: list[int], runs: int, in_line: bool) -> None:
                 extra = f"\ncloud container Extra {{\n    optional node {EXTRA_NODE} {{\n"
                 extra += "        implementation pkg/extra\n    }\n}\n// {run}"
                 edits["end, valid"] = (len(text), extra, EXTRA_NODE)
+                # the same node in the middle of a container the line's products keep
+                inside = text.index("\n    }\n", middle) + len("\n    }\n")
+                node = f"    optional node {MIDDLE_NODE}{{run}} {{\n"
+                node += "        implementation pkg/m\n    }\n"
+                edits["middle, valid"] = (inside, node, MIDDLE_NODE)
             opened, *found = await measure(tsm, text, list(edits.values()), runs)
             lines = text.count(chr(10))
             where = "in its product line" if in_line else "alone"

@@ -6,14 +6,21 @@ a .tsm that does not build (docs/editors.md)."""
 from __future__ import annotations
 
 import os
+import random
+import re
 import shutil
 from pathlib import Path
+
+import pytest
 
 from spl.dsl import tsm
 from spl.dsl.tsm_incremental import Trees
 from spl.lsp import checking
 
+from support.typing_edits import model_edit
+
 ROOT = Path(__file__).resolve().parents[2]
+EDITS = 80  # edits per line in the random chains
 EXTRA = """
 cloud container Extra {
     optional node ExtraNode {
@@ -224,3 +231,41 @@ def test_a_tsm_edit_builds_again_only_what_it_touched(tmp_path, monkeypatch) -> 
         check(original.replace("amcl/amcl", f"amcl/amcl_{edit}"))
         check(original + SPARE + f"// {edit}\n")
     assert references() == held
+
+
+LINES = [*sorted((ROOT / "product_lines").iterdir()), ROOT / "tests/models/line_checks/warehouse"]
+
+
+@pytest.mark.parametrize("folder", LINES, ids=lambda p: p.name)
+def test_random_edits_of_a_line_are_answered_as_a_full_check_answers_them(
+    folder: Path, tmp_path: Path
+) -> None:
+    """Edits a user makes, and worse, to a line's .tsm and .rm, one after the other (each
+    from the models the last one left, as the editor keeps them): every answer is the
+    one a full check of the same texts gives."""
+    line = tmp_path / folder.name
+    shutil.copytree(folder, line)
+    rm = str(next(line.glob("*.rm")))
+    tsm_path = str(next(line.glob("*.tsm")))
+    texts = {p: Path(p).read_text(encoding="utf-8") for p in (rm, tsm_path)}
+    names = {
+        "features": re.findall(r"when (\w+)", texts[rm]) or ["Missing"],
+        "nodes": [*re.findall(r"node (\w+)", texts[tsm_path]), "Watcher"],  # SPARE's too
+    }
+    inputs = {os.path.join(line, name) for name in os.listdir(line)}
+    checks, trees = checking.LineChecks(), Trees()
+    rng = random.Random(folder.name)
+    for _ in range(EDITS):
+        path = rng.choice((rm, tsm_path))
+        text = texts[path]
+        if path == tsm_path and rng.random() < 0.15:  # a container, maybe with a used name
+            name = rng.choice(names["nodes"])
+            edited = text + SPARE.replace("Watcher", name).replace("Spare", f"Spare{name}")
+        else:
+            edited = model_edit(path, text, names, rng)
+        current = {**texts, path: edited}
+        found, _ = checks.check(str(line), current, trees, inputs)
+        assert found == full_check(line, current), (path, edited)
+        # a valid edit often stays (the next builds on it), one that breaks a model not
+        if rng.random() < 0.6 and not any(d.severity == "error" and not d.code for d in found):
+            texts = current

@@ -11,7 +11,6 @@ from pathlib import Path
 
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from test_tsm_incremental import edits_of
 from test_tsm_reader import SHIPPED
 
 from spl.diagnostics import ModelError
@@ -22,6 +21,7 @@ from spl.emf import copy_model
 from support.hypothesis_budget import examples
 from support.model_mutations import mutate, mutations
 from support.random_lines import line_specs, tsm_text
+from support.typing_edits import edits_of
 
 FILE = "edited.tsm"
 SHIPPED_LINE = Path(__file__).resolve().parents[2] / "product_lines" / "orchard"

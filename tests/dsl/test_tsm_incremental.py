@@ -21,6 +21,7 @@ from spl.dsl import tsm, tsm_incremental, tsm_reader
 from support.hypothesis_budget import examples
 from support.model_mutations import mutate, mutations
 from support.random_lines import line_specs, tsm_text
+from support.typing_edits import edits_of
 
 
 def read_chain(texts: list[str]) -> None:
@@ -36,21 +37,6 @@ def read_chain(texts: list[str]) -> None:
         reading = found
         assert expected is not None, "read a text the reader refuses"
         assert tsm_incremental.located(reading.tree, reading.places) == expected
-
-
-def edits_of(text: str, rng: random.Random, count: int) -> list[str]:
-    """``count`` texts, each ``text`` with a stretch of it deleted, doubled or replaced
-    by a piece of another place (the edits of a typing user, and worse)."""
-    found = []
-    for _ in range(count):
-        start = rng.randrange(len(text) + 1)
-        end = min(len(text), start + rng.choice((0, 1, 2, 5, 20, 200)))
-        other = rng.randrange(len(text) + 1)
-        piece = rng.choice(("", text[start:end], text[other : other + 30], "x", " }", "\n"))
-        found.append(text[:start] + piece + text[end:])
-        if rng.random() < 0.3:
-            text = found[-1]  # sometimes the edits pile up
-    return found
 
 
 def test_edits_of_every_shipped_model_read_as_a_full_reading_reads_them() -> None:
