@@ -47,9 +47,6 @@ class Declarations:
     items: dict[Key, Declaration]
     paths: dict[int, Path]  # id of each element of the model read -> its path
 
-    def path(self, element: Any) -> Path | None:
-        return self.paths.get(id(element))
-
 
 def declarations(system: Any) -> Declarations:
     """The declarations of ``system`` (a plain or a pyecore System)."""
@@ -121,9 +118,9 @@ def build(plain: Any, previous: BuiltTemplate | None = None) -> BuiltTemplate:
                 break
             kept -= dropped
     rebuilt = [k for k in found.items if k not in kept]
-    if previous is not None:  # what is not taken over is dropped: forget its references
+    if previous is not None:  # what is dropped must not stay recorded on what is kept
         for key, element in previous.elements.items():
-            if key not in kept:
+            if key not in kept and previous.declarations.items[key].refers_to & kept:
                 forget_references(element)
 
     def taken_over(target: Any) -> Any:
