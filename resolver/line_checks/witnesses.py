@@ -20,6 +20,7 @@ the witness does not name, and a failed one says nothing of which elements it re
 
 from __future__ import annotations
 
+import weakref
 from collections.abc import Iterator
 from contextlib import contextmanager
 from contextvars import ContextVar
@@ -42,23 +43,30 @@ Warnings = tuple[Diagnostic, ...]
 class WitnessResolutions:
     """The last resolutions of witness products of one line, by witness."""
 
-    KEPT = 16  # witnesses remembered, each with the template it was resolved from
+    KEPT = 16  # witnesses remembered
 
     def __init__(self) -> None:
-        # the template is kept alive: the key names its elements by their ids
-        self._kept: dict[Witness, tuple[tsm_types.System, tuple, Warnings]] = {}
+        # with each, weak references to the template's elements its key names by their
+        # ids: an id is only compared while its element lives, and no template is held
+        self._kept: dict[Witness, tuple[tuple, list[weakref.ref], Warnings]] = {}
 
     def warnings(self, line: ProductLine, witness: Witness) -> Warnings:
         """The warnings of the product ``witness``, resolved again only when what its
         resolution reads changed."""
-        key = _inputs(line, witness)
+        key, named = _inputs(line, witness)
+        # an entry naming an element that is gone, or that the editor no longer builds
+        # on (a declaration built afresh is a new element), can never be used again
+        current = _elements(line.tsm)
+        for known, (_, held, _) in list(self._kept.items()):
+            if any((e := r()) is None or id(e) not in current for r in held):
+                del self._kept[known]
         kept = self._kept.get(witness)
-        if kept is not None and kept[1] == key:
+        if kept is not None and kept[0] == key:
             return kept[2]
         found, complete = _resolved(line, witness)
         self._kept.pop(witness, None)
         if complete:
-            self._kept[witness] = (line.tsm, key, found)
+            self._kept[witness] = (key, [weakref.ref(e) for e in named], found)
             while len(self._kept) > self.KEPT:
                 del self._kept[next(iter(self._kept))]
         return found
@@ -97,9 +105,10 @@ def _resolved(line: ProductLine, witness: Witness) -> tuple[Warnings, bool]:
     return resolution.product.warnings, not resolution.completion.added
 
 
-def _inputs(line: ProductLine, witness: Witness) -> tuple:
+def _inputs(line: ProductLine, witness: Witness) -> tuple[tuple, list[Any]]:
     """What the resolution of ``witness`` reads: the template but the containers it drops
-    whole, the feature model, and the elements it activates, in file order."""
+    whole, the feature model, and the elements it activates, in file order; and the
+    template's elements that names by their ids."""
     selected = set(witness)
     package = tsm().package
     touched: set[int] = set()  # the template's declarations the active elements refer into
@@ -119,26 +128,34 @@ def _inputs(line: ProductLine, witness: Witness) -> tuple:
         if (element.feature is not None and element.feature.name in selected)
         == element.activeIfSelected
     )
-    return _template(line.tsm, touched), fingerprint(line.fm, target), elements
+    template, named = _template(line.tsm, touched)
+    return (template, fingerprint(line.fm, target), elements), named
 
 
-def _template(system: tsm_types.System, touched: set[int]) -> tuple:
+def _elements(system: tsm_types.System) -> set[int]:
+    """The ids of the template's declarations (of the System, without the editor's)."""
+    built = built_template(system)
+    return {id(e) for e in built.elements.values()} if built else {id(system)}
+
+
+def _template(system: tsm_types.System, touched: set[int]) -> tuple[tuple, list[Any]]:
     """The template as a resolution reads it: each declaration (the very element, which
     the editor's next build takes over when an edit leaves it alone), but a container a
     product drops whole: one of optional nodes and stores only, which no other
     declaration and no active element refers into (it is pruned before anything looks
     at the product's architecture, ``tests/resolver/test_dropped_containers.py``).
-    Without the editor's declarations, the System itself."""
+    Without the editor's declarations, the System itself. With the elements named."""
     built = built_template(system)
     if built is None:
-        return (id(system),)
+        return (id(system),), [system]
     items = built.declarations.items
     referred = set().union(*(d.refers_to for d in items.values()))
-    return built.declarations.own, tuple(
-        (key, id(element))
-        for key, element in ((k, built.elements[k]) for k in items)
-        if not (items[key].droppable and key not in referred and id(element) not in touched)
-    )
+    read = [
+        (key, built.elements[key])
+        for key, d in items.items()
+        if not (d.droppable and key not in referred and id(built.elements[key]) not in touched)
+    ]
+    return (built.declarations.own, tuple((k, id(e)) for k, e in read)), [e for _, e in read]
 
 
 def _named(value: Any) -> tuple:

@@ -5,10 +5,12 @@ a .tsm that does not build (docs/editors.md)."""
 
 from __future__ import annotations
 
+import gc
 import os
 import random
 import re
 import shutil
+import weakref
 from pathlib import Path
 
 import pytest
@@ -269,3 +271,25 @@ def test_random_edits_of_a_line_are_answered_as_a_full_check_answers_them(
         # a valid edit often stays (the next builds on it), one that breaks a model not
         if rng.random() < 0.6 and not any(d.severity == "error" and not d.code for d in found):
             texts = current
+
+
+def test_the_editor_lets_go_of_a_template_it_will_not_build_on_again(tmp_path) -> None:
+    """After an edit that moves every declaration (each is built afresh), nothing the
+    editor keeps (the last models, the .rm model, the witness resolutions, also those of
+    witnesses no longer asked about) holds the template before: a long session does not
+    pile up templates."""
+    folder = tmp_path / "warehouse"
+    shutil.copytree(ROOT / "tests" / "models" / "line_checks" / "warehouse", folder)
+    path = str(folder / "warehouse.tsm")
+    original = Path(path).read_text(encoding="utf-8")
+    inputs = {os.path.join(folder, name) for name in os.listdir(folder)}
+    checks, trees = checking.LineChecks(), Trees()
+    found, _ = checks.check(str(folder), {path: original + SPARE}, trees, inputs)
+    assert any(d.code == "SPL045" for d in found)  # witness products were resolved
+    before = weakref.ref(tsm._BUILT[path][1])
+    # every declaration moved, and no input left unfed: no witness is asked again
+    fed = re.sub(r"\n.*(subscribes scan|calls classify).*", "", original)
+    found, _ = checks.check(str(folder), {path: "// moved\n" + fed + SPARE}, trees, inputs)
+    assert not any(d.code in ("SPL045", "SPL046") for d in found)
+    gc.collect()
+    assert before() is None
