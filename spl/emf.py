@@ -333,21 +333,26 @@ def element_at(root: EObject, path: tuple[Step, ...]) -> EObject:
 
 
 def references(root: EObject) -> Iterator[tuple[EObject, EStructuralFeature, EObject]]:
-    """Every reference of the tree under ``root`` that is no containment: (the element
+    """Every reference of the tree under ``root`` that pyecore records on its target
+    (no containment, no derived reference, none with an opposite): (the element
     referring, the reference, the element referred to)."""
     stack = [root]
     while stack:
         element = stack.pop()
-        for feature in _features(element):
-            if isinstance(feature, EAttribute) or feature.derived:
+        values, plain_references = _plan(element)
+        for name, many, containment, _, _ in values:
+            if containment:
+                value = getattr(element, name)
+                if many:
+                    stack.extend(value)
+                elif value is not None:
+                    stack.append(value)
+        for name, many, feature in plain_references:
+            if feature is None:  # derived, or with an opposite
                 continue
-            value = element.eGet(feature)
-            values = (value if feature.many else [value]) if value is not None else []
-            if feature.containment:
-                stack.extend(values)
-            else:
-                for target in values:
-                    yield element, feature, target
+            value = getattr(element, name)
+            for target in value if many else [value] if value is not None else []:
+                yield element, feature, target
 
 
 def forget_references(root: EObject) -> None:
@@ -357,7 +362,7 @@ def forget_references(root: EObject) -> None:
     last use, one more with every edit."""
     for element, feature, target in references(root):
         inverse = getattr(target, "_inverse_rels", None)
-        if inverse is not None and not feature.eOpposite:
+        if inverse is not None:
             inverse.discard((element, feature))
 
 
