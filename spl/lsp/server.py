@@ -31,7 +31,7 @@ from spl.diagnostics import Diagnostic
 from spl.dsl.tsm_incremental import Trees
 from spl.lsp import checking
 from spl.lsp.positions import LineIndex
-from spl.lsp.project import Project, header_paths
+from spl.lsp.project import Project
 from spl.lsp.symbols import Decl
 
 DEBOUNCE_SECONDS = 0.15  # quiet time after a change before the check starts
@@ -165,7 +165,7 @@ class SplLanguageServer(LanguageServer):
                 found = {p for p in list(self.project.documents) if os.path.dirname(p) == where}
             rms = [p for p in found if p.endswith(".rm")]
         for rm in rms:
-            found |= set(header_paths(rm, self.project.tokens(rm)).values())
+            found |= set(self.project.header(rm).values())
         return found
 
     def units_reading(self, changed: set[str]) -> list[Unit]:
@@ -245,7 +245,7 @@ class SplLanguageServer(LanguageServer):
         found += [p for p in texts if p.endswith(".xml") and checking.is_featureide(texts[p])]
         for path in texts:
             if path.endswith(".rm"):
-                found += header_paths(path, self.project.tokens(path)).values()
+                found += self.project.header(path).values()
         return [p for p in dict.fromkeys(found) if os.path.isfile(p) or p in texts]
 
     def publish(self, unit: Unit, found: dict[str, tuple[Diagnostic, ...]]) -> None:
