@@ -9,11 +9,12 @@ feature the witness leaves out, a parameter of such an element.
 A resolution reads the template, the feature model, and the resolution elements the
 product activates, in file order (:mod:`spl.resolver.engine`); nothing else. So a
 remembered resolution is reused when the template holds the very declarations it was
-resolved from (the editor builds a .tsm text once, ``spl.dsl.tsm.reusing_models``, an
-edit of it builds again only the declarations it changed, and no check changes a
-template), but for containers the product drops whole, and the feature model and the
-active elements are equal in content, their source locations included, since messages
-cite them (:func:`spl.emf.fingerprint`). Only a resolution that succeeded without
+resolved from (the editor builds a .tsm text once,
+``spl.dsl.model_reuse.reusing_models``, an edit of it builds again only the
+declarations it changed, and no check changes a template), but for containers the
+product drops whole, and the feature model and the active elements are equal in
+content, their source locations included, since messages cite them
+(:func:`spl.emf.fingerprint`). Only a resolution that succeeded without
 completing the selection is remembered: a completed one activates elements of features
 the witness does not name, and a failed one says nothing of which elements it read.
 """

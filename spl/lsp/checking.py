@@ -137,11 +137,13 @@ class LineChecks:
     loaded, each .tsm is checked with the plain, incremental build (what ``spl check
     FILE.tsm`` runs): when it refuses the text, loading the line meets the same problems
     without building the model again (:func:`spl.dsl.tsm.parse_text`), and the answer is
-    that of ``spl check FOLDER``, only sooner. A text that builds is checked in full;
-    the line's pyecore model is copied from the plain model just checked, a .tsm the
-    edit left alone is not built again (:func:`spl.dsl.tsm.reusing_models`), and a
-    witness product whose resolution reads nothing the edit changed is not resolved
-    again (:mod:`spl.resolver.line_checks.witnesses`)."""
+    that of ``spl check FOLDER``, only sooner. A text that builds is checked in full,
+    from what the last check built (:func:`spl.dsl.model_reuse.reusing_models`): the
+    line's pyecore model is built from the plain model just checked, taking over the
+    declarations the edit left alone, a file the edit left alone is not built again, nor
+    a .rm whose names still mean the same, and a witness product whose resolution reads
+    nothing the edit changed is not resolved again
+    (:mod:`spl.resolver.line_checks.witnesses`)."""
 
     KEPT = 4  # input sets kept per folder
 
@@ -158,7 +160,7 @@ class LineChecks:
         for known, found in kept:
             if known == key:
                 return found, []
-        from spl.dsl.tsm import reusing_models
+        from spl.dsl.model_reuse import reusing_models
         from spl.resolver.line_checks.witnesses import WitnessResolutions, remembering
 
         witnesses = self._witnesses.setdefault(folder, WitnessResolutions())

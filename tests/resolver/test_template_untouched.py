@@ -1,9 +1,10 @@
 """Loading and checking a product line leave its template model as parsed.
 
 The language server relies on this: it keeps the System a .tsm text built and checks
-the line again with it after an edit of the .rm or .fm (``spl.dsl.tsm.reusing_models``),
-which is only right when nothing on the way (the .rm builder, the line checks, the
-resolutions of their witness products and of the listed products) changes the model.
+the line again with it after an edit of the .rm or .fm
+(``spl.dsl.model_reuse.reusing_models``), which is only right when nothing on the way
+(the .rm builder, the line checks, the resolutions of their witness products and of the
+listed products) changes the model.
 """
 
 from __future__ import annotations
