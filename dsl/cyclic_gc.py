@@ -10,7 +10,7 @@ is the one choice :func:`without_cyclic_gc` asks for.
 from __future__ import annotations
 
 import gc
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from typing import Literal
 
@@ -18,7 +18,9 @@ Afterwards = Literal["kept", "dropped", "left"]
 
 
 @contextmanager
-def without_cyclic_gc(afterwards: Afterwards = "kept") -> Iterator[None]:
+def without_cyclic_gc(
+    afterwards: Afterwards = "kept", first: Callable[[], None] | None = None
+) -> Iterator[None]:
     """Cyclic garbage collection paused for the block, then resumed with what the block
     allocated treated as ``afterwards`` says:
 
@@ -31,6 +33,9 @@ def without_cyclic_gc(afterwards: Afterwards = "kept") -> Iterator[None]:
       generation scans each of them once, as garbage, instead of two or three times
       while still in use, and moves on what stays (the result, the caches).
     - ``"left"``: the collector takes them up as usual (the resolution's cycles).
+
+    ``first``, when given, runs after the block with collection still paused: what must
+    not wait for a collection (the editor sending a check's findings).
     """
     collecting = gc.isenabled()
     gc.disable()
@@ -38,6 +43,8 @@ def without_cyclic_gc(afterwards: Afterwards = "kept") -> Iterator[None]:
         yield
     finally:
         if collecting:
+            if first is not None:
+                first()
             if afterwards == "kept" and gc.get_freeze_count() == 0:
                 gc.freeze()
                 gc.unfreeze()

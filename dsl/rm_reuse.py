@@ -22,7 +22,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from spl.dsl.tsm import built_template
-from spl.dsl.tsm_declarations import BuiltTemplate, Key
+from spl.dsl.tsm_declarations import BuiltTemplate, Key, declaration_of
 from spl.emf import forget_references, references
 from spl.metamodels import tsm as tsm_metamodel
 
@@ -98,8 +98,7 @@ def remember(
     for _, _, target in references(model):
         if target.eClass.ePackage is not package:
             continue
-        while (owner := target.eContainer()) is not None and owner.eContainer() is not None:
-            target = owner
-        refers_to[declarations[id(target)]] = target
+        declaration = declaration_of(target)
+        refers_to[declarations[id(declaration)]] = declaration
     words = frozenset(WORD.findall(text))
     _KEPT[filename] = KeptModel(text, tree, where, template, feature_model, model, refers_to, words)

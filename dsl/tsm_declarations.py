@@ -89,6 +89,13 @@ def _read(
     return key, root, content, targets, names
 
 
+def declaration_of(element: Any) -> Any:
+    """The top-level declaration ``element`` is in (itself, for a declaration)."""
+    while (owner := element.eContainer()) is not None and owner.eContainer() is not None:
+        element = owner
+    return element
+
+
 @dataclass(frozen=True)
 class BuiltTemplate:
     """A template's pyecore model, with the declarations of the plain model it was built

@@ -29,6 +29,7 @@ from typing import TYPE_CHECKING, Any
 
 from spl.diagnostics import Diagnostic, ModelError
 from spl.dsl.tsm import built_template
+from spl.dsl.tsm_declarations import declaration_of
 from spl.emf import fingerprint
 from spl.metamodels import tsm
 from spl.resolver.product_line import ProductLine
@@ -117,10 +118,7 @@ def _inputs(line: ProductLine, witness: Witness) -> tuple[tuple, list[Any]]:
     def target(value: Any) -> object:
         if value.eClass.ePackage is not package:
             return _named(value)
-        declaration = value
-        while (owner := declaration.eContainer()) is not None and owner.eContainer() is not None:
-            declaration = owner
-        touched.add(id(declaration))
+        touched.add(id(declaration_of(value)))
         return id(value)
 
     elements = tuple(

@@ -13,13 +13,13 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
-import gc
 import logging
 import os
 import threading
 import traceback
-from collections.abc import Iterable, Iterator
+from collections.abc import Iterable
 from concurrent.futures import ThreadPoolExecutor
+from contextlib import AbstractContextManager
 from typing import Any
 
 from lsprotocol import types
@@ -28,6 +28,7 @@ from pygls.uris import from_fs_path, to_fs_path
 
 from spl import __version__
 from spl.diagnostics import Diagnostic
+from spl.dsl.cyclic_gc import without_cyclic_gc
 from spl.dsl.tsm_incremental import Trees
 from spl.lsp import checking
 from spl.lsp.positions import LineIndex
@@ -56,24 +57,20 @@ def uri_of(path: str) -> str:
     return from_fs_path(path) or path
 
 
-@contextlib.contextmanager
-def collected_once_sent(loop: asyncio.AbstractEventLoop) -> Iterator[None]:
+def collected_once_sent(loop: asyncio.AbstractEventLoop) -> AbstractContextManager[None]:
     """Cyclic garbage collection paused while a check runs, and run once what it
     published is sent. A check's models are garbage when it ends (a 10,000-node line's
     are a million objects), and collecting them took a quarter of a second before the
     editor saw the findings; after, it overlaps the user's next keystrokes."""
-    collecting = gc.isenabled()
-    gc.disable()
-    try:
-        yield
-    finally:
-        if collecting:
-            sent = threading.Event()
-            with contextlib.suppress(RuntimeError):  # the loop is closed: nothing to wait for
-                loop.call_soon_threadsafe(sent.set)  # after the publications queued before
-                sent.wait(SENT_SECONDS)
-            gc.enable()
-            gc.collect(0)  # all the check made is in the youngest generation: one pass
+
+    def sent() -> None:
+        done = threading.Event()
+        with contextlib.suppress(RuntimeError):  # the loop is closed: nothing to wait for
+            loop.call_soon_threadsafe(done.set)  # after the publications queued before
+            done.wait(SENT_SECONDS)
+
+    # all the check made is in the youngest generation: one pass over it
+    return without_cyclic_gc("dropped", first=sent)
 
 
 class SplLanguageServer(LanguageServer):

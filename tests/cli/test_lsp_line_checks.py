@@ -22,6 +22,7 @@ from spl.lsp import checking
 from support.typing_edits import model_edit
 
 ROOT = Path(__file__).resolve().parents[2]
+WAREHOUSE = ROOT / "tests" / "models" / "line_checks" / "warehouse"
 EDITS = 80  # edits per line in the random chains
 EXTRA = """
 cloud container Extra {
@@ -30,6 +31,13 @@ cloud container Extra {
     }
 }
 """
+
+
+def copied(line: Path, tmp_path: Path) -> tuple[Path, set[str]]:
+    """A copy of the product line ``line`` to edit, and the files its check reads."""
+    folder = tmp_path / line.name
+    shutil.copytree(line, folder)
+    return folder, {os.path.join(folder, name) for name in os.listdir(folder)}
 
 
 def full_check(folder: Path, texts: dict[str, str]) -> tuple:
@@ -116,11 +124,9 @@ def test_witness_products_are_resolved_again_only_when_what_they_read_changed(
     activates stay as they were, and answers as a full check does either way."""
     from spl.resolver import engine
 
-    folder = tmp_path / "warehouse"
-    shutil.copytree(ROOT / "tests" / "models" / "line_checks" / "warehouse", folder)
+    folder, inputs = copied(WAREHOUSE, tmp_path)
     rm, fm = str(folder / "warehouse.rm"), str(folder / "warehouse.fm")
     original = {rm: Path(rm).read_text(encoding="utf-8"), fm: Path(fm).read_text(encoding="utf-8")}
-    inputs = {os.path.join(folder, name) for name in os.listdir(folder)}
     checks, trees = checking.LineChecks(), Trees()
     resolved: list[str] = []
     real = engine.resolve
@@ -189,11 +195,9 @@ def test_a_tsm_edit_builds_again_only_what_it_touched(tmp_path, monkeypatch) -> 
     from spl.dsl import rm
     from spl.resolver import engine
 
-    folder = tmp_path / "warehouse"
-    shutil.copytree(ROOT / "tests" / "models" / "line_checks" / "warehouse", folder)
+    folder, inputs = copied(WAREHOUSE, tmp_path)
     path = str(folder / "warehouse.tsm")
     original = Path(path).read_text(encoding="utf-8")
-    inputs = {os.path.join(folder, name) for name in os.listdir(folder)}
     checks, trees = checking.LineChecks(), Trees()
     counts = {"rm": 0, "resolve": 0}
 
@@ -245,8 +249,7 @@ def test_random_edits_of_a_line_are_answered_as_a_full_check_answers_them(
     """Edits a user makes, and worse, to a line's .tsm and .rm, one after the other (each
     from the models the last one left, as the editor keeps them): every answer is the
     one a full check of the same texts gives."""
-    line = tmp_path / folder.name
-    shutil.copytree(folder, line)
+    line, inputs = copied(folder, tmp_path)
     rm = str(next(line.glob("*.rm")))
     tsm_path = str(next(line.glob("*.tsm")))
     texts = {p: Path(p).read_text(encoding="utf-8") for p in (rm, tsm_path)}
@@ -254,7 +257,6 @@ def test_random_edits_of_a_line_are_answered_as_a_full_check_answers_them(
         "features": re.findall(r"when (\w+)", texts[rm]) or ["Missing"],
         "nodes": [*re.findall(r"node (\w+)", texts[tsm_path]), "Watcher"],  # SPARE's too
     }
-    inputs = {os.path.join(line, name) for name in os.listdir(line)}
     checks, trees = checking.LineChecks(), Trees()
     rng = random.Random(folder.name)
     for _ in range(EDITS):
@@ -278,11 +280,9 @@ def test_the_editor_lets_go_of_a_template_it_will_not_build_on_again(tmp_path) -
     editor keeps (the last models, the .rm model, the witness resolutions, also those of
     witnesses no longer asked about) holds the template before: a long session does not
     pile up templates."""
-    folder = tmp_path / "warehouse"
-    shutil.copytree(ROOT / "tests" / "models" / "line_checks" / "warehouse", folder)
+    folder, inputs = copied(WAREHOUSE, tmp_path)
     path = str(folder / "warehouse.tsm")
     original = Path(path).read_text(encoding="utf-8")
-    inputs = {os.path.join(folder, name) for name in os.listdir(folder)}
     checks, trees = checking.LineChecks(), Trees()
     found, _ = checks.check(str(folder), {path: original + SPARE}, trees, inputs)
     assert any(d.code == "SPL045" for d in found)  # witness products were resolved
