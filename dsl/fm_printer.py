@@ -1,7 +1,7 @@
 """Print an ``fm.FeatureModel`` as .fm text in one canonical form.
 
 Any model the .fm parser or the UVL / FeatureIDE importers build prints to text that
-parses back to the same model (``spl.emf.differences`` is empty), so ``spl convert``
+parses back to the same model (``spl.emf_compare.differences`` is empty), so ``spl convert``
 can turn community models into .fm files people then edit. The canonical form:
 
 - a feature whose only content is one ``xor``/``or``/``group`` group is written with

@@ -303,4 +303,5 @@ def normalize_endpoints(system: Any) -> None:
 def built_template(system: Any) -> tsm_declarations.BuiltTemplate | None:
     """The declarations of a template built inside :func:`reusing_models` and still the
     last of its file; None for any other."""
-    return next((b for b in _TEMPLATES.values() if b.system is system), None)
+    found = next((b for b in _TEMPLATES.values() if b.system is system), None)
+    return found if found is not None and found.declarations.unique else None

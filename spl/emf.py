@@ -34,7 +34,7 @@ def remove_all(collection: Any, values: list[EObject]) -> None:
     collection.extend(kept)
 
 
-def _features(obj: EObject) -> tuple:
+def all_features(obj: EObject) -> tuple:
     """All structural features of the object's class, computed once per class
     (pyecore rebuilds the ordered set on every call, which dominated copying)."""
     eclass = obj.eClass
@@ -52,7 +52,7 @@ def _plan(obj: EObject) -> tuple[tuple, tuple]:
     plan = _PLANS.get(id(eclass))
     if plan is None:
         values, references = [], []
-        for feature in _features(obj):
+        for feature in all_features(obj):
             if isinstance(feature, EAttribute):
                 default = None if feature.many else feature.get_default_value()
                 values.append((feature.name, feature.many, False, default, _direct(feature)))
@@ -239,48 +239,6 @@ def _set_reference(
         inverse.add((obj, reference))
 
 
-def _path(obj: EObject | None) -> str:
-    parts = []
-    while obj is not None:
-        name = getattr(obj, "name", None)
-        parts.append(name if name else obj.eClass.name)
-        obj = obj.eContainer()
-    return ".".join(reversed(parts))
-
-
-def differences(a: EObject, b: EObject, where: str = "") -> Iterator[str]:
-    """Human-readable differences between two models (empty when they are equal).
-
-    Containment is compared in order; plain references are compared by the path of
-    their target, so two separately parsed models can be compared.
-    """
-    where = where or a.eClass.name
-    if a.eClass is not b.eClass:
-        yield f"{where}: {a.eClass.name} != {b.eClass.name}"
-        return
-    for feature in _features(a):
-        if isinstance(feature, EAttribute) and feature.transient:
-            continue
-        va, vb = a.eGet(feature), b.eGet(feature)
-        here = f"{where}.{feature.name}"
-        if isinstance(feature, EAttribute):
-            if (list(va) if feature.many else va) != (list(vb) if feature.many else vb):
-                yield f"{here}: {va!r} != {vb!r}"
-        elif feature.containment:
-            la = list(va) if feature.many else [v for v in (va,) if v is not None]
-            lb = list(vb) if feature.many else [v for v in (vb,) if v is not None]
-            if len(la) != len(lb):
-                yield f"{here}: {len(la)} elements != {len(lb)}"
-                continue
-            for i, (ca, cb) in enumerate(zip(la, lb, strict=True)):
-                yield from differences(ca, cb, f"{here}[{i}]")
-        else:
-            pa = [_path(v) for v in va] if feature.many else _path(va)
-            pb = [_path(v) for v in vb] if feature.many else _path(vb)
-            if pa != pb:
-                yield f"{here}: -> {pa} != -> {pb}"
-
-
 Step = tuple[str, int]  # a containment feature, and the position in it (-1: single-valued)
 
 
@@ -288,6 +246,8 @@ def fingerprint(
     root: EObject,
     target: Callable[[EObject], object],
     visit: Callable[[EObject, tuple[Step, ...]], None] | None = None,
+    base: int = 0,
+    leave_out: tuple[tuple[str, ...], ...] = (),
 ) -> tuple:
     """The content of the containment tree under ``root``, as nested tuples: the class
     and values of each element, source locations included, its children, and what
@@ -295,9 +255,12 @@ def fingerprint(
     identity, a name, a path). Equal for two trees that hold the same values at the same
     places and refer to the same things, for memos keyed on a model's content (the
     editor's witness resolutions, the template's declarations); cheaper than building
-    anything from the model, and exact where :func:`differences` is lenient (locations).
+    anything from the model, and exact where :func:`spl.emf_compare.differences` is
+    lenient (locations).
     ``visit`` is told each element with its path of steps from ``root``. Reads plain
-    elements (``spl.dsl.tsm_plain``) as it reads pyecore objects."""
+    elements (``spl.dsl.tsm_plain``) as it reads pyecore objects. Lines print less
+    ``base`` (a declaration moved whole prints the same), and the containments whose
+    trail of feature names from ``root`` is in ``leave_out`` are left out."""
 
     def walk(obj: EObject, path: tuple[Step, ...]) -> tuple:
         if visit is not None:
@@ -307,7 +270,11 @@ def fingerprint(
         for name, many, containment, _, _ in values:
             value = getattr(obj, name)
             if not containment:
+                if name == "srcLine" and value is not None:
+                    value -= base
                 found.append(tuple(value) if many else value)
+            elif leave_out and (*(f for f, _ in path), name) in leave_out:
+                continue
             elif many:
                 found.append(tuple(walk(c, (*path, (name, i))) for i, c in enumerate(value)))
             else:
@@ -377,3 +344,44 @@ def adopt(owner: EObject, name: str, children: list[EObject]) -> None:
         if before is not None:
             child._inverse_rels.discard((before, child._containment_feature))
     _extend(owner, feature, name, children, True)
+
+
+def move_lines(root: EObject, delta: int, leave_out: tuple[tuple[str, ...], ...] = ()) -> None:
+    """Every source line in the tree under ``root`` moved by ``delta`` (but in the
+    containments left out as :func:`fingerprint` leaves them out), in place: the editor
+    takes over a declaration whose text only moved (:mod:`spl.dsl.tsm_declarations`). A
+    line never set stays unset. Set in pyecore's slot, without notification: nobody
+    listens to the editor's template."""
+    stack: list[tuple[EObject, tuple[str, ...]]] = [(root, ())]
+    while stack:
+        element, trail = stack.pop()
+        slot = element.__dict__.get("srcLine")
+        if type(slot) is EValue and slot._value:
+            slot._value += delta
+        values, _ = _plan(element)
+        for name, many, containment, _, _ in values:
+            if not containment or (leave_out and (*trail, name) in leave_out):
+                continue
+            value = getattr(element, name)
+            below = (*trail, name) if leave_out else ()
+            if many:
+                stack.extend((child, below) for child in value)
+            elif value is not None:
+                stack.append((value, below))
+
+
+def replace_members(owner: EObject, name: str, members: list[EObject]) -> None:
+    """``owner``'s containment ``name`` made ``members``, in order, elements of this or
+    another model (:func:`adopt`); those it held before and does not hold now must not be
+    used again."""
+    collection = getattr(owner, name)
+    if list(collection) == members:
+        return
+    kind = type(collection)
+    if kind is EOrderedSet or kind is ESet:
+        OrderedSet.clear(collection)
+    elif kind is EList or kind is EBag:
+        list.clear(collection)
+    else:
+        collection.clear()
+    adopt(owner, name, members)

@@ -4,42 +4,52 @@ of a line to the next (the editor's, after every change: :func:`remembering`).
 Why: the dataflow check confirms each unfed input by resolving a witness product
 (:mod:`.dataflow`), and on a 10,000-node line that one resolution is half a second of
 every check, while most edits change nothing it reads: a new resolution element for a
-feature the witness leaves out, a parameter of such an element.
+feature the witness leaves out, a node no product keeps, lines added above the rest.
 
 A resolution reads the template, the feature model, and the resolution elements the
 product activates, in file order (:mod:`spl.resolver.engine`); nothing else. So a
-remembered resolution is reused when the template holds the very declarations it was
-resolved from (the editor builds a .tsm text once,
-``spl.dsl.model_reuse.reusing_models``, an edit of it builds again only the
-declarations it changed, and no check changes a template), but for containers the
-product drops whole, and the feature model and the active elements are equal in
-content, their source locations included, since messages cite them
-(:func:`spl.emf.fingerprint`). Only a resolution that succeeded without
-completing the selection is remembered: a completed one activates elements of features
-the witness does not name, and a failed one says nothing of which elements it read.
+remembered resolution is reused when those are equal in content: the template's
+declarations by their prints (:mod:`spl.dsl.tsm_declarations`, the editor's build of
+the .tsm has them), but for those a product drops before anything looks at its
+architecture (an optional node or store, or a container of them only, that nothing
+else refers into and no active element names: ``tests/resolver/test_dropped_containers.py``),
+and the feature model and the active elements with their source locations, since
+messages cite them (:func:`spl.emf.fingerprint`). A declaration's print counts its lines
+from its first, so a remembered resolution also serves a template whose declarations
+moved: its warnings move with the declaration each is in, and one in none of them, or
+one whose message cites the template, moves nowhere and the product is resolved again.
+Only a resolution that succeeded without completing the selection is remembered: a
+completed one activates elements of features the witness does not name, and a failed
+one says nothing of which elements it read.
 """
 
 from __future__ import annotations
 
-import weakref
+import bisect
+import dataclasses
 from collections.abc import Iterator
 from contextlib import contextmanager
 from contextvars import ContextVar
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 from spl.diagnostics import Diagnostic, ModelError
 from spl.dsl.tsm import built_template
-from spl.dsl.tsm_declarations import declaration_of
+from spl.dsl.tsm_declarations import Declarations, Key, path_of
 from spl.emf import fingerprint
 from spl.metamodels import tsm
 from spl.resolver.product_line import ProductLine
 from spl.resolver.product_selection import selection_from_list
 
-if TYPE_CHECKING:
-    from spl.metamodels import tsm_types
-
 Witness = tuple[str, ...]
 Warnings = tuple[Diagnostic, ...]
+Lines = dict[Key, tuple[int, int]]  # the first and last line of each declaration read
+
+
+@dataclasses.dataclass(frozen=True)
+class _Remembered:
+    key: tuple
+    lines: Lines
+    warnings: Warnings
 
 
 class WitnessResolutions:
@@ -48,27 +58,24 @@ class WitnessResolutions:
     KEPT = 16  # witnesses remembered
 
     def __init__(self) -> None:
-        # with each, weak references to the template's elements its key names by their
-        # ids: an id is only compared while its element lives, and no template is held
-        self._kept: dict[Witness, tuple[tuple, list[weakref.ref], Warnings]] = {}
+        self._kept: dict[Witness, _Remembered] = {}
 
     def warnings(self, line: ProductLine, witness: Witness) -> Warnings:
         """The warnings of the product ``witness``, resolved again only when what its
         resolution reads changed."""
-        key, named = _inputs(line, witness)
-        # an entry naming an element that is gone, or that the editor no longer builds
-        # on (a declaration built afresh is a new element), can never be used again
-        current = _elements(line.tsm)
-        for known, (_, held, _) in list(self._kept.items()):
-            if any((e := r()) is None or id(e) not in current for r in held):
-                del self._kept[known]
+        built = built_template(line.tsm)
+        if built is None:  # not the editor's template: no declarations to compare
+            return _resolved(line, witness)[0]
+        key, lines = _inputs(line, built.declarations, witness)
         kept = self._kept.get(witness)
-        if kept is not None and kept[0] == key:
-            return kept[2]
+        if kept is not None and kept.key == key:
+            moved = _moved(kept, lines, line.tsm.srcFile)
+            if moved is not None:
+                return moved
         found, complete = _resolved(line, witness)
         self._kept.pop(witness, None)
         if complete:
-            self._kept[witness] = (key, [weakref.ref(e) for e in named], found)
+            self._kept[witness] = _Remembered(key, lines, found)
             while len(self._kept) > self.KEPT:
                 del self._kept[next(iter(self._kept))]
         return found
@@ -107,19 +114,20 @@ def _resolved(line: ProductLine, witness: Witness) -> tuple[Warnings, bool]:
     return resolution.product.warnings, not resolution.completion.added
 
 
-def _inputs(line: ProductLine, witness: Witness) -> tuple[tuple, list[Any]]:
-    """What the resolution of ``witness`` reads: the template but the containers it drops
-    whole, the feature model, and the elements it activates, in file order; and the
-    template's elements that names by their ids."""
+def _inputs(line: ProductLine, found: Declarations, witness: Witness) -> tuple[tuple, Lines]:
+    """What the resolution of ``witness`` reads: the template's declarations but those it
+    drops, the feature model, and the elements it activates, in file order; and the
+    lines of the declarations read."""
     selected = set(witness)
     package = tsm().package
-    touched: set[int] = set()  # the template's declarations the active elements refer into
+    touched: set[Key] = set()  # the template's declarations the active elements refer into
 
     def target(value: Any) -> object:
         if value.eClass.ePackage is not package:
             return _named(value)
-        touched.add(id(declaration_of(value)))
-        return id(value)
+        path = path_of(value)
+        touched.add(path[0])
+        return path
 
     elements = tuple(
         fingerprint(element, target)
@@ -127,34 +135,69 @@ def _inputs(line: ProductLine, witness: Witness) -> tuple[tuple, list[Any]]:
         if (element.feature is not None and element.feature.name in selected)
         == element.activeIfSelected
     )
-    template, named = _template(line.tsm, touched)
-    return (template, fingerprint(line.fm, target), elements), named
+    read = _read(found, touched)
+    name, file, first, column = found.own  # the System's line moves as the rest does
+    template = ((name, file, column), tuple((k, found.items[k].print) for k in read))
+    lines = {k: found.items[k].lines for k in read}
+    lines[()] = (first, first)
+    return (template, fingerprint(line.fm, target), elements), lines
 
 
-def _elements(system: tsm_types.System) -> set[int]:
-    """The ids of the template's declarations (of the System, without the editor's)."""
-    built = built_template(system)
-    return {id(e) for e in built.elements.values()} if built else {id(system)}
+def _read(found: Declarations, touched: set[Key]) -> list[Key]:
+    """The declarations a resolution reads: not an optional node or store, nor a
+    container of only those, that no other declaration (outside the container) and no
+    active element refers into: a product prunes them before anything looks at its
+    architecture."""
+    items = found.items
+    referred: set[Key] = set()  # declarations referred into from another declaration
+    referred_containers: set[Key] = set()  # ... from outside the container
+    for key, declaration in items.items():
+        for target in declaration.refers_to:
+            referred.add(target)
+            if target[:2] != key[:2]:
+                referred_containers.add(target[:2])
+    kept = referred | touched
+    kept_containers = referred_containers | {k[:2] for k in touched}
+
+    def dropped(key: Key) -> bool:
+        if key[0] == "containers" and items[key[:2]].droppable and key[:2] not in kept_containers:
+            return True
+        return len(key) == 4 and items[key].droppable and key not in kept
+
+    return [k for k in items if not dropped(k)]
 
 
-def _template(system: tsm_types.System, touched: set[int]) -> tuple[tuple, list[Any]]:
-    """The template as a resolution reads it: each declaration (the very element, which
-    the editor's next build takes over when an edit leaves it alone), but a container a
-    product drops whole: one of optional nodes and stores only, which no other
-    declaration and no active element refers into (it is pruned before anything looks
-    at the product's architecture, ``tests/resolver/test_dropped_containers.py``).
-    Without the editor's declarations, the System itself. With the elements named."""
-    built = built_template(system)
-    if built is None:
-        return (id(system),), [system]
-    items = built.declarations.items
-    referred = set().union(*(d.refers_to for d in items.values()))
-    read = [
-        (key, built.elements[key])
-        for key, d in items.items()
-        if not (d.droppable and key not in referred and id(built.elements[key]) not in touched)
-    ]
-    return (built.declarations.own, tuple((k, id(e)) for k, e in read)), [e for _, e in read]
+def _moved(kept: _Remembered, lines: Lines, file: str) -> Warnings | None:
+    """``kept``'s warnings in a template whose declarations read are where ``lines``
+    says (the same in content, so each moved whole): each warning located in the
+    template moved with the declaration it is in; None when one is in none of them, or
+    one's message cites a place in the template that moved."""
+    if kept.lines == lines:
+        return kept.warnings
+    spans = sorted((first, last, lines[k][0] - first) for k, (first, last) in kept.lines.items())
+    regions: list[list[int]] = []  # [first, last, moved by] of overlapping declarations
+    for first, last, moved in spans:
+        if regions and first <= regions[-1][1]:
+            if moved != regions[-1][2]:
+                return None
+            regions[-1][1] = max(regions[-1][1], last)
+        else:
+            regions.append([first, last, moved])
+    starts = [r[0] for r in regions]
+    found = []
+    for warning in kept.warnings:
+        where = warning.location
+        if file in warning.message:
+            return None
+        if where is None or where.file != file:
+            found.append(warning)
+            continue
+        at = bisect.bisect_right(starts, where.line) - 1
+        if at < 0 or where.line > regions[at][1]:
+            return None
+        moved_to = dataclasses.replace(where, line=where.line + regions[at][2])
+        found.append(dataclasses.replace(warning, location=moved_to))
+    return tuple(found)
 
 
 def _named(value: Any) -> tuple:

@@ -186,11 +186,15 @@ cloud container Spare {
 """
 
 
+DROPPED = "    optional node Dropped {\n        implementation spare/dropped\n    }\n"
+
+
 def test_a_tsm_edit_builds_again_only_what_it_touched(tmp_path, monkeypatch) -> None:
     """After an edit of the .tsm, the line's .rm model is built again only when the edit
     touched a declaration it refers into or declares a name it mentions, and a witness
-    product is resolved again only when the edit touched a container it keeps; every
-    answer is a full check's. What each model refers to is forgotten when the next is
+    product is resolved again only when the edit touched a declaration it keeps (lines
+    that only moved are not touched: the warnings move with them); every answer is a
+    full check's. What each model refers to is forgotten when the next is
     built: the template holds no more references after many edits than after one."""
     from spl.dsl import rm
     from spl.resolver import engine
@@ -230,9 +234,14 @@ def test_a_tsm_edit_builds_again_only_what_it_touched(tmp_path, monkeypatch) -> 
     # its node now named as a node the .rm requires: the name is ambiguous there
     codes, built, _ = check(original + SPARE.replace("Watcher", "Lidar"))
     assert built and not codes
-    # a value of a node both witnesses keep: the .rm refers into its container
+    # a value of a node both witnesses keep, which the .rm refers to
     value = original.replace("amcl/amcl", "amcl/amcl_fast")
     assert check(value) == (["SPL045", "SPL046"], 1, 2)
+    # lines above every declaration: all of them, and the warnings, only move
+    assert check("// moved\n//\n" + value) == (["SPL045", "SPL046"], 0, 0)
+    # an optional node nothing keeps, inside a container both witnesses keep
+    inside = value.replace("    optional node Lidar {", DROPPED + "    optional node Lidar {")
+    assert check("// moved\n//\n" + inside) == (["SPL045", "SPL046"], 0, 0)
     for edit in range(3):  # new texts: an answer kept from before would build nothing
         check(original.replace("amcl/amcl", f"amcl/amcl_{edit}"))
         check(original + SPARE + f"// {edit}\n")

@@ -10,7 +10,8 @@ import pytest
 from pyecore.notification import EObserver
 
 from spl.dsl.tsm import parse_file
-from spl.emf import copy_with_map, differences
+from spl.emf import copy_with_map
+from spl.emf_compare import differences
 
 MODELS = sorted((Path(__file__).resolve().parents[2] / "product_lines").glob("*/*.tsm"))
 

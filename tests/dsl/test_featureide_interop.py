@@ -12,7 +12,7 @@ from spl.dsl.featureide import parse_featureide, read_featureide
 from spl.dsl.featureide_writer import write_featureide
 from spl.dsl.fm_interchange import original_name
 from spl.dsl.uvl import read_uvl, write_uvl
-from spl.emf import differences
+from spl.emf_compare import differences
 
 from support.fm_semantics import equivalent, products, relations
 from support.real_models import REAL_MODELS

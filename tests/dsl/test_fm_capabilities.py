@@ -12,7 +12,7 @@ from spl.dsl.featureide import parse_featureide
 from spl.dsl.featureide_writer import write_featureide
 from spl.dsl.fm_printer import format_capabilities, print_model
 from spl.dsl.uvl import parse_uvl, write_uvl
-from spl.emf import differences
+from spl.emf_compare import differences
 
 ROOT = Path(__file__).resolve().parents[2]
 MODEL = (

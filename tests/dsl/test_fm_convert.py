@@ -10,7 +10,7 @@ from click.testing import CliRunner
 
 from spl.cli import main
 from spl.dsl.fm_formats import load_feature_model
-from spl.emf import differences
+from spl.emf_compare import differences
 
 from support.fm_semantics import equivalent, relations
 from support.real_models import REAL_MODELS

@@ -10,7 +10,7 @@ from spl.diagnostics import ModelError
 from spl.dsl import fm
 from spl.dsl.fm_formats import load_feature_model, render_feature_model, save_feature_model
 from spl.dsl.fm_interchange import FeatureNames, sanitise
-from spl.emf import differences
+from spl.emf_compare import differences
 
 ROOT = Path(__file__).resolve().parents[2]
 MAPPING = ROOT / "product_lines" / "mapping3d" / "mapping.fm"

@@ -11,7 +11,7 @@ from spl.diagnostics import ModelError
 from spl.dsl import fm
 from spl.dsl.fm_printer import print_model
 from spl.dsl.fm_vocabulary import MAX_FORMULA_DEPTH
-from spl.emf import differences
+from spl.emf_compare import differences
 
 from support.fm_semantics import products
 from support.real_models import REAL_MODELS

@@ -36,8 +36,10 @@ cloud container Extra {
 
 
 def printed(system) -> tuple:
+    """Each declaration's print, and its lines: prints count lines from a declaration's
+    first, so a declaration taken over must also have been moved right."""
     found = declarations(system)
-    return found.own, [(key, d.print) for key, d in found.items.items()]
+    return found.own, [(key, d.print, d.lines) for key, d in found.items.items()]
 
 
 def build_chain(texts: list[str]) -> list[BuiltTemplate]:
@@ -53,7 +55,10 @@ def build_chain(texts: list[str]) -> list[BuiltTemplate]:
         template = build(plain, previous)
         assert printed(template.system) == printed(copy_model(tsm.check_text(text, FILE)))
         for key, element in template.elements.items():
-            assert element.eContainer() is template.system
+            owner = template.system if len(key) == 2 else template.elements[key[:2]]
+            if key[2:3] == ("interfaces",):  # an endpoint's
+                owner = owner.endpoint
+            assert element.eContainer() is owner
             if previous is not None and key not in template.rebuilt:
                 assert element is previous.elements[key]
         # nothing but the template itself refers to its elements: the template before,
@@ -80,19 +85,30 @@ def test_edits_of_generated_lines_build_what_a_full_copy_builds(spec, data) -> N
 
 
 def test_an_edit_takes_over_every_declaration_it_left_alone() -> None:
-    """A container added at the end is the one declaration copied; a value changed in a
-    container copies it and the bridges into it; lines added before every declaration
-    move them all, so all are copied."""
+    """A container added at the end is copied with its members and nothing else; a value
+    changed in a node copies that node; lines added before every declaration only move
+    them; a node added inside a container is the one declaration copied, the container
+    and its other members taken over, in their new order."""
     text = (SHIPPED_LINE / "orchard.tsm").read_text(encoding="utf-8")
-    first, added, changed, moved = build_chain(
+    extra = {("containers", "Extra"), *(("containers", "Extra", f, n) for f, n in WATCHED)}
+    node = "    optional node Inserted {\n        implementation pkg/inserted\n    }\n"
+    inner = text.rindex("\n", 0, text.index("optional node"))
+    first, added, changed, moved, inserted = build_chain(
         [
             text,
             text + EXTRA,
             text + EXTRA.replace("subscribes seen", "subscribes heard"),
             "// a comment\n" + text + EXTRA,
+            "// a comment\n" + text[: inner + 1] + node + text[inner + 1 :] + EXTRA,
         ]
     )
     assert first.rebuilt == set(first.elements)
-    assert added.rebuilt == {("containers", "Extra")}
-    assert changed.rebuilt == {("containers", "Extra")}
-    assert moved.rebuilt == set(moved.elements)
+    assert added.rebuilt == extra
+    assert changed.rebuilt == {("containers", "Extra", "nodes", "Watcher")}
+    assert moved.rebuilt == {("containers", "Extra", "nodes", "Watcher")}  # seen again
+    (key,) = inserted.rebuilt
+    assert key[2:] == ("nodes", "Inserted")
+    assert inserted.elements[key[:2]] is moved.elements[key[:2]]  # its container
+
+
+WATCHED = [("topics", "Seen"), ("nodes", "Watcher")]

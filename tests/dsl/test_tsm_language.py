@@ -13,7 +13,7 @@ from click.testing import CliRunner
 from spl.cli import main
 from spl.dsl import tsm
 from spl.dsl.tsm_printer import expression_text, print_model
-from spl.emf import differences
+from spl.emf_compare import differences
 
 ROOT = Path(__file__).resolve().parents[2]
 MODELS = ROOT / "tests" / "models" / "tsm"

@@ -3,7 +3,7 @@ FILE.tsm`` and the editor run) finds exactly what it finds run over pyecore's ow
 classes: the same diagnostics, in the same order, and for a text without errors the
 same summary, printed model and places. ``parse_text`` builds over plain objects and
 copies the result into pyecore (``spl.emf.copy_model``): its model equals the one
-built through pyecore, feature by feature (``spl.emf.differences``). Checked on every
+built through pyecore, feature by feature (``spl.emf_compare.differences``). Checked on every
 shipped and test model, the mutation corpus of tests/dsl/test_tsm_reader.py and
 generated, mutated lines.
 """
@@ -20,7 +20,7 @@ from test_tsm_reader import SHIPPED, SUBSTITUTES
 from spl.diagnostics import ModelError
 from spl.dsl import tsm, tsm_plain
 from spl.dsl.tsm_printer import print_model
-from spl.emf import differences
+from spl.emf_compare import differences
 from spl.metamodels import tsm as ecore_metamodel
 
 from support import textx_trees

@@ -10,7 +10,7 @@ from spl.diagnostics import ModelError
 from spl.dsl import fm
 from spl.dsl.fm_interchange import ORIGINAL_NAME, original_name
 from spl.dsl.uvl import parse_uvl, read_uvl, write_uvl
-from spl.emf import differences
+from spl.emf_compare import differences
 
 from support.real_models import REAL_MODELS
 

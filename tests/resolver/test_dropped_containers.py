@@ -1,8 +1,9 @@
 """A container a product drops whole changes nothing of the product: one whose nodes and
 stores are all optional, which no other declaration and no resolution element refers
-into, is pruned before anything looks at the architecture. The editor's witness
-resolutions rely on it (``spl.resolver.line_checks.witnesses``): an edit that adds or
-changes only such containers resolves no witness again. Checked on every shipped line
+into, is pruned before anything looks at the architecture; so is such an optional node
+in a container the product keeps. The editor's witness resolutions rely on it
+(``spl.resolver.line_checks.witnesses``): an edit that adds or changes only such
+declarations resolves no witness again. Checked on every shipped line
 and the warehouse test line, product by product, with containers that would make a
 product fail if it kept them (a robot without credentials) and that talk among
 themselves (topics, a service)."""
@@ -76,6 +77,43 @@ def test_a_container_every_product_drops_changes_no_product(folder: Path, tmp_pa
         assert found[key].droppable and key not in referred
     products = sorted(",".join(sorted(p)) for p in line.formula.products())[:PRODUCTS]
     assert products
+    for features in products:
+        before = outcome(line, features)
+        moved = (before[0], tuple(m.replace(str(folder), str(spared)) for m in before[1]))
+        assert outcome(extended, features) == moved, features
+
+
+@pytest.mark.parametrize("folder", LINES, ids=lambda p: p.name)
+def test_an_optional_node_nothing_refers_to_changes_no_product(
+    folder: Path, tmp_path: Path
+) -> None:
+    """In each container with a topic, an optional node publishing and subscribing it,
+    written on the line of the container's closing brace so that no other place moves:
+    kept, it would feed and read the topic."""
+    line = load_product_line(folder)
+    spared = tmp_path / folder.name
+    shutil.copytree(folder, spared)
+    template = spared / Path(line.rm.tsmPath).name
+    lines = template.read_text(encoding="utf-8").split("\n")
+    added = []
+    for container in line.tsm.containers:
+        if not container.topics:
+            continue
+        topic = container.topics[0].name
+        end = next(i for i in range(container.srcLine, len(lines)) if lines[i] == "}")
+        name = f"Dropped{container.name}"
+        lines[end] = (
+            f"    optional node {name} {{ publishes dropped_out -> {topic} "
+            f"subscribes dropped_in <- {topic} }} }}"
+        )
+        added.append(("containers", container.name, "nodes", name))
+    assert added
+    template.write_text("\n".join(lines), encoding="utf-8")
+    extended = load_product_line(spared)
+    found = declarations(tsm.check_file(template)).items  # the rule's premise
+    referred = set().union(*(d.refers_to for d in found.values()))
+    assert all(found[key].droppable and key not in referred for key in added)
+    products = sorted(",".join(sorted(p)) for p in line.formula.products())[:PRODUCTS]
     for features in products:
         before = outcome(line, features)
         moved = (before[0], tuple(m.replace(str(folder), str(spared)) for m in before[1]))

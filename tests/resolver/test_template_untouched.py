@@ -14,7 +14,8 @@ from pathlib import Path
 import pytest
 
 from spl.dsl import tsm
-from spl.emf import copy_model, differences
+from spl.emf import copy_model
+from spl.emf_compare import differences
 from spl.pipeline import check_line, load_line
 
 ROOT = Path(__file__).resolve().parents[2]
