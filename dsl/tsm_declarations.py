@@ -23,8 +23,9 @@ optional node or store.
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, NamedTuple
 
 from spl.emf import (
     Step,
@@ -49,8 +50,7 @@ Key = tuple
 Path = tuple[Key, tuple[Step, ...]]  # the declaration, then the steps down to the element
 
 
-@dataclass(frozen=True)
-class Declaration:
+class Declaration(NamedTuple):  # a tuple: a 10,000-node template has some 15,000
     key: Key
     print: tuple  # values and places (from its first line), children, paths of references
     refers_to: frozenset[Key]  # other declarations it refers into
@@ -58,7 +58,7 @@ class Declaration:
     droppable: bool  # a container all of whose nodes and stores are optional, or an
     # optional node or store
     lines: tuple[int, int]  # the first and last line of its elements
-    element: Any = field(compare=False)  # the declaration's element in the model read
+    element: Any  # the declaration's element in the model read
 
 
 @dataclass(frozen=True)
@@ -70,39 +70,84 @@ class Declarations:
     items: dict[Key, Declaration]
     paths: dict[int, Path]  # id of each element of the model read -> its path
     unique: bool = True  # no two declarations with one key (the checks make sure)
+    # each container's print as a whole, from its first line (given a reading before)
+    wholes: dict[Key, tuple] = field(default_factory=dict)
 
 
-def declarations(system: Any) -> Declarations:
-    """The declarations of ``system`` (a plain or a pyecore System)."""
+def declarations(system: Any, before: Declarations | None = None) -> Declarations:
+    """The declarations of ``system`` (a plain or a pyecore System). Given those of a
+    reading before, a container whose print as a whole is unchanged (it is the same, or
+    only moved) keeps the declarations of its shell and members from then, moved along
+    and holding the elements read now: it is read once, not once whole and once member
+    by member."""
     paths: dict[int, Path] = {}
-    read = []
+    read: list[tuple] = []  # (key, element, content, targets, names, lines) of each
+    wholes: dict[Key, tuple] = {}
+    whole: list[tuple] = []  # (key, element, content, targets) of each container
     for feature in FEATURES:
         for position, root in enumerate(getattr(system, feature)):
             key = (feature, getattr(root, "name", None) or position)
             if feature != "containers":
                 read.append(_read(root, key, paths))
-                continue
-            read.append(_read(root, key, paths, _SHELL))
-            for member_feature in MEMBERS:
-                for member in _members(root, member_feature):
-                    read.append(_read(member, (*key, member_feature, member.name), paths))
-    items: dict[Key, Declaration] = {}
+            elif before is None:
+                read += _read_members(root, key, paths)
+            else:
+                whole.append((key, root, *_read_whole(root, key, paths)))
+    taken: dict[Key, Declaration] = {}
+    earlier = _by_container(before) if before is not None else {}
+    for key, root, content, targets in whole:  # every path is known: print them whole
+        wholes[key] = (content, _printed(targets, paths))
+        if before is None or before.wholes.get(key) != wholes[key]:
+            read += _read_members(root, key, paths)
+            continue
+        moved = (root.srcLine or 0) - before.items[key].lines[0]
+        now = {(f, m.name): m for f in MEMBERS for m in _members(root, f)}
+        for old in earlier[key]:
+            element = root if len(old.key) == 2 else now[old.key[2:]]
+            lines = (old.lines[0] + moved, old.lines[1] + moved)
+            taken[old.key] = old._replace(lines=lines, element=element)
     for key, root, content, targets, names, lines in read:
-        found = [paths.get(t) for t in targets]
-        # a target outside the model (none is) never prints as anything seen before
-        printed = tuple(p or ("outside", t) for p, t in zip(found, targets, strict=True))
-        refers_to = frozenset(p[0] for p in found if p is not None and p[0] != key)
+        printed = _printed(targets, paths)
+        refers_to = frozenset(p[0] for p in printed if p[0] != key and p[0] != "outside")
         if len(key) == 2:
             droppable = key[0] == "containers" and all(
                 element.optional for element in (*root.nodes, *root.stores)
             )
         else:
             droppable = key[2] in ("nodes", "stores") and root.optional
-        items[key] = Declaration(
+        taken[key] = Declaration(
             key, (content, printed), refers_to, frozenset(names), droppable, lines, root
         )
+    keys = list(_keys(system))
+    items = {key: taken[key] for key in keys}
     own = (system.name, system.srcFile, system.srcLine, system.srcCol)
-    return Declarations(own, items, paths, len(items) == len(read))
+    return Declarations(own, items, paths, len(items) == len(keys), wholes)
+
+
+def _keys(system: Any) -> Iterator[Key]:
+    """Every declaration's key, in model order (a container, then its members)."""
+    for feature in FEATURES:
+        for position, root in enumerate(getattr(system, feature)):
+            key = (feature, getattr(root, "name", None) or position)
+            yield key
+            if feature == "containers":
+                for member_feature in MEMBERS:
+                    for member in _members(root, member_feature):
+                        yield (*key, member_feature, member.name)
+
+
+def _by_container(found: Declarations) -> dict[Key, list[Declaration]]:
+    grouped: dict[Key, list[Declaration]] = {}
+    for key, declaration in found.items.items():
+        if key[0] == "containers":
+            grouped.setdefault(key[:2], []).append(declaration)
+    return grouped
+
+
+def _printed(targets: list[int], paths: dict[int, Path]) -> tuple:
+    """The paths of ``targets``; a target outside the model (none is) never prints as
+    anything seen before."""
+    return tuple(paths.get(t) or ("outside", t) for t in targets)
 
 
 def _members(container: Any, feature: str) -> Any:
@@ -110,6 +155,15 @@ def _members(container: Any, feature: str) -> Any:
     if feature != "interfaces":
         return getattr(container, feature)
     return container.endpoint.interfaces if container.endpoint is not None else ()
+
+
+def _read_members(root: Any, key: Key, paths: dict[int, Path]) -> list[tuple]:
+    """A container's shell and members, each read as a declaration (:func:`_read`)."""
+    read = [_read(root, key, paths, _SHELL)]
+    for member_feature in MEMBERS:
+        for member in _members(root, member_feature):
+            read.append(_read(member, (*key, member_feature, member.name), paths))
+    return read
 
 
 def _read(
@@ -132,6 +186,28 @@ def _read(
 
     content = fingerprint(root, lambda target: targets.append(id(target)), visit, first, leave_out)
     return key, root, content, targets, names, (first, last[0])
+
+
+def _read_whole(root: Any, key: Key, paths: dict[int, Path]) -> tuple[tuple, list[int]]:
+    """A container's content as a whole (lines from its first), and the ids of what it
+    refers to; the path of each element goes to ``paths``, from the declaration it is
+    in (the shell, or a member)."""
+    targets: list[int] = []
+    member: list[Any] = [key, 0]  # the member being read, and the depth of its root
+
+    def visit(element: Any, path: tuple[Step, ...]) -> None:
+        depth = 1 if path and path[0][0] in MEMBERS else 0
+        if len(path) > 1 and path[0][0] == "endpoint" and path[1][0] == "interfaces":
+            depth = 2
+        if depth == 0:
+            paths[id(element)] = (key, path)
+            return
+        if len(path) == depth:
+            member[:] = (*key, path[depth - 1][0], element.name), depth
+        paths[id(element)] = (member[0], path[member[1] :])
+
+    content = fingerprint(root, lambda target: targets.append(id(target)), visit, root.srcLine or 0)
+    return content, targets
 
 
 def declaration_of(element: Any) -> Any:
@@ -183,6 +259,9 @@ class BuiltTemplate:
     rebuilt: frozenset[Key]  # the declarations copied afresh (all, for a first build)
 
 
+_NOTHING = Declarations((), {}, {})  # read before a first build: its containers whole too
+
+
 def build(plain: Any, previous: BuiltTemplate | None = None) -> BuiltTemplate:
     """The pyecore model of the checked plain model ``plain``. Given the template built
     before from the same file, each declaration whose print is unchanged, which refers
@@ -192,7 +271,7 @@ def build(plain: Any, previous: BuiltTemplate | None = None) -> BuiltTemplate:
     references into those taken over going to the elements there. The result is the
     model a full copy gives (``tests/dsl/test_tsm_declarations.py`` compares them
     through chains of edits)."""
-    found = declarations(plain)
+    found = declarations(plain, previous.declarations if previous is not None else _NOTHING)
     items = found.items
     kept: set[Key] = set()
     if not (found.unique and previous is not None and previous.declarations.unique):

@@ -50,6 +50,29 @@ class ProductLine:
 
         return FlowTable.of(self.tsm)
 
+    @cached_property
+    def node_keepers(self) -> dict[int, list[rm_types.ResolutionElement]]:
+        """The resolution elements that keep each node they require or transform, by
+        the node's id, in file order (:func:`spl.resolver.transformations.touched_elements`,
+        what the engine keeps), built once for the line checks."""
+        from spl.resolver.transformations import touched_elements
+
+        keeping: dict[int, list[rm_types.ResolutionElement]] = {}
+        for element in self.rm.elements:
+            for node in touched_elements(element):
+                kept_by = keeping.setdefault(id(node), [])
+                if not kept_by or kept_by[-1] is not element:  # required and transformed
+                    kept_by.append(element)
+        return keeping
+
+    @cached_property
+    def template_reach(self) -> dict[int, list[tsm_types.Topic]]:
+        """The topics data put on each topic of the template reaches, by its bridges
+        (:func:`spl.resolver.flows.reached_topics`), built once for the line checks."""
+        from spl.resolver.flows import reached_topics
+
+        return reached_topics(self.tsm)
+
     @property
     def name(self) -> str:
         return self.directory.resolve().name

@@ -18,6 +18,7 @@ from pyecore.valuecontainer import EBag, EList, EOrderedSet, ESet, EValue
 
 _FEATURES: dict[int, tuple] = {}
 _PLANS: dict[int, tuple] = {}
+_NAMES: dict[int, str] = {}  # each class's name, with its plan (pyecore reads it slowly)
 
 
 def remove_all(collection: Any, values: list[EObject]) -> None:
@@ -61,6 +62,7 @@ def _plan(obj: EObject) -> tuple[tuple, tuple]:
             else:
                 references.append((feature.name, feature.many, _direct(feature)))
         plan = _PLANS[id(eclass)] = (eclass, tuple(values), tuple(references))
+        _NAMES[id(eclass)] = eclass.name
     return plan[1], plan[2]
 
 
@@ -266,7 +268,7 @@ def fingerprint(
         if visit is not None:
             visit(obj, path)
         values, references = _plan(obj)
-        found: list[object] = [obj.eClass.name]
+        found: list[object] = [_NAMES[id(obj.eClass)]]
         for name, many, containment, _, _ in values:
             value = getattr(obj, name)
             if not containment:
@@ -358,9 +360,13 @@ def move_lines(root: EObject, delta: int, leave_out: tuple[tuple[str, ...], ...]
         slot = element.__dict__.get("srcLine")
         if type(slot) is EValue and slot._value:
             slot._value += delta
-        values, _ = _plan(element)
-        for name, many, containment, _, _ in values:
-            if not containment or (leave_out and (*trail, name) in leave_out):
+        eclass = element.eClass
+        children = _CHILDREN.get(id(eclass))
+        if children is None:
+            values, _ = _plan(element)
+            children = _CHILDREN[id(eclass)] = tuple((n, m) for n, m, c, _, _ in values if c)
+        for name, many in children:
+            if leave_out and (*trail, name) in leave_out:
                 continue
             value = getattr(element, name)
             below = (*trail, name) if leave_out else ()
@@ -368,6 +374,9 @@ def move_lines(root: EObject, delta: int, leave_out: tuple[tuple[str, ...], ...]
                 stack.extend((child, below) for child in value)
             elif value is not None:
                 stack.append((value, below))
+
+
+_CHILDREN: dict[int, tuple[tuple[str, bool], ...]] = {}  # each class's containments
 
 
 def replace_members(owner: EObject, name: str, members: list[EObject]) -> None:

@@ -32,7 +32,7 @@ from spl.diagnostics import Diagnostic, Location, location_of
 from spl.dsl.rm_names import Names, Placement
 from spl.metamodels import tsm
 from spl.resolver.context import describe, qualified
-from spl.resolver.flows import SERVICE, FlowTable, node_of, reached_topics
+from spl.resolver.flows import SERVICE, FlowTable, node_of
 from spl.resolver.line_checks.activation import ActivationSolver
 from spl.resolver.line_checks.presence import Clauses, Presence
 from spl.resolver.line_checks.witnesses import Witness, witness_warnings
@@ -83,7 +83,7 @@ class Feeds:
                     )
                 names.apply(t)
         # the topics data put on each topic reaches, by the template's bridges
-        reached = reached_topics(line.tsm)
+        reached = line.template_reach
         topics = {(id(c), t.name): t for c in line.tsm.containers for t in c.topics}
 
         def onward(key: Key) -> list[Key]:
@@ -135,6 +135,20 @@ class Feeds:
         # each witness's warnings by code and place: a line with many unfed inputs asks
         # one product about each of them
         self.resolved: dict[Witness, dict[tuple[str | None, Location | None], Diagnostic]] = {}
+        self._left_out: dict[tuple[frozenset[str], str], list[int]] = {}
+
+    def left_out(self, selected: set[str], name: str) -> list[int]:
+        """The negated literals of ``name`` and of every feature not in ``selected``, in
+        the feature model's order (the witnesses of many inputs are one product: made
+        once)."""
+        key = (frozenset(selected), name)
+        found = self._left_out.get(key)
+        if found is None:
+            cnf = self.solver.cnf
+            features = cnf.names[: cnf.num_features]
+            found = [-cnf.var[f] for f in features if f not in selected or f == name]
+            self._left_out[key] = found
+        return found
 
     def rebinders(self, interface: tsm_types.Interface) -> list[rm_types.ResolutionElement]:
         return [element for element, _, _ in self.rebinding.get(id(interface), ())]
@@ -276,13 +290,11 @@ def _smallest(shared: Feeds, clauses: Clauses, witness: Witness) -> Witness:
     """``witness`` with every feature left out that can be, one at a time, while the
     feature model and ``clauses`` still hold and no feature left out comes back: a
     product none of whose features can be dropped (not always the one with fewest)."""
-    cnf = shared.solver.cnf
-    features = cnf.names[: cnf.num_features]
     selected = set(witness)
     for name in witness:
         if name not in selected:
             continue  # left out with an earlier one
-        kept_out = [-cnf.var[f] for f in features if f not in selected or f == name]
+        kept_out = shared.left_out(selected, name)
         smaller = shared.solver.witness_where(None, clauses, kept_out)
         if smaller is not None:
             selected = set(smaller)

@@ -14,7 +14,6 @@ from typing import TYPE_CHECKING
 
 from spl.resolver.line_checks.activation import ActivationSolver
 from spl.resolver.product_line import ProductLine
-from spl.resolver.transformations import touched_elements
 
 if TYPE_CHECKING:
     from spl.metamodels import rm_types, tsm_types
@@ -27,12 +26,7 @@ class Presence:
     product or not."""
 
     def __init__(self, line: ProductLine, solver: ActivationSolver) -> None:
-        self.keeping: dict[int, list[rm_types.ResolutionElement]] = {}
-        for element in line.rm.elements:
-            for node in touched_elements(element):
-                keeping = self.keeping.setdefault(id(node), [])
-                if not keeping or keeping[-1] is not element:  # required and transformed
-                    keeping.append(element)
+        self.keeping = line.node_keepers
         self.solver = solver
 
     def keepers(self, node: tsm_types.Node) -> list[rm_types.ResolutionElement]:

@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING
 from spl.diagnostics import Diagnostic, location_of
 from spl.metamodels import tsm
 from spl.resolver.context import qualified
-from spl.resolver.flows import TOPIC, node_of, reached_topics
+from spl.resolver.flows import TOPIC, node_of
 from spl.resolver.line_checks.activation import ActivationSolver
 from spl.resolver.line_checks.presence import Presence
 from spl.resolver.product_line import ProductLine
@@ -47,7 +47,7 @@ def unconsumed_outputs_in_line(line: ProductLine, solver: ActivationSolver) -> l
             if (move := kind.move(t)) is not None:
                 touched.update((id(move[0]), id(move[1])))
     template = line.template_flows
-    reached = reached_topics(line.tsm)
+    reached = line.template_reach
     found = []
     for container in line.tsm.containers:
         for node in container.nodes:
