@@ -132,18 +132,18 @@ class LineChecks:
     """``spl check FOLDER`` for the editor, run again only when its answer can change.
 
     A folder's check reads the line's model files, the files its .rm names and its
-    listed products. The findings of the last few sets of those inputs are kept, so an
-    edit undone, or a file saved as it was, is answered at once. Before the line is
-    loaded, each .tsm is checked with the plain, incremental build (what ``spl check
-    FILE.tsm`` runs): when it refuses the text, loading the line meets the same problems
-    without building the model again (:func:`spl.dsl.tsm.parse_text`), and the answer is
-    that of ``spl check FOLDER``, only sooner. A text that builds is checked in full,
-    from what the last check built (:func:`spl.dsl.model_reuse.reusing_models`): the
-    line's pyecore model is built from the plain model just checked, taking over the
-    declarations the edit left alone, a file the edit left alone is not built again, nor
-    a .rm whose names still mean the same, and a witness product whose resolution reads
-    nothing the edit changed is not resolved again
-    (:mod:`spl.resolver.line_checks.witnesses`)."""
+    listed products. The findings of the last few sets of those inputs used are kept,
+    so an edit undone (and done again), or a file saved as it was, is answered at once.
+    Before the line is loaded, each .tsm is checked with the plain, incremental build
+    (what ``spl check FILE.tsm`` runs): when it refuses the text, loading the line meets
+    the same problems without building the model again (:func:`spl.dsl.tsm.parse_text`),
+    and the answer is that of ``spl check FOLDER``, only sooner. A text that builds is
+    checked in full, from what the last check built
+    (:func:`spl.dsl.model_reuse.reusing_models`): the line's pyecore model is built from
+    the plain model just checked, taking over the declarations the edit left alone (moved
+    where it moved them), a file the edit left alone is not built again, nor a .rm whose
+    names still mean the same, and a witness product whose resolution reads nothing the
+    edit changed is not resolved again (:mod:`spl.resolver.line_checks.witnesses`)."""
 
     KEPT = 4  # input sets kept per folder
 
@@ -157,8 +157,9 @@ class LineChecks:
         """The folder's findings, and the .tsm files' own checks when they were run."""
         key = _snapshot(folder, inputs, texts)
         kept = self._kept.setdefault(folder, [])
-        for known, found in kept:
-            if known == key:
+        for at, (known, found) in enumerate(kept):
+            if known == key:  # the last used stay: an edit undone and done again
+                kept.append(kept.pop(at))
                 return found, []
         from spl.dsl.model_reuse import reusing_models
         from spl.resolver.line_checks.witnesses import WitnessResolutions, remembering

@@ -73,6 +73,9 @@ def test_the_line_check_follows_every_edit_and_reuses_only_unchanged_inputs(tmp_
     assert ran and syntax[0].severity == "error"
 
     assert check(original) == (found, False)  # the edit undone
+    for edit in range(2 * checking.LineChecks.KEPT):  # edits, each undone: still kept
+        assert check(original + f"// {edit}\n")[1]
+        assert check(original) == (found, False)
 
     # an emptied buffer is checked as empty, not as the file saved on disk (textX read
     # that when given an empty text): the .rm's names then lead nowhere
