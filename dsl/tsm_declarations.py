@@ -79,22 +79,23 @@ def declarations(system: Any, before: Declarations | None = None) -> Declaration
     reading before, a container whose print as a whole is unchanged (it is the same, or
     only moved) keeps the declarations of its shell and members from then, moved along
     and holding the elements read now: it is read once, not once whole and once member
-    by member."""
+    by member; one that declares other members than before is read member by member
+    at once."""
     paths: dict[int, Path] = {}
     read: list[tuple] = []  # (key, element, content, targets, names, lines) of each
     wholes: dict[Key, tuple] = {}
     whole: list[tuple] = []  # (key, element, content, targets) of each container
+    earlier = _by_container(before) if before is not None else {}
     for feature in FEATURES:
         for position, root in enumerate(getattr(system, feature)):
             key = (feature, getattr(root, "name", None) or position)
             if feature != "containers":
                 read.append(_read(root, key, paths))
-            elif before is None:
-                read += _read_members(root, key, paths)
+            elif before is None or _other_members(root, earlier.get(key)):
+                read += _read_members(root, key, paths)  # changed: no use reading it whole
             else:
                 whole.append((key, root, *_read_whole(root, key, paths)))
     taken: dict[Key, Declaration] = {}
-    earlier = _by_container(before) if before is not None else {}
     for key, root, content, targets in whole:  # every path is known: print them whole
         wholes[key] = (content, _printed(targets, paths))
         if before is None or before.wholes.get(key) != wholes[key]:
@@ -134,6 +135,15 @@ def _keys(system: Any) -> Iterator[Key]:
                 for member_feature in MEMBERS:
                     for member in _members(root, member_feature):
                         yield (*key, member_feature, member.name)
+
+
+def _other_members(container: Any, before: list[Declaration] | None) -> bool:
+    """Whether ``container`` declares other members than it did (the shell and members
+    read ``before``, none for a container read the first time)."""
+    if before is None:
+        return False
+    now = [(f, m.name) for f in MEMBERS for m in _members(container, f)]
+    return now != [d.key[2:] for d in before[1:]]
 
 
 def _by_container(found: Declarations) -> dict[Key, list[Declaration]]:
