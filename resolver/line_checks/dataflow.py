@@ -68,6 +68,7 @@ class Feeds:
 
     def __init__(self, line: ProductLine, solver: ActivationSolver) -> None:
         self.line, self.solver = line, solver
+        self.root = line.fm.root.name
         self.presence = Presence(line, solver)
         # interface -> (element, binding, the topic it binds to when certain)
         self.rebinding: dict[int, list[tuple[rm_types.ResolutionElement, Binding, Key | None]]]
@@ -292,8 +293,8 @@ def _smallest(shared: Feeds, clauses: Clauses, witness: Witness) -> Witness:
     product none of whose features can be dropped (not always the one with fewest)."""
     selected = set(witness)
     for name in witness:
-        if name not in selected:
-            continue  # left out with an earlier one
+        if name not in selected or name == shared.root:
+            continue  # left out with an earlier one; the root is in every product
         kept_out = shared.left_out(selected, name)
         smaller = shared.solver.witness_where(None, clauses, kept_out)
         if smaller is not None:
