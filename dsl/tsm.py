@@ -302,6 +302,7 @@ def normalize_endpoints(system: Any) -> None:
 
 def built_template(system: Any) -> tsm_declarations.BuiltTemplate | None:
     """The declarations of a template built inside :func:`reusing_models` and still the
-    last of its file; None for any other."""
+    last of its file; None for any other, and for one whose declarations could not be
+    told apart by their keys (the checks refuse such a template)."""
     found = next((b for b in _TEMPLATES.values() if b.system is system), None)
     return found if found is not None and found.declarations.unique else None
