@@ -222,7 +222,7 @@ def _read_whole(root: Any, key: Key, paths: dict[int, Path]) -> tuple[tuple, lis
 
 def declaration_of(element: Any) -> Any:
     """The declaration ``element`` is in (itself, for a declaration): a top-level one,
-    or a container's topic, node or store."""
+    or a container's member (a topic, node, store or endpoint interface)."""
     while (owner := element.eContainer()) is not None and owner.eContainer() is not None:
         if _is_member(element):
             return element
@@ -304,7 +304,7 @@ def build(plain: Any, previous: BuiltTemplate | None = None) -> BuiltTemplate:
         for key in kept:
             moved = items[key].lines[0] - before[key].lines[0]
             if moved:
-                move_lines(previous.elements[key], moved, _SHELL)
+                move_lines(previous.elements[key], moved, _SHELL if len(key) == 2 else ())
     rebuilt = [k for k in items if k not in kept]
 
     def taken_over(target: Any) -> Any:

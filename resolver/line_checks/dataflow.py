@@ -136,20 +136,6 @@ class Feeds:
         # each witness's warnings by code and place: a line with many unfed inputs asks
         # one product about each of them
         self.resolved: dict[Witness, dict[tuple[str | None, Location | None], Diagnostic]] = {}
-        self._left_out: dict[tuple[frozenset[str], str], list[int]] = {}
-
-    def left_out(self, selected: set[str], name: str) -> list[int]:
-        """The negated literals of ``name`` and of every feature not in ``selected``, in
-        the feature model's order (the witnesses of many inputs are one product: made
-        once)."""
-        key = (frozenset(selected), name)
-        found = self._left_out.get(key)
-        if found is None:
-            cnf = self.solver.cnf
-            features = cnf.names[: cnf.num_features]
-            found = [-cnf.var[f] for f in features if f not in selected or f == name]
-            self._left_out[key] = found
-        return found
 
     def rebinders(self, interface: tsm_types.Interface) -> list[rm_types.ResolutionElement]:
         return [element for element, _, _ in self.rebinding.get(id(interface), ())]
@@ -291,11 +277,13 @@ def _smallest(shared: Feeds, clauses: Clauses, witness: Witness) -> Witness:
     """``witness`` with every feature left out that can be, one at a time, while the
     feature model and ``clauses`` still hold and no feature left out comes back: a
     product none of whose features can be dropped (not always the one with fewest)."""
+    cnf = shared.solver.cnf
+    features = cnf.names[: cnf.num_features]
     selected = set(witness)
     for name in witness:
         if name not in selected or name == shared.root:
             continue  # left out with an earlier one; the root is in every product
-        kept_out = shared.left_out(selected, name)
+        kept_out = [-cnf.var[f] for f in features if f not in selected or f == name]
         smaller = shared.solver.witness_where(None, clauses, kept_out)
         if smaller is not None:
             selected = set(smaller)

@@ -135,7 +135,7 @@ def _inputs(line: ProductLine, found: Declarations, witness: Witness) -> tuple[t
         if (element.feature is not None and element.feature.name in selected)
         == element.activeIfSelected
     )
-    read = _read(found, touched)
+    read = _resolution_reads(found, touched)
     name, file, first, column = found.own  # the System's line moves as the rest does
     template = ((name, file, column), tuple((k, found.items[k].print) for k in read))
     lines = {k: found.items[k].lines for k in read}
@@ -143,7 +143,7 @@ def _inputs(line: ProductLine, found: Declarations, witness: Witness) -> tuple[t
     return (template, fingerprint(line.fm, target), elements), lines
 
 
-def _read(found: Declarations, touched: set[Key]) -> list[Key]:
+def _resolution_reads(found: Declarations, touched: set[Key]) -> list[Key]:
     """The declarations a resolution reads: not an optional node or store, nor a
     container of only those, that no other declaration (outside the container) and no
     active element refers into: a product prunes them before anything looks at its
