@@ -57,16 +57,13 @@ from __future__ import annotations
 from spl.diagnostics import Diagnostic, Location
 from spl.dsl.cyclic_gc import without_cyclic_gc
 from spl.resolver.line_checks.activation import ActivationSolver
-from spl.resolver.line_checks.conflicts import reachable_conflicts
 from spl.resolver.line_checks.cross_robot import cross_robot_flows_in_line
 from spl.resolver.line_checks.dataflow import unfed_inputs_in_line
-from spl.resolver.line_checks.dead_elements import never_active_elements
 from spl.resolver.line_checks.endpoints import incomplete_endpoints
 from spl.resolver.line_checks.instance_tags import clashing_instance_tags
 from spl.resolver.line_checks.listed_products import read_listed, unresolvable_products
-from spl.resolver.line_checks.lookups import product_dependent_statements
-from spl.resolver.line_checks.no_effect import features_without_effect
 from spl.resolver.line_checks.robot_ids import shared_robot_ids
+from spl.resolver.line_checks.statements import statement_findings
 from spl.resolver.line_checks.unconsumed import unconsumed_outputs_in_line
 from spl.resolver.line_checks.unreachable_optionals import unreachable_optional_elements
 from spl.resolver.product_line import ProductLine
@@ -83,15 +80,13 @@ def check_product_line(line: ProductLine, products: bool = True) -> list[Diagnos
 
 def _line_checks(line: ProductLine, products: bool) -> list[Diagnostic]:
     listed = read_listed(line)
+    found = statement_findings(line)  # the .rm's own, on a solver of their own
     with ActivationSolver(line) as solver:
-        found = never_active_elements(line, solver)
+        solver.decide(list(line.rm.elements))  # each element's activity, in few models
         found += unreachable_optional_elements(line, solver)
-        found += reachable_conflicts(line, solver)
-        found += product_dependent_statements(line, solver)
         found += cross_robot_flows_in_line(line, solver, listed)
         found += unfed_inputs_in_line(line, solver)
         found += unconsumed_outputs_in_line(line, solver)
-    found += features_without_effect(line)
     found += shared_robot_ids(line)
     found += incomplete_endpoints(line)
     found += clashing_instance_tags(line, listed)

@@ -31,6 +31,7 @@ from spl.diagnostics import Diagnostic, Location, ModelError, unsaved_texts
 
 if TYPE_CHECKING:
     from spl.dsl.tsm_incremental import Trees
+    from spl.resolver.line_checks.statements import StatementFindings
     from spl.resolver.line_checks.witnesses import WitnessResolutions
 
 MODEL_SUFFIXES = (".tsm", ".fm", ".rm")
@@ -150,6 +151,7 @@ class LineChecks:
     def __init__(self) -> None:
         self._kept: dict[str, list[tuple[tuple[object, ...], tuple[Diagnostic, ...]]]] = {}
         self._witnesses: dict[str, WitnessResolutions] = {}
+        self._statements: dict[str, StatementFindings] = {}
 
     def check(
         self, folder: str, texts: Mapping[str, str], trees: Trees, inputs: set[str]
@@ -162,12 +164,15 @@ class LineChecks:
                 kept.append(kept.pop(at))
                 return found, []
         from spl.dsl.model_reuse import reusing_models
+        from spl.resolver.line_checks.statements import StatementFindings, remembering_statements
         from spl.resolver.line_checks.witnesses import WitnessResolutions, remembering
 
         witnesses = self._witnesses.setdefault(folder, WitnessResolutions())
+        statements = self._statements.setdefault(folder, StatementFindings())
         # the line is loaded from the plain models checked here, and witness products
-        # are resolved again only when what they read changed
-        with reusing_models(), remembering(witnesses):
+        # are resolved again, and the .rm's own checks run again, only when what they
+        # read changed
+        with reusing_models(), remembering(witnesses), remembering_statements(statements):
             tsm_files = sorted(p for p in inputs if p.endswith(".tsm"))
             plain = [check_file(path, texts, trees) for path in tsm_files]
             found = check_line(folder, texts)

@@ -61,7 +61,7 @@ def test_broken_line_prints_located_findings_and_fails():
     )
     assert errors[9].endswith(
         "warning: Driver.cmd subscribes Robot.Cmd, which no node of the product publishes, in "
-        "the product Base, Legged, Robot, Sensing [SPL045]"
+        "the product Base, Robot, Sensing, Wheeled [SPL045]"
     )
     assert errors[11] == (
         f"{BROKEN}/broken.tsm:24:19: warning: optional node Robot.Spare is in no product: "

@@ -251,6 +251,41 @@ def test_a_tsm_edit_builds_again_only_what_it_touched(tmp_path, monkeypatch) -> 
     assert references() == held
 
 
+def test_the_rm_own_checks_run_again_only_on_another_rm_or_fm_model(tmp_path, monkeypatch) -> None:
+    """The checks that read only the .rm, the .fm and the template elements the .rm
+    names (SPL010, SPL012, SPL014, SPL016) run again only when the editor built another
+    .rm or .fm model; every answer is a full check's."""
+    from spl.resolver.line_checks import statements
+
+    folder, inputs = copied(WAREHOUSE, tmp_path)
+    tsm_path, rm = str(folder / "warehouse.tsm"), str(folder / "warehouse.rm")
+    original = {p: Path(p).read_text(encoding="utf-8") for p in (tsm_path, rm)}
+    checks, trees = checking.LineChecks(), Trees()
+    runs: list[object] = []
+    real = statements._checked
+    monkeypatch.setattr(statements, "_checked", lambda line: runs.append(line) or real(line))
+
+    def check(**edits: str) -> tuple[int, list[str]]:
+        texts = {**original, **{tsm_path if k == "tsm" else rm: v for k, v in edits.items()}}
+        runs.clear()
+        found, _ = checks.check(str(folder), texts, trees, inputs)
+        ran = len(runs)
+        assert found == full_check(folder, texts)
+        return ran, [d.code or "" for d in found if d.code == "SPL012"]
+
+    assert check() == (1, [])
+    assert check(tsm=original[tsm_path] + SPARE) == (0, [])  # the .rm means the same
+    assert check(tsm="// moved\n" + original[tsm_path] + SPARE) == (0, [])
+    # a value of a node the .rm refers to: the .rm is built again, and so checked
+    assert check(tsm=original[tsm_path].replace("amcl/amcl", "amcl/amcl_fast")) == (1, [])
+    conflict = (
+        "\nwhen Sensing selected {\n    implementation Localizer = a/b\n}\n"
+        "when CameraSensing selected {\n    implementation Localizer = c/d\n}\n"
+    )
+    assert check(rm=original[rm] + conflict) == (1, ["SPL012"])
+    assert check(rm=original[rm] + conflict, tsm=original[tsm_path] + SPARE) == (0, ["SPL012"])
+
+
 LINES = [*sorted((ROOT / "product_lines").iterdir()), ROOT / "tests/models/line_checks/warehouse"]
 
 

@@ -12,11 +12,8 @@ import pytest
 
 from spl.diagnostics import ModelError
 from spl.resolver.engine import resolve
-from spl.resolver.line_checks import (
-    ActivationSolver,
-    check_product_line,
-    reachable_conflicts,
-)
+from spl.resolver.line_checks import ActivationSolver, check_product_line
+from spl.resolver.line_checks.conflicts import reachable_conflicts
 from spl.resolver.product_line import load_product_line
 from spl.resolver.product_selection import selection_from_list
 
