@@ -49,7 +49,8 @@ SPL052    info      a publisher whose data no subscriber of any product reads
 ========  ========  ==================================================================
 
 One module a check family; this package runs them all. :class:`ActivationSolver`
-(:mod:`.activation`) answers the SAT questions of every check but SPL014 and SPL015.
+(:mod:`.activation`) answers the SAT questions of every check but SPL014 and SPL015: one
+solver those that read only the .rm and .fm (:mod:`.statements`), another the rest.
 """
 
 from __future__ import annotations
