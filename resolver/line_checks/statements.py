@@ -4,7 +4,7 @@ features without effect (SPL014) and statements that fail in some product (SPL01
 
 They run on a solver of their own, so what they ask leaves the witnesses the other
 checks find as they are. The editor keeps their findings while its .rm and .fm models
-are the very ones they were found on (:func:`remembering_statements`): the editor keeps a
+are the very ones they were found on (:mod:`.memory`): the editor keeps a
 .rm model only while it means the same against the template
 (:mod:`spl.dsl.rm_reuse`: every declaration it refers into taken over, no declaration
 the edit changed declaring a word of its text), and a .fm text is built once, so an
@@ -15,15 +15,13 @@ they are a tenth of a second of every check.
 from __future__ import annotations
 
 import weakref
-from collections.abc import Iterator
-from contextlib import contextmanager
-from contextvars import ContextVar
 
 from spl.diagnostics import Diagnostic
 from spl.resolver.line_checks.activation import ActivationSolver
 from spl.resolver.line_checks.conflicts import reachable_conflicts
 from spl.resolver.line_checks.dead_elements import never_active_elements
 from spl.resolver.line_checks.lookups import product_dependent_statements
+from spl.resolver.line_checks.memory import remembered
 from spl.resolver.line_checks.no_effect import features_without_effect
 from spl.resolver.product_line import ProductLine
 
@@ -43,23 +41,10 @@ class StatementFindings:
         return list(found)
 
 
-_REMEMBERED: ContextVar[StatementFindings | None] = ContextVar("statements", default=None)
-
-
-@contextmanager
-def remembering_statements(findings: StatementFindings) -> Iterator[None]:
-    """Inside the block, these checks' findings come from and go to ``findings``."""
-    token = _REMEMBERED.set(findings)
-    try:
-        yield
-    finally:
-        _REMEMBERED.reset(token)
-
-
 def statement_findings(line: ProductLine) -> list[Diagnostic]:
     """SPL010, SPL012, SPL014 and SPL016 on ``line``."""
-    remembered = _REMEMBERED.get()
-    return remembered.findings(line) if remembered is not None else _checked(line)
+    kept = remembered(StatementFindings)
+    return kept.findings(line) if kept is not None else _checked(line)
 
 
 def _checked(line: ProductLine) -> list[Diagnostic]:

@@ -1,5 +1,6 @@
 """The warnings of the witness products the line checks resolve, remembered from one check
-of a line to the next (the editor's, after every change: :func:`remembering`).
+of a line to the next (the editor's, after every change:
+:func:`spl.resolver.line_checks.memory.remembering`).
 
 Why: the dataflow check confirms each unfed input by resolving a witness product
 (:mod:`.dataflow`), and on a 10,000-node line that one resolution is half a second of
@@ -27,9 +28,6 @@ from __future__ import annotations
 
 import bisect
 import dataclasses
-from collections.abc import Iterator
-from contextlib import contextmanager
-from contextvars import ContextVar
 from typing import Any
 
 from spl.diagnostics import Diagnostic, ModelError
@@ -37,6 +35,7 @@ from spl.dsl.tsm import built_template
 from spl.dsl.tsm_declarations import Declarations, Key, path_of
 from spl.emf import fingerprint
 from spl.metamodels import tsm
+from spl.resolver.line_checks.memory import remembered
 from spl.resolver.product_line import ProductLine
 from spl.resolver.product_selection import selection_from_list
 
@@ -81,26 +80,11 @@ class WitnessResolutions:
         return found
 
 
-_REMEMBERED: ContextVar[WitnessResolutions | None] = ContextVar("witnesses", default=None)
-
-
-@contextmanager
-def remembering(resolutions: WitnessResolutions) -> Iterator[None]:
-    """Inside the block, witness resolutions come from and go to ``resolutions``."""
-    token = _REMEMBERED.set(resolutions)
-    try:
-        yield
-    finally:
-        _REMEMBERED.reset(token)
-
-
 def witness_warnings(line: ProductLine, witness: Witness) -> Warnings:
     """The warnings of the product ``witness`` (none when it does not resolve, which
     resolve, validate and the other checks report)."""
-    remembered = _REMEMBERED.get()
-    if remembered is not None:
-        return remembered.warnings(line, witness)
-    return _resolved(line, witness)[0]
+    kept = remembered(WitnessResolutions)
+    return kept.warnings(line, witness) if kept is not None else _resolved(line, witness)[0]
 
 
 def _resolved(line: ProductLine, witness: Witness) -> tuple[Warnings, bool]:

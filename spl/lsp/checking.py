@@ -31,8 +31,7 @@ from spl.diagnostics import Diagnostic, Location, ModelError, unsaved_texts
 
 if TYPE_CHECKING:
     from spl.dsl.tsm_incremental import Trees
-    from spl.resolver.line_checks.statements import StatementFindings
-    from spl.resolver.line_checks.witnesses import WitnessResolutions
+    from spl.resolver.line_checks.memory import LineMemory
 
 MODEL_SUFFIXES = (".tsm", ".fm", ".rm")
 FEATURE_MODEL_SUFFIXES = (".uvl", ".xml")
@@ -150,8 +149,7 @@ class LineChecks:
 
     def __init__(self) -> None:
         self._kept: dict[str, list[tuple[tuple[object, ...], tuple[Diagnostic, ...]]]] = {}
-        self._witnesses: dict[str, WitnessResolutions] = {}
-        self._statements: dict[str, StatementFindings] = {}
+        self._memories: dict[str, LineMemory] = {}
 
     def check(
         self, folder: str, texts: Mapping[str, str], trees: Trees, inputs: set[str]
@@ -164,15 +162,13 @@ class LineChecks:
                 kept.append(kept.pop(at))
                 return found, []
         from spl.dsl.model_reuse import reusing_models
-        from spl.resolver.line_checks.statements import StatementFindings, remembering_statements
-        from spl.resolver.line_checks.witnesses import WitnessResolutions, remembering
+        from spl.resolver.line_checks.memory import LineMemory, remembering
 
-        witnesses = self._witnesses.setdefault(folder, WitnessResolutions())
-        statements = self._statements.setdefault(folder, StatementFindings())
+        memory = self._memories.setdefault(folder, LineMemory())
         # the line is loaded from the plain models checked here, and witness products
         # are resolved again, and the .rm's own checks run again, only when what they
         # read changed
-        with reusing_models(), remembering(witnesses), remembering_statements(statements):
+        with reusing_models(), remembering(memory):
             tsm_files = sorted(p for p in inputs if p.endswith(".tsm"))
             plain = [check_file(path, texts, trees) for path in tsm_files]
             found = check_line(folder, texts)
