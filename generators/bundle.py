@@ -4,10 +4,13 @@ All files are produced in memory first, so a failing generator leaves nothing on
 then they are written to a temporary sibling folder that is renamed into place. The
 manifest records the sha256 of every file, so bundles can be compared and cached.
 
-A generator may hand back :class:`Skipped` instead of a file's bytes when an optional
-system program it needs is missing (Graphviz's ``dot`` for ``architecture.svg``): the
-bundle is complete without that file, the manifest's ``skipped`` lists it with the
-reason, and the command line warns. Nothing else in the job depends on such a program.
+A generator may hand back :class:`Skipped` instead of a file's bytes when it cannot
+write an output: the product is one the output cannot carry (``zenoh/`` when no choice
+of namespaces gives its architecture), or an optional system program it needs is missing
+(Graphviz's ``dot`` for ``architecture.svg``). The bundle is complete without it, the
+manifest's ``skipped`` lists it with the reason, and every command reporting the product
+warns (docs/ci.md, "A product's warnings"). Nothing else in the job depends on such a
+program.
 """
 
 from __future__ import annotations
@@ -63,6 +66,9 @@ class Bundle:
 
     files: dict[str, bytes]
     skipped: dict[str, str]  # bundle path -> reason
+    # the skipped paths a program missing on this machine left out (a picture not
+    # rendered), which another machine writes: warned about, never the product's fault
+    machine_skipped: frozenset[str]
 
     def skip_warnings(self) -> list[str]:
         """``architecture.svg not written: <reason>``, one line per skipped file."""
@@ -89,6 +95,7 @@ def build_bundle(
         }
     )
     skipped: dict[str, str] = {}
+    machine_skipped: set[str] = set()
     with transport_reused():  # the Zenoh and Kubernetes generators share it
         for module_name in (m for target in targets for m in TARGETS[target]):
             generate = importlib.import_module(module_name).generate
@@ -102,12 +109,14 @@ def build_bundle(
             for path, data in generated.items():
                 if isinstance(data, Skipped):
                     skipped[path] = data.reason
+                    if module_name in RENDERING:  # only a missing program stops a picture
+                        machine_skipped.add(path)
                 else:
                     files[path] = data
     skipped = dict(sorted(skipped.items()))
     check_paths([*files, "manifest.json"])
     files["manifest.json"] = manifest(product, files, skipped, targets)
-    return Bundle(dict(sorted(files.items())), skipped)
+    return Bundle(dict(sorted(files.items())), skipped, frozenset(machine_skipped))
 
 
 def bundle_files(product: ResolvedProduct) -> dict[str, bytes]:
@@ -121,6 +130,8 @@ def manifest(
     skipped: dict[str, str] | None = None,
     targets: tuple[str, ...] | None = None,
 ) -> bytes:
+    """``manifest.json``: one key set for every product (docs/outputs.md), so a tool
+    reading ``warnings``, ``skipped`` or ``left_out`` finds it empty, never absent."""
     system = product.system
     keys = node_keys(system)
     document = {
@@ -142,12 +153,11 @@ def manifest(
         ],
         "warnings": [str(w) for w in product.warnings],
         "skipped": dict(skipped or {}),
+        "left_out": dict(product.left_out),
         "targets": list(TARGETS if targets is None else targets),
         "toolchain": {"name": "spl-robotics", "version": __version__},
         "files": {path: hashlib.sha256(data).hexdigest() for path, data in sorted(files.items())},
     }
-    if product.left_out:  # only then, so bundles that leave nothing out keep their bytes
-        document["left_out"] = dict(product.left_out)
     return (indented(document, sort_keys=True) + "\n").encode("utf-8")
 
 

@@ -293,7 +293,9 @@ def _relocated(result: CaseResult, worker_folder: str, folder: str) -> CaseResul
     return replace(
         result,
         messages=moved(result.messages),
-        warnings=moved(result.warnings),
-        skipped=moved(result.skipped),
+        warnings=tuple(
+            replace(warning, text=warning.text.replace(worker_folder, folder))
+            for warning in result.warnings
+        ),
         checked=result.checked.replace(worker_folder, folder),
     )

@@ -25,8 +25,10 @@ def junit_xml(
 ) -> bytes:
     """The results as JUnit XML: one ``testsuite`` per product line, one ``testcase`` per
     product (classname = line, name = product), a ``failure`` carrying every located
-    message, ``error`` for an internal error. No times or host names: the same results
-    give the same bytes. A shard's report also names its shard and its run's plan, which
+    message, ``error`` for an internal error, the product's warnings (and those about
+    this machine) in ``system-err`` one a line, as ``spl resolve`` prints them on stderr,
+    the smoke rehearsal's summary in ``system-out``. No times or host names: the same
+    results give the same bytes. A shard's report also names its shard and its run's plan, which
     is all a merge needs to put the shards back together."""
     return _report(((r.classname, _testcase(r)) for r in results), shard, plan)
 
@@ -97,16 +99,21 @@ def _testcase(result: CaseResult) -> etree._Element:
     )
     if result.outcome != "passed":
         first = result.messages[0] if result.messages else "failed"
+        kind = "ModelError" if result.outcome == "failed" else "InternalError"
+        if result.messages and result.messages == result.product_warnings:
+            kind = "Warning"  # --strict failed it for its warnings alone (docs/ci.md)
         problem = etree.SubElement(
             case,
             "failure" if result.outcome == "failed" else "error",
             message=_xml_text(first),
-            type="ModelError" if result.outcome == "failed" else "InternalError",
+            type=kind,
         )
         problem.text = _xml_text("\n".join(result.messages))
-    notes = result.warnings + result.skipped + ((result.checked,) if result.checked else ())
-    if notes:
-        etree.SubElement(case, "system-out").text = _xml_text("\n".join(notes))
+    if result.checked:
+        etree.SubElement(case, "system-out").text = _xml_text(result.checked)
+    if result.warnings:
+        warnings = "\n".join(str(warning) for warning in result.warnings)
+        etree.SubElement(case, "system-err").text = _xml_text(warnings)
     return case
 
 

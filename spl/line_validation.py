@@ -31,10 +31,10 @@ from pathlib import Path
 from typing import Literal
 
 from spl import __version__
-from spl.diagnostics import ModelError
+from spl.diagnostics import ModelError, counted
 from spl.dsl.cyclic_gc import without_cyclic_gc
 from spl.lifetime import checkpointed, die_with_parent, raise_if_signalled, unwind_on_signals
-from spl.pipeline import load_line
+from spl.pipeline import ProductWarning, load_line
 from spl.resolver.product_line import ProductLine
 
 Outcome = Literal["passed", "failed", "error"]
@@ -57,14 +57,25 @@ class CaseResult:
     name: str
     outcome: Outcome
     messages: tuple[str, ...] = ()  # located problems (failed) or the crash (error)
-    warnings: tuple[str, ...] = ()
+    warnings: tuple[ProductWarning, ...] = ()  # as the derivation gives them
     seconds: float = 0.0
-    skipped: tuple[str, ...] = ()  # "architecture.svg not written: <reason>" lines
     checked: str = ""  # the summary line of the caller's extra check (smoke rehearsal)
 
     @property
     def passed(self) -> bool:
         return self.outcome == "passed"
+
+    @property
+    def product_warnings(self) -> tuple[str, ...]:
+        """The warnings that are the product's: printed under its line, counted, and its
+        failure with ``--strict`` (docs/ci.md, "A product's warnings")."""
+        return tuple(w.text for w in self.warnings if not w.machine)
+
+    @property
+    def machine_warnings(self) -> tuple[str, ...]:
+        """The warnings about the machine that ran it (a picture Graphviz is missing for):
+        in its test case, said once for the run, never its failure."""
+        return tuple(w.text for w in self.warnings if w.machine)
 
 
 @dataclass
@@ -210,12 +221,10 @@ def run_case(
         else:
             selection = selection_from_list(",".join(case.features), name="_".join(case.features))
         derivation = pipeline.derive(line, selection, render_diagrams=checks.diagrams)
-        product, bundle = derivation.resolution.product, derivation.bundle
         problems = pipeline.validate(derivation)
-        warnings = tuple(str(w) for w in product.warnings)
         checked = ""
         if checks.rehearse is not None and not problems:
-            found, checked = checks.rehearse(bundle.files)
+            found, checked = checks.rehearse(derivation.bundle.files)
             problems += found
     except ModelError as exc:
         return CaseResult(
@@ -239,9 +248,8 @@ def run_case(
         case.name,
         outcome,
         tuple(problems),
-        warnings,
+        derivation.warnings,
         time.perf_counter() - start,
-        tuple(bundle.skip_warnings()),
         checked,
     )
 
@@ -338,27 +346,43 @@ def _results(cases: list[ProductCase], jobs: int) -> Iterator[CaseResult]:
 
 
 def summary(results: list[CaseResult]) -> str:
+    """``N passed, K of them with warnings, M failed``: K counts the products with a
+    warning of their own (not one about this machine)."""
     passed = sum(1 for r in results if r.passed)
-    warned = sum(1 for r in results if r.passed and r.warnings)
+    warned = sum(1 for r in results if r.passed and r.product_warnings)
     noted = f", {warned} of them with warnings" if warned else ""
     return f"{passed} passed{noted}, {len(results) - passed} failed"
 
 
 def strict(results: list[CaseResult]) -> list[CaseResult]:
-    """``--strict``: a product that resolves with warnings (an input nothing feeds,
-    SPL045, ...) fails, its warnings its failure's messages (docs/ci.md)."""
+    """``--strict``: a product that resolves with warnings of its own (an input nothing
+    feeds, SPL045, an output it cannot have, ...) fails, those warnings its failure's
+    messages (docs/ci.md)."""
     return [
-        replace(r, outcome="failed", messages=r.warnings) if r.passed and r.warnings else r
+        replace(r, outcome="failed", messages=r.product_warnings)
+        if r.passed and r.product_warnings
+        else r
         for r in results
     ]
 
 
+def machine_notes(results: list[CaseResult]) -> list[str]:
+    """Each warning about this machine once, with how many products it concerns
+    (``... (this machine, for 5 products)``): said once for the run, not under every
+    product's line (docs/ci.md)."""
+    products: dict[str, int] = {}
+    for result in results:
+        for text in dict.fromkeys(result.machine_warnings):
+            products[text] = products.get(text, 0) + 1
+    return [f"{text} (this machine, for {counted(n, 'product')})" for text, n in products.items()]
+
+
 def describe(result: CaseResult) -> list[str]:
-    """Plain-text lines for one result (CI logs): a status line, then its messages, or
-    the warnings of a product that passed (a warning is no failure, docs/ci.md)."""
+    """Plain-text lines for one result (CI logs): a status line, then its messages and
+    the product's warnings not among them (a warning is no failure, docs/ci.md)."""
     head = {"passed": "ok  ", "failed": "FAIL", "error": "ERROR"}[result.outcome]
     checked = f"  ({result.checked})" if result.checked else ""
-    notes = result.warnings if result.passed else ()
+    notes = tuple(w for w in result.product_warnings if w not in result.messages)
     return [
         f"{head} {result.classname} :: {result.name}{checked}",
         *(f"    {m}" for m in result.messages + notes),

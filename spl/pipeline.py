@@ -39,12 +39,40 @@ class NothingToCheck(ValueError):
 
 
 @dataclass(frozen=True)
+class ProductWarning:
+    """One warning of a derived product, in the one form every reporter gives it
+    (docs/ci.md, "A product's warnings"): ``spl resolve`` and ``spl fleet resolve`` print
+    it on stderr, ``spl validate`` under the product's line and in its JUnit test case.
+
+    ``text`` is the printed line: ``file:line:col: warning: ... [SPL045]`` for the
+    resolver's, ``warning: zenoh/ not written: <reason>`` for an output the bundle goes
+    without. ``machine``: it is about this machine, not the product (a picture not
+    rendered for want of Graphviz), so it is said but neither counted nor failed by
+    ``--strict``: the same product on another machine has no such warning."""
+
+    text: str
+    machine: bool = False
+
+    def __str__(self) -> str:
+        return self.text
+
+
+def skip_warning(path: str, reason: str, machine: bool = False) -> ProductWarning:
+    """``warning: <path> not written: <reason>``: an output a bundle goes without."""
+    diagnostic = Diagnostic(None, f"{path} not written: {reason}", "warning")
+    return ProductWarning(str(diagnostic), machine)
+
+
+@dataclass(frozen=True)
 class Derivation:
-    """One product derived from a line: the resolution (with its trace and summary) and
-    the bundle generated from it, not yet written anywhere."""
+    """One product derived from a line: the resolution (with its trace and summary), the
+    bundle generated from it, not yet written anywhere, and the product's warnings: the
+    resolver's in its order, then each skipped output by path. Every reporter reads
+    ``warnings``; none puts them together again."""
 
     resolution: Resolution
     bundle: Bundle
+    warnings: tuple[ProductWarning, ...]
 
 
 def load_line(directory: Path) -> ProductLine:
@@ -73,7 +101,15 @@ def derive(
     from spl.generators.bundle import build_bundle
 
     resolution = resolve_product(line, selection)
-    return Derivation(resolution, build_bundle(resolution.product, targets, render_diagrams))
+    bundle = build_bundle(resolution.product, targets, render_diagrams)
+    warnings = (
+        *(ProductWarning(str(warning)) for warning in resolution.product.warnings),
+        *(
+            skip_warning(path, reason, path in bundle.machine_skipped)
+            for path, reason in bundle.skipped.items()
+        ),
+    )
+    return Derivation(resolution, bundle, warnings)
 
 
 def validate(derivation: Derivation) -> list[str]:

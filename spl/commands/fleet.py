@@ -136,6 +136,7 @@ def resolve(fleet_file: Path, out: Path | None, namespace: str | None) -> None:
     from spl.generators.bundle import write_bundle
     from spl.generators.fleet import fleet_files, fleet_skipped
     from spl.generators.zenoh_bridge import transport_reused
+    from spl.pipeline import skip_warning
     from spl.resolver.fleet import check_fleet, located, summary
     from spl.resolver.fleet_deployment import deploy
     from spl.resolver.fleet_file import load_fleet
@@ -152,8 +153,8 @@ def resolve(fleet_file: Path, out: Path | None, namespace: str | None) -> None:
     with transport_reused(), namespace_override(namespace):
         files = fleet_files(deployment)
         skipped = fleet_skipped(deployment)
-    for path, reason in skipped.items():
-        click.echo(f"warning: {path} not written: {reason}", err=True)
+    for path, reason in skipped.items():  # as spl resolve warns of a product's
+        click.echo(str(skip_warning(path, reason)), err=True)
     out = out or Path("build") / fleet.name
     write_bundle(files, out)
     for line in summary(result):

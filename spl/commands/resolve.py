@@ -66,9 +66,9 @@ def command(
 ) -> None:
     """Derive the product selected by --features (a list or a YAML file) and/or chosen by
     a robot's --capabilities, and write its deployment bundle. The bundle is written
-    atomically: on any error nothing is left. A file that needs a missing optional program
-    (architecture.svg without Graphviz) is left out with a one-line warning; the rest of
-    the bundle is written, exit 0."""
+    atomically: on any error nothing is left. An output the product or this machine
+    cannot have (zenoh/ Zenoh cannot carry, architecture.svg without Graphviz) is left out
+    with a one-line warning on stderr; the rest of the bundle is written, exit 0."""
     from spl import pipeline
     from spl.resolver.engine import summary_lines
 
@@ -78,13 +78,11 @@ def command(
 
     with namespace_override(namespace):
         derivation = pipeline.derive(line, selection, targets)
-    resolution, bundle = derivation.resolution, derivation.bundle
+    resolution = derivation.resolution
     out = out or Path("build") / resolution.product.name
     pipeline.write(derivation, out)
     for line_text in summary_lines(resolution):
         click.echo(line_text)
-    for warning in resolution.product.warnings:
+    for warning in derivation.warnings:  # the resolver's, then each output left out
         click.echo(str(warning), err=True)
-    for skipped in bundle.skip_warnings():
-        click.echo(skipped, err=True)
-    click.echo(f"  wrote {len(bundle.files)} files to {out}")
+    click.echo(f"  wrote {len(derivation.bundle.files)} files to {out}")

@@ -3,8 +3,9 @@ validation.
 
 Every product of each line (its ``products/*.yaml``, plus all products or a t-wise
 sample) is resolved and its whole bundle generated in memory and validated; one JUnit
-test case per product, its warnings in its ``system-out``. Exit 1 when any product
-fails; with ``--strict`` a product with warnings fails too (docs/ci.md).
+test case per product, its warnings in its ``system-err`` and under its line. Exit 1
+when any product fails; with ``--strict`` a product with warnings of its own fails too
+(docs/ci.md, "A product's warnings").
 """
 
 from __future__ import annotations
@@ -65,7 +66,8 @@ import click
 @click.option(
     "--strict",
     is_flag=True,
-    help="a product that resolves with warnings fails (an input nothing feeds, SPL045, ...)",
+    help="a product with warnings fails (an input nothing feeds, SPL045, an output it "
+    "cannot have, ...); one about this machine (no Graphviz) fails none",
 )
 @click.option(
     "--diagrams",
@@ -87,11 +89,20 @@ def command(
     """Resolve every product of the product lines, generate and validate all of its
     artifacts, and report one test case per product (products/*.yaml always included).
     With --smoke every valid bundle is also started with the real ROS 1 and its live
-    graph compared with the model (exit 2 when ROS 1 is not installed). A warning is
-    reported in its test case and fails it only with --strict."""
+    graph compared with the model (exit 2 when ROS 1 is not installed). A product's
+    warning is printed under its line, counted and reported in its test case, and fails
+    it only with --strict; one about this machine is said once and fails nothing."""
     from spl.commands.products import parse_sample
     from spl.junit_report import junit_xml
-    from spl.line_validation import CaseChecks, Shard, load_lines, plan_cases, plan_digest, summary
+    from spl.line_validation import (
+        CaseChecks,
+        Shard,
+        load_lines,
+        machine_notes,
+        plan_cases,
+        plan_digest,
+        summary,
+    )
 
     try:
         part = Shard.parse(shard) if shard is not None else None
@@ -130,8 +141,8 @@ def command(
         partial = junit.with_name(junit.name + ".partial")
         partial.write_bytes(data)
         os.replace(partial, junit)
-    for note in dict.fromkeys(n for result in results for n in result.skipped):
-        click.echo(note, err=True)  # once, not once per product
+    for note in machine_notes(results):  # once for the run; each test case has it too
+        click.echo(note, err=True)
     click.echo(summary(results))
     if not all(result.passed for result in results):
         sys.exit(1)
@@ -159,8 +170,9 @@ def _runner(lines, cases, jobs: int, scheduler: str | None, checks, smoke: bool)
 
 
 def _progress(run, total: int, strict: bool) -> list:
-    """Run the cases with a progress bar on a terminal, one line per product otherwise;
-    ``strict``: a product with warnings fails."""
+    """Run the cases with a progress bar on a terminal (then the lines of the products
+    that failed or have warnings), one line per product otherwise; ``strict``: a product
+    with warnings of its own fails."""
     from spl.line_validation import describe
     from spl.line_validation import strict as failing_on_warnings
 
@@ -170,7 +182,7 @@ def _progress(run, total: int, strict: bool) -> list:
             results = run(lambda _: bar.update(1))
         results = judged(results)
         for result in results:
-            if not result.passed:
+            if not result.passed or result.product_warnings:
                 for text in describe(result):
                     click.echo(text)
         return results

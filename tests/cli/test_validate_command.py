@@ -15,6 +15,7 @@ from lxml import etree
 from spl.cli import main
 from spl.junit_report import junit_xml
 from spl.line_validation import CaseResult
+from spl.pipeline import ProductWarning
 
 from support.smoke_runs import run_spl
 
@@ -194,7 +195,9 @@ def test_junit_carries_hostile_text_and_internal_errors() -> None:
     results = [
         CaseResult("line", 'a<b>&"c"', "failed", ("x.fm:1:2: error: bad \x01 name <&>",)),
         CaseResult("line", "crash", "error", ("internal error: KeyError: 'x'",)),
-        CaseResult("line", "fine", "passed", warnings=("x.tsm:3:4: warning: unfed",)),
+        CaseResult(
+            "line", "fine", "passed", warnings=(ProductWarning("x.tsm:3:4: warning: unfed"),)
+        ),
     ]
     root = etree.fromstring(junit_xml(results))
     assert SCHEMA.validate(root), SCHEMA.error_log
@@ -202,7 +205,7 @@ def test_junit_carries_hostile_text_and_internal_errors() -> None:
     assert "\\x01 name <&>" in failure_text(found[("line", 'a<b>&"c"')])
     (error,) = found[("line", "crash")].findall("error")
     assert error.get("type") == "InternalError"
-    assert found[("line", "fine")].findtext("system-out") == "x.tsm:3:4: warning: unfed"
+    assert found[("line", "fine")].findtext("system-err") == "x.tsm:3:4: warning: unfed"
     suite = root.find("testsuite")
     assert (suite.get("tests"), suite.get("failures"), suite.get("errors")) == ("3", "1", "1")
 

@@ -57,7 +57,7 @@ def test_readme_main_command_writes_the_bundle_without_dot(no_dot_env, tmp_path)
     args[out] = str(tmp_path / "first")
     result = spl(args, no_dot_env)
     assert result.returncode == 0, result.stderr
-    assert WARNING in result.stderr.splitlines()
+    assert f"warning: {WARNING}" in result.stderr.splitlines()
     assert "Traceback" not in result.stderr and "internal error" not in result.stderr
     files = read_bundle(tmp_path / "first")
     assert "architecture.svg" not in files and validate_bundle(files) == []
@@ -93,14 +93,15 @@ def test_render_without_dot_explains_and_still_writes_the_source(no_dot_env, tmp
 
 def test_validate_without_dot_passes_and_warns_once_when_asked_for_diagrams(no_dot_env, tmp_path):
     """spl validate renders no diagram unless --diagrams asks (the source is checked
-    always); asked without Graphviz, it warns once and records it in each case."""
+    always); asked without Graphviz, it warns once and records it in each case, and the
+    warning, about this machine, fails no product under --strict (docs/ci.md)."""
     plain = spl(["validate", "product_lines/mapping3d"], no_dot_env)
     assert plain.returncode == 0, plain.stdout + plain.stderr
     assert plain.stderr == ""
     junit = tmp_path / "report.xml"
-    args = ["validate", "product_lines/mapping3d", "--diagrams", "--junit", str(junit)]
+    args = ["validate", "product_lines/mapping3d", "--diagrams", "--strict", "--junit", str(junit)]
     result = spl(args, no_dot_env)
     assert result.returncode == 0, result.stdout + result.stderr
-    assert result.stderr.splitlines() == [WARNING]
-    assert "5 passed, 0 failed" in result.stdout
-    assert junit.read_text(encoding="utf-8").count(WARNING) == 5  # in each case's system-out
+    assert result.stderr.splitlines() == [f"warning: {WARNING} (this machine, for 5 products)"]
+    assert result.stdout.splitlines()[-1] == "5 passed, 0 failed"  # not counted
+    assert junit.read_text(encoding="utf-8").count(WARNING) == 5  # in each case's system-err

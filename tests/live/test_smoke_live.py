@@ -181,7 +181,7 @@ def test_validate_smoke_reports_each_product_in_junit(tmp_path):
     cases = {c.get("name"): c for c in etree.parse(str(junit)).iter("testcase")}
     assert sorted(cases) == ["CloudMapping", "CloudMapping,OnboardSlam", "Fleet"]
     assert all(case.find("failure") is None for case in cases.values())
-    fleet = cases["Fleet"].findtext("system-out")
+    fleet = cases["Fleet"].findtext("system-err")  # warnings, as spl resolve's stderr
     assert "Navigator.map subscribes Scout.MapView, which no node of the product publishes" in fleet
     assert "[SPL045]" in fleet
     for name in cases:
