@@ -226,7 +226,7 @@ def _fleet_manifest(
         "robots": robots,
         "shared": shared,
         "toolchain": {"name": "spl-robotics", "version": __version__},
-        **({"skipped": skipped} if (skipped := fleet_skipped(deployment)) else {}),
+        "skipped": fleet_skipped(deployment),  # {} when Zenoh carries the fleet
         "files": {path: hashlib.sha256(data).hexdigest() for path, data in sorted(files.items())},
     }
     return (json.dumps(document, indent=2, sort_keys=True) + "\n").encode("utf-8")
