@@ -49,7 +49,7 @@ from spl.generators.rapyuta import configurations, declare_once, render
 from spl.generators.rapyuta_rules import check_all
 from spl.generators.zenoh_bridge import transport
 from spl.resolver.fleet_deployment import FleetDeployment, SharedInstance
-from spl.resolver.placement import Placement, sharing_mode
+from spl.resolver.placement import Placement
 
 if TYPE_CHECKING:
     from spl.metamodels import tsm_types
@@ -125,17 +125,16 @@ def _robot_files(deployment: FleetDeployment, entry: RobotProduct) -> dict[str, 
         # kubernetes/ does not create (docs/kubernetes.md); with --namespace, one for all
         files["deploy/kubernetes/namespace.yaml"] = namespace_file(product.name, namespace)
     errors: list[Diagnostic] = []
-    placement = Placement(product.system, errors)
+    placement = Placement(product.system, errors, flows=product.flows)
     for container in product.system.containers:
-        if placement.is_robot(container):
-            continue
-        files.pop(f"ros1/{container.name}.launch", None)
-        files.pop(f"ros2/{container.name}.launch.xml", None)
-        private = [n for n in container.nodes if sharing_mode(n) == "private"]
-        for robot in placement.robots if private else ():
-            if container not in placement.scope(robot):
+        if not placement.is_robot(container):
+            files.pop(f"ros1/{container.name}.launch", None)
+            files.pop(f"ros2/{container.name}.launch.xml", None)
+    for robot in placement.robots:  # the private instances each robot gets (docs/deployment.md)
+        for instance in placement.partitions(robot):
+            if instance.place.kind != "private":
                 continue
-            tag = placement.place(container, "private", robot).tag
+            container, private, tag = instance.container, instance.nodes, instance.place.tag
             header = _header(deployment, f"robot {entry.robot.name}, private instance {tag}")
             files[f"ros1/{tag}.launch"] = ros1.launch_file(product, container, private, header)
             files[f"ros2/{tag}.launch.xml"] = ros2_launch.launch_file(

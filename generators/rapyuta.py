@@ -40,7 +40,7 @@ from spl.diagnostics import Diagnostic, ModelError, location_of
 from spl.generators.json_text import Document, indented
 from spl.generators.rapyuta_bridges import Bridges
 from spl.generators.rapyuta_rules import check_all
-from spl.resolver.placement import MODES, Place, Placement, sharing_mode
+from spl.resolver.placement import Place, Placement
 from spl.resolver.product import ResolvedProduct
 from spl.resolver.ros_names import in_namespace
 
@@ -185,7 +185,7 @@ def _partition_entries(
 def configurations(product: ResolvedProduct) -> dict[str, Document]:
     """The rce-ros configuration of every robot container, by container name."""
     errors: list[Diagnostic] = []
-    placement = Placement(product.system, errors)
+    placement = Placement(product.system, errors, flows=product.flows)
     bridges = Bridges(product.flows, placement, errors)
     documents: dict[str, Document] = {}
     for robot in placement.robots:
@@ -195,21 +195,14 @@ def configurations(product: ResolvedProduct) -> dict[str, Document]:
         containers: list[Entry] = []
         nodes: list[Entry] = []
         parameters: list[Entry] = []
-        for cloud in placement.scope(robot):
-            by_mode: dict[str, list[tsm_types.Node]] = defaultdict(list)
-            for node in cloud.nodes:
-                by_mode[sharing_mode(node)].append(node)
-            for mode in MODES:
-                if not by_mode[mode]:
-                    continue
-                place = placement.place(cloud, mode, robot)
-                container, node_entries, parameter_entries = _partition_entries(
-                    place, cloud, by_mode[mode], errors
-                )
-                declared.add(place.tag)
-                containers.append(container)
-                nodes.extend(node_entries)
-                parameters.extend(parameter_entries)
+        for instance in placement.partitions(robot):  # the private ones it gets, docs/deployment.md
+            container, node_entries, parameter_entries = _partition_entries(
+                instance.place, instance.container, instance.nodes, errors
+            )
+            declared.add(instance.place.tag)
+            containers.append(container)
+            nodes.extend(node_entries)
+            parameters.extend(parameter_entries)
         interfaces = [spec for key, spec in bridges.interfaces.items() if key[0] in declared]
         connections = [b.as_json() for b in bridges.of_robot[id(robot)]]
         lists: dict[str, list[Entry] | list[dict[str, str]]] = {

@@ -11,7 +11,10 @@ nodes); the refusal lists the qualified names it could mean.
 
 Besides the trace, an interface is explained by the product's flow table (who feeds a
 subscriber, who answers a client, what an endpoint interface carries: the facts every
-output follows) and a cloud node by the instances its sharing mode gives it.
+output follows) and a cloud node by the instances its sharing mode gives it: for a
+private node, each robot's instance with the flow chain that keeps it, or why the robot
+gets none (:mod:`spl.resolver.instance_explanation`, which also explains an instance
+named by its tag).
 """
 
 from __future__ import annotations
@@ -24,7 +27,7 @@ from spl.diagnostics import location_of
 from spl.metamodels import tsm
 from spl.resolver.context import qualified
 from spl.resolver.flows import SERVICE, TOPIC, node_of
-from spl.resolver.placement import Placement
+from spl.resolver.instance_explanation import node_instances
 from spl.resolver.product import ResolvedProduct, topic_ros_name
 from spl.resolver.trace import Trace, TraceEntry
 
@@ -63,14 +66,19 @@ MOVED_OR_GONE = frozenset({"migrated", "removed"})
 
 
 def explanation(
-    template: tsm_types.System, resolved: ResolvedProduct, trace: Trace, name: str
+    template: tsm_types.System,
+    resolved: ResolvedProduct,
+    trace: Trace,
+    name: str,
+    robot: str | None = None,
 ) -> list[str] | None:
     """The lines explaining the elements ``name`` means, product's first, then those only
     the template has; None when neither model has an element of that name. Each element
     gets how it stands in the product, the trace entries about it (and its parts), then
     those about the node or container holding it (a node's migration moved its
     interfaces too; a container's removal removed its topics), then its flows or its
-    instances."""
+    instances (``robot``: a private node's for that robotID alone)."""
+    T = tsm()
     product = resolved.system
     in_product = list(named_elements(product))
     in_template = [e for e in named_elements(template) if _means(name, e)]
@@ -98,7 +106,8 @@ def explanation(
             )
         for element in present:
             lines += [f"  {line}" for line in _flows(element, resolved, trace)]
-            lines += [f"  {line}" for line in _instances(element, resolved)]
+            if isinstance(element, T.Node) and isinstance(element.eContainer(), T.CloudContainer):
+                lines += [f"  {line}" for line in node_instances(element, resolved, robot)]
     return lines
 
 
@@ -182,25 +191,6 @@ def _end(interface: tsm_types.Interface) -> str:
     """A node interface as ``Container.Node.interface``."""
     node = node_of(interface)
     return f"{node.eContainer().name}.{node.name}.{interface.name}"
-
-
-INSTANCES = {"private": "one per robot", "protected": "one per group", "public": "one for all"}
-
-
-def _instances(element: tsm_types.NamedElement, product: ResolvedProduct) -> list[str]:
-    """Where a cloud node runs once deployed: one instance per robot (private), per group
-    (protected) or one for all (public)."""
-    T = tsm()
-    if not isinstance(element, T.Node) or isinstance(element.eContainer(), T.RobotContainer):
-        return []
-    placement = Placement(product.system, [])
-    instances = [i for i in placement.cloud_instances() if element in i.nodes]
-    if not instances:
-        return []
-    mode = instances[0].place.kind
-    return [f"deployed {mode}: {INSTANCES[mode]}"] + [
-        f"instance {i.place.tag} for robot {', '.join(i.robots)}" for i in instances
-    ]
 
 
 def qualified_candidates(

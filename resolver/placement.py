@@ -18,7 +18,10 @@ generator (which names containers by it) and the fleet analysis (which checks th
 robots sharing an instance ask the same of it) apply, so it lives here, once.
 
 A robot *uses* ``C`` when endpoint connections link the two, directly or through other
-cloud containers (robots never relay for each other).
+cloud containers (robots never relay for each other). Of ``C``'s private nodes, a robot
+gets an instance only of those it can feed or be fed by through the flow table
+(:mod:`spl.resolver.private_instances`); a private partition left with no node is not
+deployed for that robot.
 """
 
 from __future__ import annotations
@@ -30,6 +33,8 @@ from typing import TYPE_CHECKING, NamedTuple, cast
 
 from spl.diagnostics import Diagnostic, location_of
 from spl.metamodels import tsm
+from spl.resolver.flows import FlowTable
+from spl.resolver.private_instances import PrivateInstances
 
 if TYPE_CHECKING:
     from spl.metamodels import tsm_types
@@ -110,11 +115,19 @@ class Placement:
     """
 
     def __init__(
-        self, system: tsm_types.System, errors: list[Diagnostic], group: str | None = None
+        self,
+        system: tsm_types.System,
+        errors: list[Diagnostic],
+        group: str | None = None,
+        flows: FlowTable | None = None,
     ) -> None:
         """``group``, when given, is the group of every cloud container: a fleet robot's
-        group, which decides whose protected instances it shares."""
+        group, which decides whose protected instances it shares. ``flows`` is the
+        system's flow table (``ResolvedProduct.flows``), computed when first needed if
+        not given: it decides which private instances each robot gets."""
         T = tsm()
+        self._flows = flows
+        self._private: PrivateInstances | None = None
         self.T = T
         self.system = system
         self.errors = errors
@@ -182,11 +195,46 @@ class Placement:
         clouds = [self.by_id[i] for i in sorted(seen, key=lambda i: self.by_id[i].name)]
         return cast("list[tsm_types.CloudContainer]", clouds)  # no robot relays
 
+    def view(self, robot: tsm_types.Container) -> list[tsm_types.Container]:
+        """The containers ``robot``'s deployment sees: itself, the clouds it uses and the
+        robots linked to those."""
+        allowed = {id(robot)} | {id(c) for c in self.scope(robot)}
+        for container_id in list(allowed):
+            allowed |= {n for n in self.neighbours[container_id] if self.is_robot(self.by_id[n])}
+        return [c for c in self.by_id.values() if id(c) in allowed]
+
+    @property
+    def flows(self) -> FlowTable:
+        if self._flows is None:
+            self._flows = FlowTable.of(self.system)
+        return self._flows
+
+    @property
+    def private(self) -> PrivateInstances:
+        """Which private instances each robot gets and why (docs/deployment.md, "Private
+        instances"), decided once per placement, on first use."""
+        if self._private is None:
+            self._private = PrivateInstances(self, self.flows)
+        return self._private
+
+    def deploys(self, node: tsm_types.Node, robot: tsm_types.Container) -> bool:
+        """Whether ``node`` runs in ``robot``'s deployment: a robot's or shared node
+        always, a private one when the robot gets its instance."""
+        if sharing_mode(node) != "private" or self.is_robot(node.eContainer()):
+            return True
+        return self.private.reason(node, robot) is not None
+
     def place(
-        self, container: tsm_types.Container, mode: str, robot: tsm_types.Container | None
+        self,
+        container: tsm_types.Container,
+        mode: str,
+        robot: tsm_types.Container | None,
+        claim: bool = True,
     ) -> Place:
         # (``robot`` None: seen from no robot in particular, for a node that is not private)
-        """The instance of ``container`` holding its ``mode`` nodes, as ``robot`` sees it."""
+        """The instance of ``container`` holding its ``mode`` nodes, as ``robot`` sees it;
+        ``claim``: its tag is taken (checked against every other tag taken), as it is by
+        every instance deployed, not by one merely asked about."""
         if self.is_robot(container):
             robot_id = self.robot_ids[id(container)]
             place = Place(robot_id, "robot", container.name, robot_id)
@@ -198,6 +246,8 @@ class Placement:
             place = Place(f"{container.name}_{group}", mode, container.name, group)
         else:
             place = Place(f"{container.name}_public", mode, container.name, "public")
+        if not claim:
+            return place
         known = self.tags.setdefault(place.tag, place)
         twin = self.folded_tags.setdefault(place.tag.lower(), place)
         if twin.tag != place.tag:  # files are named after tags (zenoh/<robot_id>.json5)
@@ -220,26 +270,38 @@ class Placement:
         self.errors.append(clash)
         self.clashes.append(clash)
 
+    def partitions(self, robot: tsm_types.Container) -> list[Instance]:
+        """The cloud instances ``robot`` uses, by container (by name) and sharing mode:
+        its private ones holding the private nodes it gets (none: not deployed), the
+        shared ones whole."""
+        robot_id = self.robot_ids[id(robot)]
+        found = []
+        for cloud in self.scope(robot):
+            for mode in MODES:
+                nodes = tuple(
+                    n for n in cloud.nodes if sharing_mode(n) == mode and self.deploys(n, robot)
+                )
+                if nodes:
+                    found.append(
+                        Instance(self.place(cloud, mode, robot), cloud, nodes, (robot_id,))
+                    )
+        return found
+
     def cloud_instances(self) -> list[Instance]:
         """Every deployed cloud instance once, with its nodes, ordered by tag: the
-        partitions of each cloud container a robot uses (a shared one is listed once,
-        with every robot using it)."""
+        partitions robots use (a shared one is listed once, with every robot using it)."""
         found: dict[str, Instance] = {}
         for robot in self.robots:
-            robot_id = self.robot_ids[id(robot)]
-            for cloud in self.scope(robot):
-                for mode in MODES:
-                    nodes = tuple(n for n in cloud.nodes if sharing_mode(n) == mode)
-                    if not nodes:
-                        continue
-                    place = self.place(cloud, mode, robot)
-                    known = found.setdefault(place.tag, Instance(place, cloud, nodes, ()))
-                    found[place.tag] = known._replace(robots=(*known.robots, robot_id))
+            for instance in self.partitions(robot):
+                known = found.setdefault(instance.place.tag, instance._replace(robots=()))
+                found[instance.place.tag] = known._replace(robots=(*known.robots, *instance.robots))
         return [found[tag] for tag in sorted(found)]
 
-    def node_place(self, node: tsm_types.Node, robot: tsm_types.Container | None) -> Place:
-        """The instance ``node`` runs in for ``robot``."""
-        return self.place(node.eContainer(), sharing_mode(node), robot)
+    def node_place(
+        self, node: tsm_types.Node, robot: tsm_types.Container | None, claim: bool = True
+    ) -> Place:
+        """The instance ``node`` runs in for ``robot`` (``claim``: as :meth:`place`)."""
+        return self.place(node.eContainer(), sharing_mode(node), robot, claim)
 
 
 SHARED_ACROSS_USERS = "SPL047"

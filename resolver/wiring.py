@@ -12,7 +12,8 @@ The flows are seen from one robot at a time, since a cloud container's private
 partition is instantiated per robot: the robot, the cloud containers it uses and the
 other robots linked to those. A private partition serves its own robot alone: a flow
 between another robot and it is *withheld* in this robot's view (no crossing; the
-other robot's own instance takes it), docs/semantics.md F4.
+other robot's own instance takes it), docs/semantics.md F4; so is a flow at a private
+node the robot gets no instance of (:mod:`spl.resolver.private_instances`).
 
 Every deployment target that carries data between places takes its wiring from here
 (Rapyuta bridges; Kubernetes services and Zenoh allow lists likewise), so they agree.
@@ -22,7 +23,7 @@ from __future__ import annotations
 
 from collections import defaultdict
 from collections.abc import Callable, Iterator
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, cast
 
 from spl.diagnostics import Diagnostic, location_of
@@ -30,6 +31,7 @@ from spl.metamodels import tsm
 from spl.resolver.context import qualified
 from spl.resolver.flows import TOPIC, Flow, FlowTable, container_of, node_of
 from spl.resolver.placement import Place, Placement, sharing_mode
+from spl.resolver.private_instances import Delivery, placed_flows
 from spl.resolver.ros_names import resolved_service_name, resolved_topic_name
 from spl.resolver.trace import Trace
 
@@ -67,38 +69,23 @@ class Wiring:
         self.placement = placement
         self.errors = errors
 
-    def view(self, robot: tsm_types.Container) -> list[tsm_types.Container]:
-        """The containers ``robot``'s deployment sees: itself, the clouds it uses and the
-        robots linked to those."""
-        placement = self.placement
-        allowed = {id(robot)} | {id(c) for c in placement.scope(robot)}
-        for container_id in list(allowed):
-            allowed |= {
-                n
-                for n in placement.neighbours[container_id]
-                if placement.is_robot(placement.by_id[n])
-            }
-        return [c for c in placement.by_id.values() if id(c) in allowed]
-
     def deliveries(self, robot: tsm_types.Container) -> Iterator[Delivery]:
         """Every flow between two containers of ``robot``'s view, placed, in table
-        order; ``withheld`` when a private partition would serve another robot."""
+        order; ``withheld`` when a private partition would serve another robot, or when
+        the robot gets no instance of a private node at one end (docs/deployment.md,
+        "Private instances")."""
         placement = self.placement
-        robot_id = placement.robot_ids[id(robot)]
-        allowed = {id(c) for c in self.view(robot)}
-
-        def foreign(place: Place) -> bool:
-            return place.is_robot and place.owner != robot_id
-
-        for flow in self.flows:
-            if id(flow.source_container) not in allowed or id(flow.target_container) not in allowed:
+        for delivery in placed_flows(placement, self.flows, robot):
+            if delivery.withheld:
+                yield delivery
                 continue
-            source = placement.node_place(node_of(flow.source), robot)
-            target = placement.node_place(node_of(flow.target), robot)
-            withheld = (foreign(source) and target.kind == "private") or (
-                foreign(target) and source.kind == "private"
-            )
-            yield Delivery(flow, source, target, withheld)
+            source, target = node_of(delivery.flow.source), node_of(delivery.flow.target)
+            if not (placement.deploys(source, robot) and placement.deploys(target, robot)):
+                yield replace(delivery, withheld=True)
+                continue
+            placement.node_place(source, robot)  # its tag taken, as a deployed instance's
+            placement.node_place(target, robot)
+            yield delivery
 
     def crossings(self, robot: tsm_types.Container) -> Iterator[Crossing]:
         """The crossings of the system instantiated for ``robot``: topics first (by
@@ -148,16 +135,6 @@ class Wiring:
                     resolved_service_name(server, container_of(server), system),
                     flow,
                 )
-
-
-@dataclass(frozen=True)
-class Delivery:
-    """A flow as one robot's deployment places it."""
-
-    flow: Flow
-    source: Place
-    target: Place
-    withheld: bool  # a private partition and another robot: not delivered in this view
 
 
 CROSS_ROBOT = "SPL050"

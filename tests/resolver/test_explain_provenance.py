@@ -126,10 +126,16 @@ def test_a_client_rebound_by_a_migration_names_the_migration(tmp_path):
 
 def test_a_private_cloud_node_is_explained_by_its_instance_per_robot(tmp_path):
     survey = line(tmp_path / "survey", SURVEY_TSM, SURVEY_FM, SURVEY_RM)
+    # was an instance for each robot; the rover feeds the generator nothing, and the
+    # generator's instance for the rover would get none of the drone's images, so the
+    # rover gets none (docs/deployment.md, "Private instances")
     assert explain(survey, "Reports", "ReportGenerator")[-3:] == [
-        "  deployed private: one per robot",
-        "  instance Central_drone_1 for robot drone_1",
-        "  instance Central_rover_1 for robot rover_1",
+        "  deployed private: one per robot that feeds it or that it feeds",
+        "  instance Central_drone_1 for robot drone_1: drone_1 feeds it: "
+        "drone_1.Camera.image -> Central_drone_1.ReportGenerator.video",
+        "  no instance for robot rover_1 (not run in Central_rover_1): nothing feeds it in "
+        "rover_1's deployment (fed only by drone_1.Camera.image, another robot's data, which "
+        "a private instance never takes), so it has nothing to send either",
     ]
 
 
