@@ -27,6 +27,7 @@ from fastapi.responses import HTMLResponse, JSONResponse, Response
 from jinja2 import Environment, FileSystemLoader, select_autoescape
 from starlette.middleware.trustedhost import TrustedHostMiddleware
 
+from spl.configure.body_limit import MAX_BODY, BodyLimit
 from spl.configure.selection_file import (
     read_capabilities_text,
     read_selection_text,
@@ -44,13 +45,17 @@ SESSIONS = 64
 STATIC = {"configure.js": "text/javascript", "configure.css": "text/css"}
 
 
-def create_app(workspace: Workspace, hosts: list[str] | None = None) -> FastAPI:
+def create_app(
+    workspace: Workspace, hosts: list[str] | None = None, max_body: int = MAX_BODY
+) -> FastAPI:
     """The application serving ``workspace`` to any number of independent sessions.
     ``hosts``: the only Host headers answered (a page of another site that makes its
-    browser resolve its own name to 127.0.0.1 is refused: DNS rebinding); None, any."""
+    browser resolve its own name to 127.0.0.1 is refused: DNS rebinding); None, any.
+    ``max_body``: the largest request body in bytes, 413 beyond (body_limit.py)."""
     app = FastAPI(title=f"spl configure {workspace.title}", docs_url=None, redoc_url=None)
     if hosts is not None:
         app.add_middleware(TrustedHostMiddleware, allowed_hosts=hosts)
+    app.add_middleware(BodyLimit, limit=max_body)  # outermost: before anything reads
     sessions: OrderedDict[str, Session] = OrderedDict()
     sessions_guard = threading.Lock()
     templates = Environment(
@@ -193,9 +198,7 @@ def create_app(workspace: Workspace, hosts: list[str] | None = None) -> FastAPI:
     def import_selection(
         request: Request, text: str = Body(), filename: str = Body("selection.yaml")
     ) -> Response:
-        return reply(
-            request, changing(lambda s: s.replace(read_selection_text(s, text, filename)))
-        )
+        return reply(request, changing(lambda s: s.replace(read_selection_text(s, text, filename))))
 
     @app.post("/api/capabilities")
     def import_capabilities(
@@ -233,8 +236,7 @@ def create_app(workspace: Workspace, hosts: list[str] | None = None) -> FastAPI:
             return {
                 "svg": architecture_svg(resolution),
                 "summary": summary_lines(resolution),
-                "warnings": [str(w) for w in resolution.product.warnings]
-                + bundle.skip_warnings(),
+                "warnings": [str(w) for w in resolution.product.warnings] + bundle.skip_warnings(),
                 "product": resolution.product.name,
             }
 

@@ -1,12 +1,14 @@
 """``spl configure``'s JSON API (docs/configure.md), through FastAPI's TestClient: the
 acceptance flow on mapping3d, a bare UVL model, refusals (409 with the explanation, 422
 for bad values, the selection unchanged), undo/redo, YAML export and import, capability
-files, fleet mode, independent sessions, saving under a validated name, and the bundle
-zip equal to what ``spl resolve -o`` writes."""
+files, fleet mode, independent sessions, saving under a validated name, the bundle
+zip equal to what ``spl resolve -o`` writes, and 413 for a body over the limit on every
+endpoint that takes one (through a real server: tests/live/test_configure_body_limit.py)."""
 
 from __future__ import annotations
 
 import io
+import json
 import shutil
 import subprocess
 import sys
@@ -18,6 +20,7 @@ import yaml
 from fastapi.testclient import TestClient
 
 from spl.configure.app import create_app
+from spl.configure.body_limit import MAX_BODY
 from spl.configure.workspace import load_fleet_workspace, load_workspace
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -282,6 +285,73 @@ def test_saving_writes_only_products_name_yaml_under_a_valid_new_name(tmp_path: 
     }
     saved = yaml.safe_load((line / "products" / "pc_robot.yaml").read_text())
     assert saved == {"product": "pc_robot", "features": ["AdditionalPC"]}
+
+
+# every endpoint that takes a body, with a body it takes
+BODIES = [
+    ("/api/decide", {"feature": "AdditionalPC", "action": "select"}),
+    ("/api/attribute", {"key": "AdditionalPC.cores", "value": "4"}),
+    ("/api/sharing", {"feature": "SharedMap", "mode": "public"}),
+    ("/api/deployment", {"container": "Robot", "key": "robot_id", "value": "r1"}),
+    ("/api/selection", {"text": "product: p\nfeatures: [AdditionalPC]\n"}),
+    ("/api/capabilities", {"text": "base: youbot\n"}),
+    ("/api/save", {"name": "padded"}),
+]
+
+
+def padded(body: dict, size: int) -> bytes:
+    """``body`` as JSON of exactly ``size`` bytes (spaces before its closing brace)."""
+    text = json.dumps(body).encode()
+    return text[:-1] + b" " * (size - len(text)) + b"}"
+
+
+@pytest.mark.parametrize(("path", "body"), BODIES, ids=[p for p, _ in BODIES])
+def test_every_body_over_the_limit_is_refused_with_413_and_changes_nothing(
+    path: str, body: dict
+) -> None:
+    api = client(MAPPING)
+    before = api.get("/api/state").json()
+    headers = {"Content-Type": "application/json"}
+    answer = api.post(path, content=padded(body, MAX_BODY + 1), headers=headers)
+    assert answer.status_code == 413
+    assert answer.json() == {
+        "error": f"the request body has {MAX_BODY + 1} bytes; at most {MAX_BODY} are taken"
+    }
+    assert answer.headers["connection"] == "close"
+    # without a Content-Length (chunked), counted as it is read
+    chunks = padded(body, MAX_BODY + 1)
+    streamed = api.post(path, content=iter([chunks[:1000], chunks[1000:]]), headers=headers)
+    assert streamed.status_code == 413
+    assert streamed.json() == {"error": f"the request body has more than {MAX_BODY} bytes"}
+    assert api.get("/api/state").json() == before
+
+
+@pytest.mark.parametrize("path", ["/api/undo", "/api/redo"])
+def test_a_body_to_an_endpoint_that_takes_none_is_refused_or_not_read_on(path: str) -> None:
+    api = client(MAPPING)
+    decide(api, "AdditionalPC")
+    headers = {"Content-Type": "application/json"}
+    answer = api.post(path, content=padded({}, MAX_BODY + 1), headers=headers)
+    assert answer.status_code == 413 and "at most" in answer.json()["error"]
+    assert states(api)["AdditionalPC"] == "selected"  # not undone
+    # chunked: answered without reading it, and the connection is closed, not read on
+    chunks = padded({}, MAX_BODY + 1)
+    streamed = api.post(path, content=iter([chunks[:1000], chunks[1000:]]), headers=headers)
+    assert streamed.headers["connection"] == "close"
+    assert streamed.status_code == (200 if path == "/api/undo" else 422)
+
+
+def test_a_body_of_exactly_the_limit_is_taken() -> None:
+    api = client(MAPPING)
+    answer = api.post(
+        "/api/decide",
+        content=padded({"feature": "AdditionalPC", "action": "select"}, MAX_BODY),
+        headers={"Content-Type": "application/json"},
+    )
+    assert answer.status_code == 200 and answer.json()["states"]["AdditionalPC"] == "selected"
+    small = TestClient(create_app(load_workspace(MAPPING), max_body=100))
+    refused = decide(small, "AdditionalPC" + "x" * 100)
+    assert refused.status_code == 413 and "at most 100" in refused.json()["error"]
 
 
 def test_the_command_refuses_bad_input_with_a_message(tmp_path: Path) -> None:
