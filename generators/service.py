@@ -56,6 +56,7 @@ PACKAGE_FILES = (
     "ingest.py",
     "access.py",
     "linked.py",
+    "callback_targets.py",
     "subscriptions.py",
     "contract.py",
     "app.py",

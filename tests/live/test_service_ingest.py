@@ -1,12 +1,12 @@
 """How the generated service stores posted records (ingest.py): many requests per
 transaction (group commit) without mixing them up, each request all or nothing, a
 record answered 201 in the database also after kill -9, the token checked before
-the body, and the write endpoints documented in OpenAPI as before."""
+the body, and the write endpoints documented in OpenAPI as before (bodies over the
+limit: test_service_body_limits.py)."""
 
 from __future__ import annotations
 
 import asyncio
-import http.client
 import json
 import sqlite3
 import sys
@@ -347,40 +347,3 @@ def test_the_transformer_writes_only_in_its_turn(ingest) -> None:
 
     (waited, early, done), _, _ = asyncio.run(_with_writer(ingest, url, work))
     assert waited and early == 0 and done == 1200
-
-
-def test_a_body_over_max_body_is_refused_with_413(tmp_path: Path) -> None:
-    write_files(service.generate(product()), tmp_path)
-    directory = tmp_path / "services" / "PositionStore"
-    running = RunningService(
-        directory, PACKAGE, {"POSITION_STORE_TOKEN": TOKEN, "TRANSFORMER": "off", "MAX_BODY": "300"}
-    ).start()
-    try:
-        url = f"{running.url}/PositionStore/records/batch"
-        small = {"records": [{"robot": "r", "timestamp": 1.0, "data": {"lat": 1.0, "lon": 2.0}}]}
-        assert request("POST", url, small)[0] == 201
-        large = {"records": small["records"] * 10}
-        status, _, answer = request("POST", url, large)
-        assert status == 413 and "at most 300" in answer["detail"]
-        # without a Content-Length (chunked), counted as it arrives
-        body = json.dumps(large).encode()
-        connection = http.client.HTTPConnection("127.0.0.1", running.port, timeout=10)
-        connection.request(
-            "POST",
-            "/PositionStore/records/batch",
-            iter([body[:200], body[200:]]),
-            {
-                "Authorization": f"Bearer {TOKEN}",
-                "Content-Type": "application/json",
-                "Accept": "application/json",
-                "Transfer-Encoding": "chunked",
-            },
-            encode_chunked=True,
-        )
-        answer = connection.getresponse()
-        assert answer.status == 413 and b"more than 300" in answer.read()
-        connection.close()
-        # the token is checked first
-        assert request("POST", url, large, token=None)[0] == 401
-    finally:
-        running.stop()

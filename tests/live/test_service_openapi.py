@@ -49,7 +49,7 @@ def _service(directory: Path, tmp_path: Path, **env: str) -> RunningService:
     environment = {
         "POSITION_STORE_TOKEN": TOKEN,
         "POSITION_STORE_TRANSFORM_PERIOD": "0.1",
-        # callbacks only ever go to this machine, whatever a test generates
+        # callbacks to this machine are allowed (internal ones are refused otherwise)
         "POSITION_STORE_CALLBACK_HOSTS": "127.0.0.1",
         "DATABASE_URL": f"sqlite:///{tmp_path}/openapi.db",
         **env,

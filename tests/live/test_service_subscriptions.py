@@ -166,7 +166,8 @@ def test_upgrade_requests_that_open_nothing(positions) -> None:
         ({"Upgrade": "callback"}, "needs a Callback header"),
         ({"Upgrade": "callback", "Callback": "ftp://127.0.0.1/x"}, "only http and https"),
         ({"Upgrade": "callback", "Callback": "http://"}, "only http and https"),
-        ({"Upgrade": "callback", "Callback": "http://example.org/x"}, "posts only to"),
+        ({"Upgrade": "callback", "Callback": "http://10.0.0.1/x"}, "a private address"),
+        ({"Upgrade": "callback", "Callback": "http://a@127.0.0.1/"}, "user information"),
     ]:
         status, _, body = request("GET", base, headers=headers_)
         assert status == 400 and reason in body["detail"], (headers_, body)
