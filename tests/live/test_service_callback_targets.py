@@ -323,3 +323,16 @@ def test_a_name_rebound_to_loopback_after_subscribing_is_not_posted_to(
         scripted.stop()
         pinned_at.close()
         elsewhere.close()
+
+
+@pytest.mark.parametrize("entry", ["hooks:port", "hooks:0", "hooks:65536", "[::1", "[::1]x", ":80"])
+def test_a_malformed_allow_list_stops_the_service_with_a_message(
+    directory: Path, entry: str
+) -> None:
+    environment = {"POSITION_STORE_TOKEN": TOKEN, ALLOW: f"127.0.0.1:8080, {entry}"}
+    with pytest.raises(RuntimeError) as stopped:
+        RunningService(directory, PACKAGE, environment).start()
+    assert f"{ALLOW}: {entry!r} is no host, host:port, [address] or [address]:port" in str(
+        stopped.value
+    )
+    assert "Traceback" not in str(stopped.value)
