@@ -65,8 +65,14 @@ def run_smoke(
     progress: Callable[[Progress], None] | None = None,
     ros: RosInstall | None = None,
 ) -> SmokeResult:
-    """Rehearse the bundle in folder ``bundle``. Raises RosMissing without ROS 1 and
-    ModelError when the bundle's model does not parse."""
+    """Rehearse the bundle in folder ``bundle``, given in any form (relative to the
+    current directory, with ``..``, a trailing slash, through a symlink). Raises
+    RosMissing without ROS 1 and ModelError when the bundle's model does not parse.
+
+    The path is made absolute here, once, before anything reads it: roslaunch, the
+    services and the generated nodes run in other working directories, so a path
+    relative to ours would name another folder there (docs/smoke.md, "How it runs")."""
+    bundle = bundle.resolve()
     start = time.monotonic()
     system, _ = read_bundle(bundle)
     ros = ros or find_ros()
@@ -188,7 +194,7 @@ class _Rehearsal:
         sandbox = str(self.run_dir / "sandbox")
         launch = self.bundle / "ros1" / f"{container.name}.launch"
         argv = [self.ros.roslaunch, "--wait", "--skip-log-check", "--disable-title",
-                "--sigint-timeout=1", "--sigterm-timeout=1", str(launch.resolve())]  # fmt: skip
+                "--sigint-timeout=1", "--sigterm-timeout=1", str(launch)]  # fmt: skip
         label = f"roslaunch-{container.name}"
         self.labels[label] = (container.name, None)
         launch_env = {**env, "ROS_PACKAGE_PATH": f"{sandbox}/share", "CMAKE_PREFIX_PATH": sandbox}

@@ -49,13 +49,15 @@ def tagged_env(tag: str, **extra: str) -> dict[str, str]:
     return {**os.environ, TAG: tag, "ROS_MASTER_URI": "http://127.0.0.1:9/", **extra}
 
 
-def run_spl(args: list[str], timeout: float = 240, **extra: str) -> subprocess.CompletedProcess:
-    """Run spl with a fresh tag; afterwards no process of that run may be left."""
+def run_spl(
+    args: list[str], timeout: float = 240, cwd: Path = ROOT, **extra: str
+) -> subprocess.CompletedProcess:
+    """Run spl in ``cwd`` with a fresh tag; afterwards no process of that run may be left."""
     tag = uuid.uuid4().hex
     result = subprocess.run(
         [*spl_command(), *args],
         env=tagged_env(tag, **extra),
-        cwd=ROOT,
+        cwd=cwd,
         capture_output=True,
         text=True,
         timeout=timeout,
