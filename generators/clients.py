@@ -74,6 +74,23 @@ def _message(node: tsm_types.Node, interface_kind: str) -> tuple[str, str, str]:
     return type_text, match.group(1), match.group(2)
 
 
+def listeners(node: tsm_types.Node, product: ResolvedProduct) -> int:
+    """How many subscribers a reader waits for before it publishes (docs/services.md,
+    "Robot-side writers and readers"): the nodes of its own ROS graph that the flow
+    table delivers its records to, each a subscriber of the records topic there, and
+    the container's endpoint once when some of them travel on over a bridge; at least
+    one, since a record published to no subscriber reaches nobody."""
+    publisher = next(
+        i for i in node.interfaces if i.eClass.name == "Publisher" and i.name == "records"
+    )
+    first_hops = {
+        id((flow.route[0].source if flow.route else flow.target).eContainer())
+        for flow in product.flows.at(publisher)
+        if flow.source is publisher
+    }
+    return max(1, len(first_hops))
+
+
 def package_of(node: tsm_types.Node, generated: dict[int, str]) -> str:
     """The client package of ``node``: the Resolution Engine names it in the node (launch
     files start it); a model built without the engine gets the one it would name."""
@@ -139,6 +156,7 @@ def generate_client(
         "robot_id": settings["robot_id"],
         "default_url": settings["default_url"],
         "period": settings["period"],
+        "subscribers": listeners(node, product) if kind == "reader" else 0,
     }
     shared = {
         "__init__.py": render("clients/__init__.py.j2", **context),
