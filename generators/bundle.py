@@ -70,10 +70,6 @@ class Bundle:
     # rendered), which another machine writes: warned about, never the product's fault
     machine_skipped: frozenset[str]
 
-    def skip_warnings(self) -> list[str]:
-        """``architecture.svg not written: <reason>``, one line per skipped file."""
-        return [f"{path} not written: {reason}" for path, reason in self.skipped.items()]
-
 
 # Generators that run an external program to render a picture; ``render_diagrams=False``
 # asks them for the source only (their ``generate`` takes ``render``).

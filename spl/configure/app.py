@@ -20,7 +20,7 @@ import time
 import zipfile
 from collections import OrderedDict
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any, cast
 
 from fastapi import Body, FastAPI, Query, Request
 from fastapi.responses import HTMLResponse, JSONResponse, Response
@@ -36,6 +36,9 @@ from spl.configure.selection_file import (
 from spl.configure.session import Impossible, InputError, Session, valid_name
 from spl.configure.workspace import Workspace
 from spl.diagnostics import ModelError
+
+if TYPE_CHECKING:
+    from spl.pipeline import Derivation
 
 HERE = Path(__file__).resolve().parent
 COOKIE = "spl_configure_session"
@@ -229,14 +232,15 @@ def create_app(
     @app.get("/api/architecture")
     def architecture(request: Request) -> Response:
         def run(session: Session) -> dict:
-            resolution, bundle = _derived(session)
+            derivation = _derived(session)
             from spl.configure.drawing import architecture_svg
             from spl.resolver.engine import summary_lines
 
+            resolution = derivation.resolution
             return {
                 "svg": architecture_svg(resolution),
                 "summary": summary_lines(resolution),
-                "warnings": [str(w) for w in resolution.product.warnings] + bundle.skip_warnings(),
+                "warnings": [str(w) for w in derivation.warnings],
                 "product": resolution.product.name,
             }
 
@@ -245,19 +249,19 @@ def create_app(
     @app.get("/api/bundle.zip")
     def bundle_zip(request: Request) -> Response:
         def run(session: Session) -> Response:
-            resolution, bundle = _derived(session)
+            derivation = _derived(session)
+            name = derivation.resolution.product.name
             return Response(
-                zipped(bundle.files),
+                zipped(derivation.bundle.files),
                 media_type="application/zip",
-                headers={
-                    "Content-Disposition": f'attachment; filename="{resolution.product.name}.zip"'
-                },
+                headers={"Content-Disposition": f'attachment; filename="{name}.zip"'},
             )
 
         return reply(request, run)
 
-    def _derived(session: Session) -> tuple[Any, Any]:
-        """The complete selection resolved and its bundle generated (once per selection)."""
+    def _derived(session: Session) -> Derivation:
+        """The complete selection derived (resolved, its bundle generated, its warnings
+        said as every command says them), once per selection."""
         if workspace.line is None:
             raise InputError("a bare feature model is analysed only: it has no architecture")
         if not session.complete():
@@ -269,8 +273,7 @@ def create_app(
 
             session.derived.clear()  # keep one: a bundle can be megabytes
             session.derived[key] = pipeline.derive(workspace.line, selection)
-        derivation: Any = session.derived[key]
-        return derivation.resolution, derivation.bundle
+        return cast("Derivation", session.derived[key])
 
     return app
 

@@ -245,3 +245,26 @@ def test_on_a_terminal_a_product_with_warnings_is_listed_after_the_bar(tmp_path)
         f"    {SKIP}",
         "2 passed, 1 of them with warnings, 0 failed",
     ]
+
+
+def test_the_configurator_shows_a_product_the_warnings_spl_resolve_prints(tmp_path):
+    """``spl configure``'s architecture view reads the same warnings, in the same words."""
+    from fastapi.testclient import TestClient
+
+    from spl.configure.app import create_app
+    from spl.configure.workspace import load_workspace
+
+    line = renaming_line(tmp_path, scan_external=False)
+    code, _, stderr = resolve(line, CAMERA, tmp_path / "camera")
+    assert code == 0, stderr
+    api = TestClient(create_app(load_workspace(line)))
+    for feature in CAMERA:
+        decided = api.post("/api/decide", json={"feature": feature, "action": "select"})
+        assert decided.status_code == 200, decided.text
+    state = api.get("/api/state").json()["states"]
+    for feature, mode in state.items():
+        if mode == "open":
+            api.post("/api/decide", json={"feature": feature, "action": "deselect"})
+    drawing = api.get("/api/architecture")
+    assert drawing.status_code == 200, drawing.text
+    assert drawing.json()["warnings"] == stderr.splitlines()
