@@ -43,7 +43,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tests"))
 
-from service_models import product  # noqa: E402
+from support.service_models import product  # noqa: E402
 
 from spl.generators import service  # noqa: E402
 
