@@ -6,7 +6,8 @@ of two or more robots and cloud nodes of every sharing mode (tests/random_lines.
   topics; a robot passes on only its own data; clients through stand-ins to servers);
 - the Rapyuta connections carry exactly the table's flows between places, as each
   robot's deployment places them (private partitions per robot, withheld from other
-  robots), derived here from the table and the sharing modes alone;
+  robots), derived here from the table and the sharing modes, between the private
+  instances the placement deploys;
 - the Zenoh allow lists, matched by key as the bridges match them, deliver exactly those,
   or the bundle says why Zenoh cannot carry the product;
 - the smoke plan expects the table's sources and servers, and its relays, followed
@@ -29,6 +30,7 @@ from hypothesis import strategies as st
 from spl.generators.bundle import build_bundle, write_bundle
 from spl.resolver.engine import resolve
 from spl.resolver.flows import SERVICE, TOPIC, FlowTable
+from spl.resolver.placement import Placement
 from spl.resolver.product import ResolvedProduct
 from spl.resolver.product_line import load_product_line
 from spl.resolver.product_selection import selection_from_list
@@ -96,8 +98,15 @@ def reachability(system: Any) -> set[tuple[str, str, str]]:
 
 # -- what the deployments must carry ---------------------------------------------------------
 def expected_deliveries(product: ResolvedProduct) -> set[Delivery]:
-    """The table's flows between places, from every robot's view."""
+    """The table's flows between places, from every robot's view, between the instances
+    deployed: which private instances a robot gets is the placement's decision, itself
+    checked against the flow chains in test_private_instances_random.py."""
     system = product.system
+    deployed = {
+        (instance.place.tag, node.name)
+        for instance in Placement(system, [], flows=product.flows).cloud_instances()
+        for node in instance.nodes
+    }
     robots = [c for c in system.containers if is_robot(c)]
     rid = {id(r): r.endpoint.robotId for r in robots}
     linked: dict[int, set[int]] = defaultdict(set)
@@ -138,6 +147,11 @@ def expected_deliveries(product: ResolvedProduct) -> set[Delivery]:
                 foreign(target) and source[1] == "private"
             ):
                 continue  # a private partition serves its own robot alone
+            ends = ((source, flow.source), (target, flow.target))
+            if any(
+                p[1] == "private" and (p[0], i.eContainer().name) not in deployed for p, i in ends
+            ):
+                continue  # an instance the robot does not get
             if flow.kind == TOPIC:
                 a, b = (
                     resolved_topic_name(flow.source.topic),
