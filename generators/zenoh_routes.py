@@ -16,27 +16,25 @@ So namespaces do two jobs here:
   belongs to, or none between two shared instances.
 - **Renaming.** A bridge that renames a topic by a prefix (``/camera/image_raw`` on the
   robot, ``/harvester/camera/image_raw`` in the cloud) is carried by giving the robot's
-  bridge that prefix as namespace (``/harvester``) and the cloud end none. All renames
-  of one robot must agree on the prefix; a rename that is not a prefix cannot be carried.
+  bridge that prefix as namespace (``/harvester``) and the cloud end none.
 
-What cannot be carried is reported (:attr:`Routes.problems`), never emitted: a rename
-no namespace gives, two places whose bridges would exchange data the architecture does
-not connect (one key produced or served in several places for consumers wired to only
-one of them), or a place where one bridge would route out what another bridge of the
-same place routes in (the second would forward the first's data). Each problem says
-what it would do to the flow table's flows: a subscriber that would get a publisher's
-data a second time, or data the architecture does not deliver to it.
+That usual choice is kept wherever it carries the flow table exactly; where it does not
+(a flow between two shared instances under no namespace meeting another place's bridge
+under the same key, say), :mod:`spl.generators.zenoh_namespaces` searches the other
+namespaces (a robot's, a rename prefix, both, or none, at either end) for an exact
+choice. What no choice carries is reported (:attr:`Routes.problems`), never emitted: a
+rename no namespace gives, a robot whose renames ask for two prefixes, and otherwise
+what the usual choice would do wrong in the flow table's words: a subscriber that would
+get a publisher's data a second time, or data (calls) the architecture does not deliver.
 """
 
 from __future__ import annotations
 
-import re
 from collections import defaultdict
 from dataclasses import dataclass, field
-from typing import cast
 
-from spl.resolver.flows import Flow
-from spl.resolver.placement import Place
+from spl.generators.zenoh_keys import Conflict, Entry, Link, prefix
+from spl.generators.zenoh_namespaces import TRIES, Choice
 from spl.resolver.wiring import Wiring
 
 KINDS = (
@@ -47,7 +45,6 @@ KINDS = (
     "action_servers",
     "action_clients",
 )
-NAMESPACE = re.compile(r"(/[A-Za-z][A-Za-z0-9_]*)+")
 # per crossing kind: the allow list at the source, and at the target
 _LISTS = {"topic": ("publishers", "subscribers"), "service": ("service_clients", "service_servers")}
 
@@ -70,182 +67,147 @@ class Routes:
     robot_namespaces: dict[str, str] = field(default_factory=dict)  # robotID -> namespace
     flows: set[tuple[str, str, Bridge, Bridge]] = field(default_factory=set)  # kind, key, ...
     problems: list[str] = field(default_factory=list)
-    # the table's flows behind each allow-list entry, by (bridge, list, ROS name)
-    carried: dict[tuple[Bridge, str, str], list[Flow]] = field(
-        default_factory=lambda: defaultdict(list)
-    )
-    delivered: set[tuple[int, int]] = field(default_factory=set)  # (source, target) ids
-
-    def effect(self, origin: tuple[Bridge, str, str], destination: tuple[Bridge, str, str]) -> str:
-        """What would happen if what the flows at allow-list entry ``origin`` carry went on
-        to the consumers of the flows at ``destination``, in the flow table's words: a
-        subscriber getting a publisher's data twice, or data (calls) the architecture
-        does not deliver there."""
-        pairs = [
-            (before.source, after.target, before.kind)
-            for before in self.carried.get(origin, ())
-            for after in self.carried.get(destination, ())
-        ]
-        phrases = []
-        for source, target, kind in dict.fromkeys(pairs):
-            again = (id(source), id(target)) in self.delivered
-            if kind == "service":
-                phrases.append(
-                    f"the calls of {_end(source)} could reach {_end(target)}"
-                    + ("" if again else ", which the architecture does not connect")
-                )
-            else:
-                phrases.append(
-                    f"{_end(target)} would get the data of {_end(source)} "
-                    + ("a second time" if again else "that the architecture does not deliver")
-                )
-        if len(phrases) > 3:
-            phrases = [*phrases[:3], f"and {len(phrases) - 3} more"]
-        return "; ".join(phrases) or "data the architecture does not deliver"
 
 
-def _prefix(key: str, name: str) -> str | None:
-    """The namespace a bridge needs to route ``name`` under ``key``, if one can."""
-    if not key.endswith(name):
-        return None
-    prefix = key[: len(key) - len(name)]
-    return prefix if prefix == "" or NAMESPACE.fullmatch(prefix) else None
-
-
-def _robot_namespaces(robot_ids: list[str], crossings: list, routes: Routes) -> None:
-    """``/<robotID>``, or the one prefix every rename at the robot asks for."""
-    for robot_id in robot_ids:
-        wanted = set()
-        for c in crossings:
-            if c.source_name == c.target_name:
-                continue
-            if c.source.is_robot and c.source.owner == robot_id:
-                wanted.add(_prefix(c.target_name, c.source_name))
-            if c.target.is_robot and c.target.owner == robot_id:
-                wanted.add(_prefix(c.source_name, c.target_name))
-        wanted.discard(None)  # reported with the crossing
-        namespaces = cast("set[str]", wanted)
-        if len(namespaces) > 1:
-            routes.problems.append(
-                f"the renames at robot {robot_id} need the bridge namespaces "
-                f"{' and '.join(sorted(namespaces))}, and a bridge has one"
-            )
-        default = "/" + re.sub(r"[^A-Za-z0-9_]", "_", robot_id)
-        routes.robot_namespaces[robot_id] = min(namespaces) if namespaces else default
-
-
-def _ends(routes: Routes, source: Place, target: Place, a: str, b: str) -> tuple | None:
-    """The namespaces of the two bridges carrying a flow from ``a`` at ``source`` to
-    ``b`` at ``target``, and its key; ``None`` when no namespaces can. The end that
-    belongs to a robot (the robot, or its private instance) takes that robot's
-    namespace; the other end the one that makes the keys equal."""
-    spaces = routes.robot_namespaces
-    first: str | None
-    second: str | None
-    if source.is_robot or (not target.is_robot and source.kind == "private"):
-        first = spaces[source.owner]
-        key = first + a
-        second = _prefix(key, b)
-        if second is None or (target.is_robot and second != spaces[target.owner]):
-            return None
-        return first, second, key
-    second = spaces[target.owner] if target.is_robot or target.kind == "private" else ""
-    key = second + b
-    first = _prefix(key, a)
-    return None if first is None else (first, second, key)
-
-
-def routes(wirings: list[Wiring]) -> Routes:
-    """Every crossing of the wirings (one product's, or each robot's of a fleet) given
-    to the bridges that carry it, then checked together."""
-    found = Routes()
-    crossings, seen, robot_ids = [], set(), []
+def links(wirings: list[Wiring]) -> tuple[list[Link], list[str]]:
+    """The crossings of the wirings (one product's, or each robot's of a fleet) by places
+    and ROS names, with the flows each carries, and every robotID, in model order."""
+    found: dict[tuple[str, str, str, str, str], Link] = {}
+    robot_ids: list[str] = []
     for wiring in wirings:
-        found.delivered |= {(id(f.source), id(f.target)) for f in wiring.flows}
         for robot in wiring.placement.robots:
             robot_ids.append(wiring.placement.robot_ids[id(robot)])
             for c in wiring.crossings(robot):
                 key = (c.kind, c.source.tag, c.target.tag, c.source_name, c.target_name)
-                if key not in seen:
-                    seen.add(key)
-                    crossings.append(c)
-    _robot_namespaces(list(dict.fromkeys(robot_ids)), crossings, found)
-    for c in crossings:
-        ends = _ends(found, c.source, c.target, c.source_name, c.target_name)
-        if ends is None or (c.source.is_robot and c.target.is_robot):
-            found.problems.append(
-                f"the {c.kind} {c.source_name} of {c.source.tag} arrives in {c.target.tag} "
-                f"as {c.target_name} ({_end(c.flow.source)} -> {_end(c.flow.target)}), which "
-                "no bridge namespace gives"
-                + (
-                    ": each robot's bridge has its own"
-                    if c.source.is_robot and c.target.is_robot
-                    else ""
+                link = found.setdefault(
+                    key, Link(c.kind, c.source, c.target, c.source_name, c.target_name)
                 )
+                if all(flow is not c.flow for flow in link.flows):
+                    link.flows.append(c.flow)
+    return list(found.values()), list(dict.fromkeys(robot_ids))
+
+
+def routes(wirings: list[Wiring], limit: int = TRIES) -> Routes:
+    """Every crossing of the wirings given to the bridges that carry it, under the
+    namespaces :class:`~spl.generators.zenoh_namespaces.Choice` finds exact (trying at
+    most ``limit`` choices)."""
+    found = Routes()
+    table, robot_ids = links(wirings)
+    found.problems = _impossible(table, robot_ids)
+    if found.problems:
+        return found
+    choice = Choice(table, robot_ids, limit)
+    conflicts = choice.choose()
+    if conflicts:
+        delivered = {(id(f.source), id(f.target)) for w in wirings for f in w.flows}
+        words = _Words(table, choice.usual_keys, delivered)
+        found.problems = sorted({words.problem(conflict) for conflict in conflicts})
+        if choice.gave_up:
+            found.problems.append(
+                f"no exact choice of bridge namespaces was found in {limit} tries"
             )
-            continue
-        out_list, in_list = _LISTS[c.kind]
-        source, target = Bridge(c.source.tag, ends[0]), Bridge(c.target.tag, ends[1])
-        found.lists[source][out_list].add(c.source_name)
-        found.lists[target][in_list].add(c.target_name)
-        found.flows.add((c.kind, ends[2], source, target))
-        found.carried[(source, out_list, c.source_name)].append(c.flow)
-        found.carried[(target, in_list, c.target_name)].append(c.flow)
-    if not found.problems:
-        found.problems += _unconnected(found) + _echoes(found)
-    found.problems = sorted(set(found.problems))
+        return found
+    found.robot_namespaces = dict(choice.namespaces)
+    for index, key in sorted(choice.keys.items()):
+        link = table[index]
+        out_list, in_list = _LISTS[link.kind]
+        source_ns, target_ns = prefix(key, link.source_name), prefix(key, link.target_name)
+        assert source_ns is not None and target_ns is not None  # the choice's keys fit
+        source, target = Bridge(link.source.tag, source_ns), Bridge(link.target.tag, target_ns)
+        found.lists[source][out_list].add(link.source_name)
+        found.lists[target][in_list].add(link.target_name)
+        found.flows.add((link.kind, key, source, target))
     return found
 
 
-def _unconnected(found: Routes) -> list[str]:
-    """Exchanges of equal keys the architecture does not connect."""
+def _impossible(table: list[Link], robot_ids: list[str]) -> list[str]:
+    """What no namespace gives: a rename other than by a prefix, a robot whose renames
+    ask for prefixes neither of which ends the other (its one bridge has one namespace)."""
     problems = []
-    for kind, (out_list, in_list) in _LISTS.items():
-        sources, targets = defaultdict(set), defaultdict(set)
-        for bridge, lists in found.lists.items():
-            for name in lists[out_list]:
-                sources[bridge.namespace + name].add(bridge)
-            for name in lists[in_list]:
-                targets[bridge.namespace + name].add(bridge)
-        for key in sorted(sources.keys() & targets.keys()):
-            if kind == "service" and len({t.place for t in targets[key]}) > 1:
-                places = " and ".join(sorted({t.place for t in targets[key]}))
-                problems.append(f"the service key {key} is served by {places}")
-            for source in sorted(sources[key]):
-                for target in sorted(targets[key]):
-                    wired = (kind, key, source, target) in found.flows
-                    if source.place != target.place and not wired:
-                        out = (source, out_list, key.removeprefix(source.namespace))
-                        into = (target, in_list, key.removeprefix(target.namespace))
-                        problems.append(
-                            f"zenoh would carry the {kind} key {key} from {source.place} to "
-                            f"{target.place}, which the architecture does not connect: "
-                            + found.effect(out, into)
-                        )
-    return problems
+    for link in table:
+        if link.longest() is None:
+            problems.append(_apart(link))
+    choice = Choice(table, robot_ids)
+    for robot in robot_ids:
+        wanted = choice.wanted(robot)
+        longest_prefix = max(wanted, key=len, default="")
+        if any(not longest_prefix.endswith(p) for p in wanted):
+            problems.append(
+                f"the renames at robot {robot} need the bridge namespaces "
+                f"{' and '.join(sorted(wanted))}, and a bridge has one"
+            )
+    return sorted(set(problems))
 
 
-def _echoes(found: Routes) -> list[str]:
-    """Names one bridge of a place routes in and another routes out."""
-    problems = []
-    by_place: dict[str, list[Bridge]] = defaultdict(list)
-    for bridge in found.lists:
-        by_place[bridge.place].append(bridge)
-    for place, bridges in sorted(by_place.items()):
-        for one in bridges:
-            for other in bridges:
-                if one == other:
-                    continue
-                for out_list, in_list in _LISTS.values():
-                    both = found.lists[one][in_list] & found.lists[other][out_list]
-                    for name in sorted(both):
-                        problems.append(
-                            f"in {place}, {name} comes in through the bridge of namespace "
-                            f"'{one.namespace or '/'}' and would leave again through the one "
-                            f"of '{other.namespace or '/'}': "
-                            + found.effect((one, in_list, name), (other, out_list, name))
-                        )
-    return problems
+def _apart(link: Link) -> str:
+    flow = link.flows[0]
+    both = link.source.is_robot and link.target.is_robot
+    return (
+        f"the {link.kind} {link.source_name} of {link.source.tag} arrives in {link.target.tag} "
+        f"as {link.target_name} ({_end(flow.source)} -> {_end(flow.target)}), which no bridge "
+        "namespace gives" + (": each robot's bridge has its own" if both else "")
+    )
+
+
+class _Words:
+    """A conflict of the usual choice in the flow table's words."""
+
+    def __init__(self, table: list[Link], keys: dict[int, str], delivered: set) -> None:
+        self.delivered = delivered
+        self.at: dict[Entry, list] = defaultdict(list)  # the flows behind each entry
+        for index, key in keys.items():
+            for entry in table[index].ends(key) or ():
+                self.at[entry] += table[index].flows
+
+    def problem(self, conflict: Conflict) -> str:
+        first, second = conflict.first, conflict.second
+        if conflict.link is not None or first is None or second is None:
+            assert conflict.link is not None
+            return _apart(conflict.link)
+        kind, key = first[0], first[3] + first[4]
+        if conflict.what == "served":
+            callers = [e for e in self.at if e[:2] == ("service", "out") and e[3] + e[4] == key]
+            reach = "; ".join(self.effect(c, s) for c in callers[:1] for s in (first, second))
+            return f"the service key {key} is served by {first[2]} and {second[2]}: {reach}"
+        if conflict.what == "echo":
+            return (
+                f"in {first[2]}, {first[4]} comes in through the bridge of namespace "
+                f"'{first[3] or '/'}' and would leave again through the one of "
+                f"'{second[3] or '/'}': " + self.effect(first, second)
+            )
+        because = (
+            "which the architecture does not connect"
+            if conflict.what == "unconnected"
+            else "which another pair of bridges carries already"
+        )
+        return (
+            f"zenoh would carry the {kind} key {key} from {first[2]} to {second[2]}, "
+            f"{because}: " + self.effect(first, second)
+        )
+
+    def effect(self, origin: Entry, destination: Entry) -> str:
+        """What would happen if what the flows at entry ``origin`` carry went on to the
+        consumers of the flows at ``destination``: a subscriber getting a publisher's data
+        twice, or data (calls) the architecture does not deliver there."""
+        phrases = []
+        for before in self.at.get(origin, ()):
+            for after in self.at.get(destination, ()):
+                source, target = before.source, after.target
+                again = (id(source), id(target)) in self.delivered
+                if before.kind == "service":
+                    phrases.append(
+                        f"the calls of {_end(source)} could reach {_end(target)}"
+                        + ("" if again else ", which the architecture does not connect")
+                    )
+                else:
+                    phrases.append(
+                        f"{_end(target)} would get the data of {_end(source)} "
+                        + ("a second time" if again else "that the architecture does not deliver")
+                    )
+        phrases = list(dict.fromkeys(phrases))
+        if len(phrases) > 3:
+            phrases = [*phrases[:3], f"and {len(phrases) - 3} more"]
+        return "; ".join(phrases) or "data the architecture does not deliver"
 
 
 def _end(interface) -> str:
