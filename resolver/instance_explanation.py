@@ -120,7 +120,7 @@ def _absent(placement: Placement, node: tsm_types.Node, robot: tsm_types.Contain
     why = []
     if others:
         why.append(
-            f"{', '.join(dict.fromkeys(others))}, another robot's data, which a private "
+            f"{', '.join(dict.fromkeys(others))} of another robot, whose data a private "
             "instance never takes"
         )
     if idle:

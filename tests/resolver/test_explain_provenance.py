@@ -134,7 +134,7 @@ def test_a_private_cloud_node_is_explained_by_its_instance_per_robot(tmp_path):
         "  instance Central_drone_1 for robot drone_1: drone_1 feeds it: "
         "drone_1.Camera.image -> Central_drone_1.ReportGenerator.video",
         "  no instance for robot rover_1 (not run in Central_rover_1): nothing feeds it in "
-        "rover_1's deployment (fed only by drone_1.Camera.image, another robot's data, which "
+        "rover_1's deployment (fed only by drone_1.Camera.image of another robot, whose data "
         "a private instance never takes), so it has nothing to send either",
     ]
 

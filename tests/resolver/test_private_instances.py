@@ -195,7 +195,9 @@ def test_explain_an_instance_by_its_tag_deployed_or_not():
     assert code == 0
     assert lines[0] == "Onshore_drone_1: not deployed: robot drone_1 gets none of its private nodes"
     assert [line.split(":")[0] for line in lines[1:]] == ["  ThicknessAnalyzer", "  DefectTrend"]
-    assert "fed only by crawler_1.UltrasonicGauge.thickness, another robot's data" in lines[1]
+    assert (
+        "fed only by crawler_1.UltrasonicGauge.thickness of another robot, whose data" in lines[1]
+    )
     code, lines = explain("VesselEdge_drone_1")
     assert lines[0] == (
         "VesselEdge_drone_1: private instance of cloud container VesselEdge for robot "
@@ -215,3 +217,20 @@ def test_explain_refuses_an_unknown_robot_with_the_products_robots():
         "Error: Invalid value for --robot: no robot 'drone_9' in this product "
         "(its robots: crawler_1, drone_1)"
     )
+
+
+def test_the_explain_transcripts_of_the_manual_are_what_spl_prints(monkeypatch):
+    root = WINDFARM.parents[2]
+    page = (root / "docs" / "commands.md").read_text(encoding="utf-8")
+    section = page.split("## spl explain", 1)[1].split("\n## ", 1)[0]
+    transcripts = [
+        block for block in section.split("```text\n")[1:] if "product_lines/orchard" in block
+    ]
+    assert transcripts, "the manual shows a private node's instances"
+    monkeypatch.chdir(root)
+    for block in transcripts:
+        for command in block.split("```", 1)[0].split("$ spl ")[1:]:
+            line, *shown = command.rstrip("\n").split("\n")
+            result = CliRunner().invoke(main, line.split())
+            assert result.exit_code == 0, result.output
+            assert result.output.splitlines() == shown, line
