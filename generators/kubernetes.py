@@ -159,7 +159,7 @@ def generate(product: ResolvedProduct) -> dict[str, bytes]:
     """``kubernetes/``: one manifest per cloud instance, the Zenoh router, kustomization
     and README; nothing when a name cannot map (a located error instead)."""
     errors: list[Diagnostic] = []
-    placement = Placement(product.system, errors)
+    placement = Placement(product.system, errors, flows=product.flows)
     instances = placement.cloud_instances()
     names = instance_names(instances, errors)
     wiring = transport(product)

@@ -71,7 +71,7 @@ def store_connections(product: ResolvedProduct) -> list[Connection]:
     names = store_names(system)
     dns = {id(store): names[id(store)].dns for store in stores}
     errors: list[Diagnostic] = []
-    placement = Placement(system, errors)
+    placement = Placement(system, errors, flows=product.flows)
     instances = placement.cloud_instances()
     if errors:
         raise ModelError(errors)

@@ -128,6 +128,8 @@ class Placement:
         T = tsm()
         self._flows = flows
         self._private: PrivateInstances | None = None
+        # (id(container), mode, id(robot) for a private place) -> the place (_locate)
+        self._located: dict[tuple[int, str, int], Place] = {}
         self.T = T
         self.system = system
         self.errors = errors
@@ -235,17 +237,7 @@ class Placement:
         """The instance of ``container`` holding its ``mode`` nodes, as ``robot`` sees it;
         ``claim``: its tag is taken (checked against every other tag taken), as it is by
         every instance deployed, not by one merely asked about."""
-        if self.is_robot(container):
-            robot_id = self.robot_ids[id(container)]
-            place = Place(robot_id, "robot", container.name, robot_id)
-        elif mode == "private":
-            robot_id = self.robot_ids[id(robot)]
-            place = Place(f"{container.name}_{robot_id}", mode, container.name, robot_id)
-        elif mode == "protected":
-            group = self.groups[id(container)]
-            place = Place(f"{container.name}_{group}", mode, container.name, group)
-        else:
-            place = Place(f"{container.name}_public", mode, container.name, "public")
+        place = self._locate(container, mode, robot)
         if not claim:
             return place
         known = self.tags.setdefault(place.tag, place)
@@ -263,6 +255,30 @@ class Placement:
                 f"Rapyuta tag {place.tag!r} would name both {known.describe()} and "
                 f"{place.describe()}: rename a container, group or robot_id",
             )
+        return place
+
+    def _locate(
+        self, container: tsm_types.Container, mode: str, robot: tsm_types.Container | None
+    ) -> Place:
+        """The place :meth:`place` names, made once per container, mode and robot (every
+        output asks again for each flow it places)."""
+        is_robot = self.is_robot(container)
+        key = (id(container), "robot" if is_robot else mode, id(robot) if mode == "private" else 0)
+        place = self._located.get(key)
+        if place is not None:
+            return place
+        if is_robot:
+            robot_id = self.robot_ids[id(container)]
+            place = Place(robot_id, "robot", container.name, robot_id)
+        elif mode == "private":
+            robot_id = self.robot_ids[id(robot)]
+            place = Place(f"{container.name}_{robot_id}", mode, container.name, robot_id)
+        elif mode == "protected":
+            group = self.groups[id(container)]
+            place = Place(f"{container.name}_{group}", mode, container.name, group)
+        else:
+            place = Place(f"{container.name}_public", mode, container.name, "public")
+        self._located[key] = place
         return place
 
     def _clash(self, container: tsm_types.Container, message: str) -> None:

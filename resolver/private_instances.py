@@ -40,6 +40,8 @@ if TYPE_CHECKING:
     from spl.resolver.placement import Place, Placement
 
 Vertex = tuple[int, str]  # the node's index in model order, the tag of its place
+# a flow table row: the flow, its source and target nodes, their containers' ids
+Row = tuple[Flow, "tsm_types.Node", "tsm_types.Node", int, int]
 
 
 @dataclass(frozen=True)
@@ -62,6 +64,13 @@ def placed_flows(
     is not yet asked here)."""
     robot_id = placement.robot_ids[id(robot)]
     allowed = {id(c) for c in placement.view(robot)}
+    places: dict[int, Place] = {}  # id(node) -> its place, each node placed once
+
+    def place_of(node: tsm_types.Node) -> Place:
+        found = places.get(id(node))
+        if found is None:
+            found = places[id(node)] = placement.node_place(node, robot, claim=False)
+        return found
 
     def foreign(place: Place) -> bool:
         return place.is_robot and place.owner != robot_id
@@ -69,8 +78,7 @@ def placed_flows(
     for flow in flows:
         if id(flow.source_container) not in allowed or id(flow.target_container) not in allowed:
             continue
-        source = placement.node_place(node_of(flow.source), robot, claim=False)
-        target = placement.node_place(node_of(flow.target), robot, claim=False)
+        source, target = place_of(node_of(flow.source)), place_of(node_of(flow.target))
         withheld = (foreign(source) and target.kind == "private") or (
             foreign(target) and source.kind == "private"
         )
@@ -98,15 +106,6 @@ class Reason:
     chain: tuple[Edge, ...]
 
 
-def _edges(delivery: Delivery, index: dict[int, int]) -> list[Edge]:
-    flow = delivery.flow
-    source = (index[id(node_of(flow.source))], delivery.source.tag)
-    target = (index[id(node_of(flow.target))], delivery.target.tag)
-    if flow.kind == TOPIC:
-        return [Edge(source, target, source, flow, True)]
-    return [Edge(source, target, source, flow, True), Edge(target, source, source, flow, False)]
-
-
 class PrivateInstances:
     """The private instances each robot of one resolved system gets, and why."""
 
@@ -115,19 +114,22 @@ class PrivateInstances:
         nodes = [n for c in placement.system.containers for n in c.nodes]
         # vertices name nodes by their model order, so every walk is the same each run
         self.index = {id(node): i for i, node in enumerate(nodes)}
-        self.nodes = nodes
+        # each row once: (flow, source node, target node, their containers' ids)
+        rows = [
+            (
+                f,
+                node_of(f.source),
+                node_of(f.target),
+                id(f.source_container),
+                id(f.target_container),
+            )
+            for f in flows
+        ]
         # nodes some flow feeds (a subscriber, or a server): not self-starting
-        self.fed = {self.index[id(node_of(f.target))] for f in flows}
+        self.fed = {self.index[id(target)] for _, _, target, _, _ in rows}
         self.robot_tags = {placement.robot_ids[id(r)] for r in placement.robots}
-        self.edges: dict[int, list[Edge]] = {}  # id(robot) -> the edges of its view
         self.candidates: dict[int, set[Vertex]] = {}  # id(robot) -> its private instances
         for robot in placement.robots:
-            self.edges[id(robot)] = [
-                edge
-                for delivery in placed_flows(placement, flows, robot)
-                if not delivery.withheld
-                for edge in _edges(delivery, self.index)
-            ]
             self.candidates[id(robot)] = {
                 (self.index[id(node)], place.tag)
                 for cloud in placement.scope(robot)
@@ -135,8 +137,44 @@ class PrivateInstances:
                 if (place := placement.node_place(node, robot, claim=False)).kind == "private"
             }
         self.private = set().union(*self.candidates.values())
+        self.edges: dict[int, list[Edge]] = {}  # id(robot) -> the edges of its view
+        for robot in placement.robots if self.private else ():  # none: nothing to decide
+            self.edges[id(robot)] = self._view(robot, rows)
         self.active: set[Vertex] = set()
-        self.reasons = self._settle()
+        # id(robot) -> node index -> why the robot keeps its instance of that node
+        self.reasons: dict[int, dict[int, Reason]] = {
+            robot: {vertex[0]: reason for vertex, reason in found.items()}
+            for robot, found in (self._settle() if self.private else {}).items()
+        }
+
+    def _view(self, robot: tsm_types.Container, rows: list[Row]) -> list[Edge]:
+        """The edges of ``robot``'s view, in table order: the rows :func:`placed_flows`
+        delivers (not withheld), a service row both ways."""
+        placement = self.placement
+        robot_id = placement.robot_ids[id(robot)]
+        allowed = {id(c) for c in placement.view(robot)}
+        places: dict[int, Place] = {}
+        edges = []
+        for flow, source_node, target_node, source_container, target_container in rows:
+            if source_container not in allowed or target_container not in allowed:
+                continue
+            ends = []
+            for node in (source_node, target_node):
+                place = places.get(id(node))
+                if place is None:
+                    place = places[id(node)] = placement.node_place(node, robot, claim=False)
+                ends.append(place)
+            source, target = ends
+            if (source.is_robot and source.owner != robot_id and target.kind == "private") or (
+                target.is_robot and target.owner != robot_id and source.kind == "private"
+            ):
+                continue  # withheld: a private partition serves its own robot alone
+            giver = (self.index[id(source_node)], source.tag)
+            taker = (self.index[id(target_node)], target.tag)
+            edges.append(Edge(giver, taker, giver, flow, True))
+            if flow.kind != TOPIC:  # the server's answers back to the client
+                edges.append(Edge(taker, giver, giver, flow, False))
+        return edges
 
     def _settle(self) -> dict[int, dict[Vertex, Reason]]:
         """Activity and keeping, from every candidate deployed down to a fixpoint (each
@@ -156,12 +194,13 @@ class PrivateInstances:
         view at once."""
         triggers: defaultdict[Vertex, list[Vertex]] = defaultdict(list)
         present = set(deployed)
+        absent = self.private - deployed
         for edges in self.edges.values():
             for edge in edges:
-                ends = (edge.giver, edge.taker)
-                if any(v in self.private and v not in deployed for v in ends):
+                if edge.giver in absent or edge.taker in absent:
                     continue
-                present.update(ends)
+                present.add(edge.giver)
+                present.add(edge.taker)
                 if edge.trigger:
                     triggers[edge.giver].append(edge.taker)
         active = {v for v in present if v[1] in self.robot_tags or v[0] not in self.fed}
@@ -175,7 +214,8 @@ class PrivateInstances:
 
     def _kept(self, robot: tsm_types.Container, active: set[Vertex]) -> dict[Vertex, Reason]:
         """The private instances ``robot`` keeps, each with a chain joining it with the
-        robot's own instances (a least fixpoint: a chain may end at a kept instance)."""
+        robot's own instances (a least fixpoint: a chain may end at a kept instance, so
+        each round walks on from the instances the last one kept)."""
         robot_id = self.placement.robot_ids[id(robot)]
         others = self.robot_tags - {robot_id}
         candidates = self.candidates[id(robot)]
@@ -187,45 +227,55 @@ class PrivateInstances:
             if edge.caller in active:
                 forward[edge.giver].append(edge)
                 backward[edge.taker].append(edge)
-        own = {(self.index[id(node)], robot_id) for node in robot.nodes}
+        start = sorted((self.index[id(node)], robot_id) for node in robot.nodes)
+        downstream: dict[Vertex, Edge | None] = {}  # vertex -> the edge it was reached by
+        upstream: dict[Vertex, Edge | None] = {}
         reasons: dict[Vertex, Reason] = {}
-        while True:
-            reached = _reach(own, forward, feeds=False)
-            for vertex, reason in _reach(own, backward, feeds=True).items():
-                reached.setdefault(vertex, reason)
-            new = {v: r for v, r in reached.items() if v in candidates and v not in reasons}
-            if not new:
-                return reasons
+        while start:
+            found = _reach(start, forward, downstream, feeds=False, wanted=candidates)
+            for vertex, reason in _reach(
+                start, backward, upstream, feeds=True, wanted=candidates
+            ).items():
+                found.setdefault(vertex, reason)
+            new = {v: r for v, r in found.items() if v not in reasons}
             reasons.update(new)
-            own.update(new)
+            start = sorted(new)
+        return reasons
 
     def reason(self, node: tsm_types.Node, robot: tsm_types.Container) -> Reason | None:
         """Why ``robot`` gets its instance of private ``node``; None: it gets none."""
-        tag = self.placement.node_place(node, robot, claim=False).tag
-        return self.reasons[id(robot)].get((self.index[id(node)], tag))
+        return self.reasons.get(id(robot), {}).get(self.index[id(node)])
 
 
 def _reach(
-    start: set[Vertex], edges: defaultdict[Vertex, list[Edge]], feeds: bool
+    start: list[Vertex],
+    edges: defaultdict[Vertex, list[Edge]],
+    parent: dict[Vertex, Edge | None],
+    feeds: bool,
+    wanted: set[Vertex],
 ) -> dict[Vertex, Reason]:
-    """The vertices reached from ``start`` along ``edges`` (downstream from it, or
-    upstream when ``feeds``), breadth first so that each gets a shortest chain, given in
-    the direction data travels."""
-    parent: dict[Vertex, Edge | None] = dict.fromkeys(sorted(start))
-    frontier = deque(parent)
+    """The vertices of ``wanted`` first reached from ``start`` along ``edges``
+    (downstream from it, or upstream when ``feeds``), breadth first so that each gets a
+    shortest chain, given in the direction data travels. ``parent`` holds the vertices
+    reached before, which are not walked again."""
+    frontier = deque(v for v in start if v not in parent)
+    parent.update(dict.fromkeys(frontier))
+    reached = []
     while frontier:
         for edge in edges[frontier.popleft()]:
             onward = edge.giver if feeds else edge.taker
             if onward not in parent:
                 parent[onward] = edge
                 frontier.append(onward)
+                reached.append(onward)
     found: dict[Vertex, Reason] = {}
-    for vertex, last in parent.items():
+    for vertex in reached:
+        if vertex not in wanted:
+            continue
         chain: list[Edge] = []
-        step = last
+        step = parent[vertex]
         while step is not None:
             chain.append(step)
             step = parent[step.taker if feeds else step.giver]
-        if chain:
-            found[vertex] = Reason(feeds, tuple(chain if feeds else reversed(chain)))
+        found[vertex] = Reason(feeds, tuple(chain if feeds else reversed(chain)))
     return found

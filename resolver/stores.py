@@ -139,7 +139,7 @@ def store_names(system: tsm_types.System) -> dict[int, StoreNames]:
     ]
     # the cloud instances' Deployments and Services (kubernetes/) may share a namespace
     # with the stores' (deploy/kubernetes/): a store does not take an instance's name
-    instances = Placement(system, []).cloud_instances()
+    instances = Placement(system, []).cloud_instances() if stores else []
     taken = {f"dns:{kubernetes_label(instance.place.tag)}" for instance in instances}
     keys = unique_names(stores, _forms, RESERVED_STORE_FORMS | taken)
     return {id(store): _names(key) for (store, _, _), key in zip(stores, keys, strict=True)}
