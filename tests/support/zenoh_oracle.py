@@ -217,8 +217,11 @@ def _bridges(entries: list[tuple[str, str, str, str]]) -> list[Bridge]:
 
 
 def space(table: list[Crossing], robots: list[str]) -> int:
-    """How many choices :func:`brute_force` may try."""
+    """How many choices :func:`brute_force` may try: the robots' together, times, for
+    each, the choices of the cloud crossings of every group."""
     names = len(candidates(table, robots))
     busy = {r for c in table for r in (c.source_robot, c.target_robot) if r}
-    clouds = sum(1 for c in table if not (c.source_robot or c.target_robot))
-    return names ** len(busy) * (2 * names) ** clouds
+    clouds: Counter = Counter(
+        (c.kind, c.b.rsplit("/", 1)[-1]) for c in table if not (c.source_robot or c.target_robot)
+    )
+    return names ** len(busy) * max(1, sum((2 * names) ** k for k in clouds.values()))
