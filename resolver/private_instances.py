@@ -72,17 +72,19 @@ def placed_flows(
             found = places[id(node)] = placement.node_place(node, robot, claim=False)
         return found
 
-    def foreign(place: Place) -> bool:
-        return place.is_robot and place.owner != robot_id
-
     for flow in flows:
         if id(flow.source_container) not in allowed or id(flow.target_container) not in allowed:
             continue
         source, target = place_of(node_of(flow.source)), place_of(node_of(flow.target))
-        withheld = (foreign(source) and target.kind == "private") or (
-            foreign(target) and source.kind == "private"
-        )
-        yield Delivery(flow, source, target, withheld)
+        yield Delivery(flow, source, target, serves_another(source, target, robot_id))
+
+
+def serves_another(source: Place, target: Place, robot_id: str) -> bool:
+    """Whether a flow between two places would have a private partition serve a robot
+    other than ``robot_id``, whose view this is: withheld (docs/semantics.md F4)."""
+    return (source.is_robot and source.owner != robot_id and target.kind == "private") or (
+        target.is_robot and target.owner != robot_id and source.kind == "private"
+    )
 
 
 @dataclass(frozen=True)
@@ -165,9 +167,7 @@ class PrivateInstances:
                     place = places[id(node)] = placement.node_place(node, robot, claim=False)
                 ends.append(place)
             source, target = ends
-            if (source.is_robot and source.owner != robot_id and target.kind == "private") or (
-                target.is_robot and target.owner != robot_id and source.kind == "private"
-            ):
+            if serves_another(source, target, robot_id):
                 continue  # withheld: a private partition serves its own robot alone
             giver = (self.index[id(source_node)], source.tag)
             taker = (self.index[id(target_node)], target.tag)
