@@ -10,9 +10,9 @@ on the flow table placed for each robot (``placed_flows``):
   back to the client.
 - An instance is *active* when data reaches it or it makes its own: every robot node;
   a cloud node no flow of the table feeds (a timer-driven publisher, a node that only
-  calls, an input fed from outside); an instance a delivered publisher or caller feeds
-  that is itself active. Only deployed instances count, over every robot at once (a
-  shared instance is fed by every robot using it).
+  calls, an input fed from outside or left unfed); an instance a delivered publisher
+  or caller feeds that is itself active. Only deployed instances count, over every
+  robot at once (a shared instance is fed by every robot using it).
 - An edge *carries data* when its sender is active: the publisher, the caller, and for
   answers the caller again (a server answers only the calls it gets).
 - Robot R's *own* instances are its robot nodes and the private instances it keeps. R
