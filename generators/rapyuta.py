@@ -2,8 +2,8 @@
 
 Sharing placement (docs/deployment.md) is :mod:`spl.resolver.placement`'s rule: a TSM cloud
 container ``C`` becomes up to three Rapyuta containers, ``<C>_<robotID>`` for private
-nodes (one per robot), ``<C>_<group>`` for protected nodes (one per group; carries
-``"group": "<group>"``) and ``<C>_public`` for public nodes.
+nodes (one per robot that feeds them or that they feed), ``<C>_<group>`` for protected
+nodes (one per group; carries ``"group": "<group>"``) and ``<C>_public`` for public nodes.
 
 A robot *uses* ``C`` when endpoint connections link the two, directly or through other
 cloud containers (robots never relay for each other). Each robot's file declares its
