@@ -98,6 +98,7 @@ class Conflict:
     first: Entry | None = None
     second: Entry | None = None
     link: Link | None = None
+    involved: tuple[Entry, ...] = ()  # every entry without which it would not be
 
     def tokens(self) -> set[Token]:
         if self.link is not None:
@@ -133,7 +134,9 @@ class KeySpace:
                 if more > 0:
                     servers = sorted(self.by_key[(entry[0], "in", entry[3] + entry[4])])
                     one, other, *_ = {server[2]: server for server in servers}.values()
-                    found += [Conflict("served", one, other)] * more
+                    callers = self.by_key[("service", "out", entry[3] + entry[4])]
+                    involved = (*servers, *callers)
+                    found += [Conflict("served", one, other, involved=involved)] * more
         self.bad += len(found)
         return found
 
@@ -169,12 +172,14 @@ class KeySpace:
             if leaving:
                 pairs.discard((out, into))
             if delivery not in self.wanted:
-                found.append(Conflict("unconnected", out, into))
+                found.append(Conflict("unconnected", out, into, involved=(out, into)))
             elif pairs:  # another pair of bridges delivers it already
-                found.append(Conflict("twice", out, into))
+                involved = (out, into, *(e for pair in pairs for e in pair))
+                found.append(Conflict("twice", out, into, involved=involved))
             if not leaving:
                 pairs.add((out, into))
         for spaced in self.by_name[(kind, other, place, name)] - {namespace}:
             peer = (kind, other, place, spaced, name)
-            found.append(Conflict("echo", *((entry, peer) if side == "in" else (peer, entry))))
+            first, second = (entry, peer) if side == "in" else (peer, entry)
+            found.append(Conflict("echo", first, second, involved=(first, second)))
         return found

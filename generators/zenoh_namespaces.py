@@ -8,15 +8,27 @@ none or a robot's own (``/<robotID>``), ``p`` none or a rename prefix (a link wh
 names differ by a prefix), for the robot's bridge or for either end of a link. The choice
 the generator always made first (each robot under its own, a link between cloud
 instances under the robot of its private end, or none) is tried first and kept where it
-is exact, so products it carried keep their bytes; elsewhere a backtracking search takes
-the first exact choice in order of preference, or says that none is.
+is exact, so products it carried keep their bytes; elsewhere a search takes the first
+exact choice in order of preference, or says that none is. It backtracks with conflict
+sets (Prosser's conflict-directed backjumping): a choice with no value left goes back to
+the last choice its conflicts involve, past those that play no part (other robots of a
+large fleet), so that finding none costs about as much as finding one.
 """
 
 from __future__ import annotations
 
 from collections import defaultdict
 
-from spl.generators.zenoh_keys import Conflict, KeySpace, Link, Token, robot_namespace, token
+from spl.generators.zenoh_keys import (
+    NAMESPACE,
+    Conflict,
+    Entry,
+    KeySpace,
+    Link,
+    Token,
+    robot_namespace,
+    token,
+)
 
 # the most choices tried before the search gives up (docs/deployment.md says so)
 TRIES = 50_000
@@ -39,12 +51,17 @@ class Choice:
         self.namespaces: dict[str, str] = {}
         self.keys: dict[int, str] = {}
         self.at: dict[str, list[int]] = defaultdict(list)  # robotID -> its links
+        self.near: dict[str, list[str]] = defaultdict(list)  # place -> robots with links there
         for index, link in enumerate(links):
             for robot in link.robots:
                 self.at[robot].append(index)
+                for place in (link.source.tag, link.target.tag):
+                    self.near[place] += [] if robot in self.near[place] else [robot]
+        self.placed: dict[Entry, set[int]] = defaultdict(set)  # the links behind each entry
         self.usual_keys: dict[int, str] = {}  # the usual choice, kept to name its conflicts
         self.tries = 0
         self._candidates: list[str] | None = None
+        self._plain: set[str] | None = None  # robots' own namespaces that can be swapped
 
     @property
     def gave_up(self) -> bool:
@@ -56,7 +73,7 @@ class Choice:
             return []
         left: list[Conflict] = []
         for variables, theirs in self._components(conflicts):
-            if not self._search(variables):
+            if not self._search(self._order(variables, theirs)):
                 left += theirs
         return left
 
@@ -99,8 +116,7 @@ class Choice:
             if key is None or not self._fits(link, key):
                 found.append(Conflict("apart", link=link))
                 continue
-            found += self.space.add(link, key)
-            self.keys[index] = key
+            found += self._place(index, key)
         self.usual_keys = dict(self.keys)
         return found
 
@@ -111,6 +127,20 @@ class Choice:
             not place.is_robot or self.namespaces.get(place.owner) == end[3]
             for place, end in zip((link.source, link.target), ends, strict=True)
         )
+
+    def _place(self, index: int, key: str) -> list[Conflict]:
+        link = self.links[index]
+        for entry in link.ends(key) or ():
+            self.placed[entry].add(index)
+        self.keys[index] = key
+        return self.space.add(link, key)
+
+    def _unplace(self, index: int) -> None:
+        key = self.keys.pop(index)
+        link = self.links[index]
+        self.space.remove(link, key)
+        for entry in link.ends(key) or ():
+            self.placed[entry].discard(index)
 
     # -- the search -----------------------------------------------------------------------
     def _components(self, conflicts: list[Conflict]) -> list[tuple[list[Variable], list[Conflict]]]:
@@ -146,77 +176,166 @@ class Choice:
         link = self.links[index]
         return {token(link.kind, link.source_name), token(link.kind, link.target_name)}
 
+    def _order(self, variables: list[Variable], conflicts: list[Conflict]) -> list[Variable]:
+        """The robots, then the links between cloud instances, each behind the conflicts
+        first, then sharing places with them, and so on (in a fleet, the robots far from a
+        conflict come last and play no part in refuting a choice near it), the rest in
+        model order."""
+        links: dict[Variable, list[int]] = {
+            v: self.at[v] if isinstance(v, str) else [v] for v in variables
+        }
+        near: dict[str, list[Variable]] = defaultdict(list)
+        for variable in variables:
+            for index in links[variable]:
+                for place in (self.links[index].source.tag, self.links[index].target.tag):
+                    near[place] += [] if variable in near[place] else [variable]
+        start = [
+            owner
+            for conflict in conflicts
+            for index in (
+                [self.links.index(conflict.link)]
+                if conflict.link is not None
+                else [i for entry in conflict.involved for i in self.placed[entry]]
+            )
+            for owner in self._owners(index)
+        ]
+        order = list(dict.fromkeys(v for v in start if v in links))
+        for variable in order:  # grows while it is read: a breadth-first walk
+            for index in links[variable]:
+                for place in (self.links[index].source.tag, self.links[index].target.tag):
+                    order += [v for v in near[place] if v not in order]
+        order += [v for v in variables if v not in order]
+        # robots first: a link's usual key and its neighbours' keys follow their choices
+        return sorted(order, key=lambda v: not isinstance(v, str))
+
     def _search(self, variables: list[Variable]) -> bool:
-        """Backtracking over the choices of one component, each choice's values in order
-        of preference, keeping only what adds no conflict to the others' (``base``)."""
+        """Conflict-directed backjumping over the choices of one component, each choice's
+        values in order of preference, keeping only what adds no conflict."""
         for variable in variables:  # forget the usual choice of the component
-            indexes = self.at[variable] if isinstance(variable, str) else [variable]
-            for index in indexes:
-                key = self.keys.pop(index, None)
-                if key is not None:
-                    self.space.remove(self.links[index], key)
+            for index in self.at[variable] if isinstance(variable, str) else [variable]:
+                if index in self.keys:
+                    self._unplace(index)
             if isinstance(variable, str):
                 del self.namespaces[variable]
-        base = self.space.bad
         if not variables:
             return False
+        position = {variable: k for k, variable in enumerate(variables)}
         values = [iter(self._values(variables[0]))]
-        applied: list[list[tuple[int, str]]] = []
+        blamed: list[set[int]] = [set()]  # per choice: the earlier ones its failures involve
+        applied: list[list[int]] = []
         while not self.gave_up:
-            value = next(values[-1], None)
-            if value is None:
+            k = len(applied)
+            value = next(values[k], None)
+            if value is None:  # no value left: back to the last choice to blame
+                culprits = blamed.pop()
                 values.pop()
-                if not applied:
+                if not culprits:
+                    for j in reversed(range(k)):
+                        self._undo(variables[j], applied.pop())
                     return False
-                self._undo(variables[len(applied) - 1], applied.pop())
+                back = max(culprits)
+                while len(applied) > back:
+                    self._undo(variables[len(applied) - 1], applied.pop())
+                    if len(applied) > back:
+                        values.pop()
+                        blamed.pop()
+                blamed[back] |= culprits - {back}
                 continue
-            variable = variables[len(applied)]
-            added = self._apply(variable, value)
+            added, culprits = self._apply(variables[k], value, position)
             if added is None:
-                continue
-            if self.space.bad != base:
-                self._undo(variable, added)
+                blamed[k] |= {c for c in culprits if c < k}
                 continue
             applied.append(added)
             if len(applied) == len(variables):
                 return True
             values.append(iter(self._values(variables[len(applied)])))
+            blamed.append(set())
         return False
 
     def _values(self, variable: Variable) -> list[str]:
+        """A robot's usual namespace then the candidates; a link's usual key, then the
+        keys under the namespaces of the robots with links at its ends, then under one
+        nothing uses yet, then the others; of the robots' own namespaces nothing uses
+        yet, one only (:meth:`_fresh`)."""
         if isinstance(variable, str):
-            return list(dict.fromkeys([self.usual_namespace(variable), *self.candidates()]))
+            values = list(dict.fromkeys([self.usual_namespace(variable), *self.candidates()]))
+            return self._fresh(values, robot_namespace(variable))[0]
         link = self.links[variable]
-        keys = [self.usual_key(variable)]
-        keys += [c + link.source_name for c in self.candidates()]
-        keys += [c + link.target_name for c in self.candidates()]
-        return [k for k in dict.fromkeys(keys) if k is not None and link.ends(k) is not None]
+        names = (link.source_name, link.target_name)
+        usual = self.usual_key(variable)
+        first = [usual] if usual is not None else []
+        first += [
+            self.namespaces[robot] + name
+            for place in (link.source.tag, link.target.tag)
+            for robot in self.near[place]
+            if robot in self.namespaces
+            for name in names
+        ]
+        keys = [*first, *(n + name for n in self.candidates() for name in names)]
+        kept, fresh = self._fresh([k for k in dict.fromkeys(keys) if link.ends(k)], None)
+        rank = {k: 0 if k in first else 1 if self._label(k) == fresh else 2 for k in kept}
+        return sorted(kept, key=rank.__getitem__)
+
+    def _fresh(self, values: list[str], own: str | None) -> tuple[list[str], str | None]:
+        """``values`` but those under a robot's own namespace that nothing uses yet, one
+        kept (``own`` if it is one, else the first), and that one: such namespaces can be
+        swapped throughout a choice without changing what it delivers (no ROS name or
+        rename prefix begins with them), so one stands for all."""
+        used = {self._label(k) for k in self.keys.values()}
+        used |= {self._label(n) for n in self.namespaces.values()}
+        labels = [self._label(v) for v in values]
+        free = [label for label in labels if label is not None and label not in used]
+        keep = own if own in free else next(iter(free), None)
+        kept = [
+            v
+            for v, label in zip(values, labels, strict=True)
+            if label is None or label in used or label == keep
+        ]
+        return kept, keep
+
+    def _label(self, text: str) -> str | None:
+        """The robot's own namespace ``text`` begins with, if one that can be swapped."""
+        if self._plain is None:
+            names = {n for link in self.links for n in (link.source_name, link.target_name)}
+            names |= self._renames()
+            self._plain = {
+                label
+                for label in (robot_namespace(robot) for robot in self.robots)
+                if NAMESPACE.fullmatch(label)
+                and not any(n == label or n.startswith(label + "/") for n in names)
+            }
+        head = "/" + text.split("/")[1] if text.startswith("/") else ""
+        return head if head in self._plain else None
 
     def candidates(self) -> list[str]:
         """``n + p``: ``n`` none or a robot's own namespace, ``p`` none or a rename prefix."""
         if self._candidates is None:
-            renames = set()
-            for link in self.links:
-                longest = link.longest()
-                shortest = min(link.source_name, link.target_name, key=len)
-                if longest is not None and longest != shortest:
-                    renames.add(longest[: len(longest) - len(shortest)])
             bases = ["", *(robot_namespace(robot) for robot in self.robots)]
-            self._candidates = list(
-                dict.fromkeys(n + p for n in bases for p in ["", *sorted(renames)])
-            )
+            renames = ["", *sorted(self._renames())]
+            self._candidates = list(dict.fromkeys(n + p for n in bases for p in renames))
         return self._candidates
 
-    def _apply(self, variable: Variable, value: str) -> list[tuple[int, str]] | None:
+    def _renames(self) -> set[str]:
+        """The prefixes by which the links' two names differ."""
+        found = set()
+        for link in self.links:
+            longest = link.longest()
+            shortest = min(link.source_name, link.target_name, key=len)
+            if longest is not None and longest != shortest:
+                found.add(longest[: len(longest) - len(shortest)])
+        return found
+
+    def _apply(
+        self, variable: Variable, value: str, position: dict[Variable, int]
+    ) -> tuple[list[int] | None, set[int]]:
         """The links a choice places (a robot's: those whose robots all have theirs now),
-        or ``None`` when one cannot be placed so."""
+        or ``None`` and the positions of the choices to blame when it adds a conflict."""
         self.tries += 1
         if isinstance(variable, int):
-            self.space.add(self.links[variable], value)
-            self.keys[variable] = value
-            return [(variable, value)]
+            return self._placed([variable], self._place(variable, value), variable, position)
         self.namespaces[variable] = value
-        added: list[tuple[int, str]] = []
+        added: list[int] = []
+        conflicts: list[Conflict] = []
         for index in self.at[variable]:
             link = self.links[index]
             if any(robot not in self.namespaces for robot in link.robots):
@@ -224,15 +343,45 @@ class Choice:
             key = self.usual_key(index)
             if key is None or not self._fits(link, key):
                 self._undo(variable, added)
-                return None
-            self.space.add(link, key)
-            self.keys[index] = key
-            added.append((index, key))
-        return added
+                others = {position.get(r, -1) for r in link.robots if r != variable}
+                return None, others - {-1}
+            conflicts += self._place(index, key)
+            added.append(index)
+        return self._placed(added, conflicts, variable, position)
 
-    def _undo(self, variable: Variable, added: list[tuple[int, str]]) -> None:
-        for index, key in added:
-            self.space.remove(self.links[index], key)
-            del self.keys[index]
+    def _placed(
+        self,
+        added: list[int],
+        conflicts: list[Conflict],
+        variable: Variable,
+        position: dict[Variable, int],
+    ) -> tuple[list[int] | None, set[int]]:
+        """``added`` when no conflict came of it, else nothing and the choices to blame."""
+        if not conflicts:
+            return added, set()
+        # one conflict refuses the value: blame the one whose choices came first, so that
+        # the search goes back as far as it can
+        blames = [
+            {
+                position.get(owner, -1)
+                for entry in conflict.involved
+                for index in self.placed[entry]
+                for owner in self._owners(index)
+                if owner != variable
+            }
+            - {-1}
+            for conflict in conflicts
+        ]
+        self._undo(variable, added)
+        return None, min(blames, key=lambda blame: (max(blame, default=-1), sorted(blame)))
+
+    def _owners(self, index: int) -> list[Variable]:
+        """The choices a link's key follows from: its robots', or its own."""
+        robots: list[Variable] = [*self.links[index].robots]
+        return robots or [index]
+
+    def _undo(self, variable: Variable, added: list[int]) -> None:
+        for index in added:
+            self._unplace(index)
         if isinstance(variable, str):
             del self.namespaces[variable]
