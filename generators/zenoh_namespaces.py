@@ -17,7 +17,7 @@ large fleet), so that finding none costs about as much as finding one.
 
 from __future__ import annotations
 
-from collections import defaultdict
+from collections import Counter, defaultdict
 
 from spl.generators.zenoh_keys import (
     NAMESPACE,
@@ -61,7 +61,17 @@ class Choice:
         self.usual_keys: dict[int, str] = {}  # the usual choice, kept to name its conflicts
         self.tries = 0
         self._candidates: list[str] | None = None
-        self._plain: set[str] | None = None  # robots' own namespaces that can be swapped
+        names = {n for link in links for n in (link.source_name, link.target_name)}
+        names |= self._renames()
+        # robots' own namespaces no ROS name or rename prefix begins with (:meth:`_fresh`)
+        self.swappable = {
+            label
+            for label in map(robot_namespace, robots)
+            if NAMESPACE.fullmatch(label)
+            and not any(n == label or n.startswith(label + "/") for n in names)
+        }
+        self._labels: dict[str, str | None] = {}  # first segment -> swappable namespace
+        self.in_use: Counter[str | None] = Counter()  # swappable namespaces in the choice
 
     @property
     def gave_up(self) -> bool:
@@ -109,7 +119,7 @@ class Choice:
 
     def _usual(self) -> list[Conflict]:
         for robot in self.robots:
-            self.namespaces[robot] = self.usual_namespace(robot)
+            self._name(robot, self.usual_namespace(robot))
         found: list[Conflict] = []
         for index, link in enumerate(self.links):
             key = self.usual_key(index)
@@ -133,14 +143,23 @@ class Choice:
         for entry in link.ends(key) or ():
             self.placed[entry].add(index)
         self.keys[index] = key
+        self.in_use[self._label(key)] += 1
         return self.space.add(link, key)
 
     def _unplace(self, index: int) -> None:
         key = self.keys.pop(index)
         link = self.links[index]
         self.space.remove(link, key)
+        self.in_use[self._label(key)] -= 1
         for entry in link.ends(key) or ():
             self.placed[entry].discard(index)
+
+    def _name(self, robot: str, namespace: str) -> None:
+        self.namespaces[robot] = namespace
+        self.in_use[self._label(namespace)] += 1
+
+    def _unname(self, robot: str) -> None:
+        self.in_use[self._label(self.namespaces.pop(robot))] -= 1
 
     # -- the search -----------------------------------------------------------------------
     def _components(self, conflicts: list[Conflict]) -> list[tuple[list[Variable], list[Conflict]]]:
@@ -216,7 +235,7 @@ class Choice:
                 if index in self.keys:
                     self._unplace(index)
             if isinstance(variable, str):
-                del self.namespaces[variable]
+                self._unname(variable)
         if not variables:
             return False
         position = {variable: k for k, variable in enumerate(variables)}
@@ -281,31 +300,22 @@ class Choice:
         kept (``own`` if it is one, else the first), and that one: such namespaces can be
         swapped throughout a choice without changing what it delivers (no ROS name or
         rename prefix begins with them), so one stands for all."""
-        used = {self._label(k) for k in self.keys.values()}
-        used |= {self._label(n) for n in self.namespaces.values()}
         labels = [self._label(v) for v in values]
-        free = [label for label in labels if label is not None and label not in used]
+        free = [label for label in labels if label is not None and not self.in_use[label]]
         keep = own if own in free else next(iter(free), None)
         kept = [
             v
             for v, label in zip(values, labels, strict=True)
-            if label is None or label in used or label == keep
+            if label is None or self.in_use[label] or label == keep
         ]
         return kept, keep
 
     def _label(self, text: str) -> str | None:
         """The robot's own namespace ``text`` begins with, if one that can be swapped."""
-        if self._plain is None:
-            names = {n for link in self.links for n in (link.source_name, link.target_name)}
-            names |= self._renames()
-            self._plain = {
-                label
-                for label in (robot_namespace(robot) for robot in self.robots)
-                if NAMESPACE.fullmatch(label)
-                and not any(n == label or n.startswith(label + "/") for n in names)
-            }
         head = "/" + text.split("/")[1] if text.startswith("/") else ""
-        return head if head in self._plain else None
+        if head not in self._labels:
+            self._labels[head] = head if head in self.swappable else None
+        return self._labels[head]
 
     def candidates(self) -> list[str]:
         """``n + p``: ``n`` none or a robot's own namespace, ``p`` none or a rename prefix."""
@@ -333,7 +343,7 @@ class Choice:
         self.tries += 1
         if isinstance(variable, int):
             return self._placed([variable], self._place(variable, value), variable, position)
-        self.namespaces[variable] = value
+        self._name(variable, value)
         added: list[int] = []
         conflicts: list[Conflict] = []
         for index in self.at[variable]:
@@ -384,4 +394,4 @@ class Choice:
         for index in added:
             self._unplace(index)
         if isinstance(variable, str):
-            del self.namespaces[variable]
+            self._unname(variable)
