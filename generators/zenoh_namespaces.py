@@ -189,7 +189,9 @@ class Choice:
             group = groups.get(root(min(tokens)))
             if group is not None:
                 group[0].append(variable)
-        return list(groups.values())
+        # in model order (the choices of one group count the namespaces the others use)
+        rank = {variable: k for k, (variable, _) in enumerate(variables)}
+        return sorted(groups.values(), key=lambda g: rank[g[0][0]] if g[0] else len(rank))
 
     def _tokens(self, index: int) -> set[Token]:
         link = self.links[index]
@@ -218,7 +220,8 @@ class Choice:
             )
             for owner in self._owners(index)
         ]
-        order = list(dict.fromkeys(v for v in start if v in links))
+        rank = {v: k for k, v in enumerate(variables)}  # model order, whatever the hashes
+        order = sorted({v for v in start if v in links}, key=rank.__getitem__)
         for variable in order:  # grows while it is read: a breadth-first walk
             for index in links[variable]:
                 for place in (self.links[index].source.tag, self.links[index].target.tag):

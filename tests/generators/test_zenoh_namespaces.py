@@ -12,6 +12,9 @@ to the onshore cloud's shared reports: a flow between two shared instances."""
 from __future__ import annotations
 
 import json
+import os
+import subprocess
+import sys
 import tempfile
 from pathlib import Path
 
@@ -165,6 +168,46 @@ def test_a_fleet_of_two_teams_is_carried(tmp_path):
         b.namespace for b in written(files) if b.place in ("Onshore_north", "Onshore_south")
     }
     assert planners == {"", "/north_Crawler"}
+
+
+# zenoh/ of the product of a .tsm file, as a digest (run in a process of its own)
+DIGEST = """
+import hashlib, sys
+from spl.dsl import tsm
+from spl.generators import zenoh
+from spl.resolver.product import ResolvedProduct
+files = zenoh.generate(ResolvedProduct("p", tsm.parse_file(sys.argv[1]), ()))
+print(hashlib.sha256(repr(sorted(files.items())).encode()).hexdigest())
+"""
+
+
+def test_the_same_product_gives_the_same_bytes_whatever_the_hash_seed(tmp_path):
+    """The search meets names in sets, whose order follows Python's string hashes: runs
+    with other seeds write the same ``zenoh/``, for a fleet of six teams, each its own
+    group, where the search places every team's flows, and for a random product whose
+    namespaces an earlier search chose differently under seeds 1 and 2."""
+    teams = "".join(
+        f"  team{i}: {{group: g{i}, features: [DetectionOnVessel, Reporting, "
+        f"RepairPlanning, {'Thickness, WallDefects, LogOnVessel' if i < 3 else 'Marking'}]}}\n"
+        for i in range(6)
+    )
+    fleet = tmp_path / "teams.yaml"
+    fleet.write_text(f"fleet: teams\nproduct_line: {OFFSHORE}\nrobots:\n{teams}")
+    product = ROOT / "tests" / "models" / "zenoh" / "hash_order.tsm"
+    seen = []
+    for seed in ("1", "2", "3"):
+        env = {**os.environ, "PYTHONHASHSEED": seed}
+        out = tmp_path / f"out{seed}"
+        command = [sys.executable, "-m", "spl", "fleet", "resolve", str(fleet), "-o", str(out)]
+        done = subprocess.run(command, env=env, cwd=tmp_path, capture_output=True, text=True)
+        assert done.returncode == 0, done.stderr
+        digest = [sys.executable, "-c", DIGEST, str(product)]
+        alone = subprocess.run(digest, env=env, cwd=tmp_path, capture_output=True, text=True)
+        assert alone.returncode == 0, alone.stderr
+        files = {p.name: p.read_bytes() for p in (out / "zenoh").iterdir()}
+        seen.append((files, alone.stdout))
+    assert seen[0] == seen[1] == seen[2]
+    assert "VesselEdge_g0.json5" in seen[0][0]
 
 
 ECHO_TSM = """system Echo
