@@ -56,9 +56,12 @@ from support.zenoh_oracle import brute_force, crossings, exact, space, written
 
 ROOT = Path(__file__).resolve().parents[2]
 OFFSHORE = ROOT / "tests" / "models" / "offshore"
-LISTED = sorted(ROOT.glob("product_lines/*/products/*.yaml")) + sorted(
-    OFFSHORE.glob("products/*.yaml")
-)
+# the shipped lines', the offshore line's and the other wind-farm test line's
+LISTED = [
+    *sorted(ROOT.glob("product_lines/*/products/*.yaml")),
+    *sorted(OFFSHORE.glob("products/*.yaml")),
+    *sorted((ROOT / "tests" / "models" / "windfarm").glob("products/*.yaml")),
+]
 # the most choices the brute force tries in a property test (a few seconds at most)
 AFFORDABLE = 5_000
 
@@ -151,23 +154,25 @@ def test_products_the_usual_namespaces_carried_keep_them():
     assert spaces == {"/robot_1"}
 
 
-def test_a_fleet_of_two_teams_is_carried(tmp_path):
-    """Each team's vessel feeds its own repair planner onshore: under no namespace the
-    north vessel's defects would reach the south team's planner, so one team's flow
-    goes under its crawler's namespace."""
+FLEETS = [OFFSHORE / "fleets" / "two_teams.yaml", ROOT / "tests/models/windfarm/fleets/teams.yaml"]
+
+
+@pytest.mark.parametrize("path", FLEETS, ids=lambda p: p.parents[1].name)
+def test_the_test_lines_fleets_of_two_teams_are_carried(tmp_path, path):
+    """In the offshore fleet each team's vessel feeds its own repair planner onshore:
+    under no namespace the north vessel's defects would reach the south team's planner,
+    so one team's flow goes under its crawler's namespace."""
     out = tmp_path / "fleet"
-    result = run("fleet", "resolve", OFFSHORE / "fleets" / "two_teams.yaml", "-o", out)
+    result = run("fleet", "resolve", path, "-o", out)
     assert result.exit_code == 0, result.output
-    manifest = json.loads((out / "fleet.json").read_text())
-    assert manifest.get("skipped", {}) == {}
-    files = {f"zenoh/{p.name}": p.read_bytes() for p in (out / "zenoh").iterdir() if p.is_file()}
-    check = check_fleet(load_fleet(OFFSHORE / "fleets" / "two_teams.yaml"))
-    products = [entry.product for entry in deploy(check).robots]
+    assert json.loads((out / "fleet.json").read_text())["skipped"] == {}
+    files = {f"zenoh/{p.name}": p.read_bytes() for p in (out / "zenoh").iterdir()}
+    products = [entry.product for entry in deploy(check_fleet(load_fleet(path))).robots]
     assert carried_exactly_or_none_is(products, files) == "carried"
-    planners = {
-        b.namespace for b in written(files) if b.place in ("Onshore_north", "Onshore_south")
-    }
-    assert planners == {"", "/north_Crawler"}
+    if path.parents[1] == OFFSHORE:
+        onshore = ("Onshore_north", "Onshore_south")
+        planners = {b.namespace for b in written(files) if b.place in onshore}
+        assert planners == {"", "/north_Crawler"}
 
 
 # zenoh/ of the product of a .tsm file, as a digest (run in a process of its own)
