@@ -1,6 +1,7 @@
 """Time of the Zenoh routing (``spl.generators.zenoh_routes.routes``, docs/deployment.md,
 "How the bridges' namespaces are chosen"): every product of each shipped line and of the
-offshore test line, then offshore fleets of N teams whose usual namespaces are not exact.
+offshore test line, mapping3d fleets of N robots (bench/fleet_check.py's, whose usual
+namespaces are exact), then offshore fleets of N teams whose usual namespaces are not.
 
 In the fleets every team is a crawler and a drone using the vessel's protected detector,
 the farm's reports and the team's repair planner onshore; every other team's crawler
@@ -8,7 +9,7 @@ sends its own ultrasonic defects to the vessel. With one team per group the sear
 carries the fleet; with two teams per group no namespaces can (a team's defects would
 reach the other team's crawler) and the search says so.
 
-    python bench/zenoh_routes.py [--teams 10 40 100]
+    python bench/zenoh_routes.py [--robots 100 1000] [--teams 10 40 100]
 
 Prints, per line: products, seconds of routing in all, products that needed the search;
 per fleet: robots, links, seconds, choices tried, and whether Zenoh carries it.
@@ -20,6 +21,8 @@ import argparse
 import tempfile
 import time
 from pathlib import Path
+
+from fleet_check import fleet_text as mapping_fleet  # run as bench/zenoh_routes.py
 
 from spl.generators.zenoh_namespaces import Choice
 from spl.generators.zenoh_routes import links, routes
@@ -54,6 +57,7 @@ def fleet_text(teams: int, per_group: int) -> str:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--robots", type=int, nargs="+", default=[100, 1000])
     parser.add_argument("--teams", type=int, nargs="+", default=[10, 40, 100])
     args = parser.parse_args()
     print("| line | products | routing s | searched |")
@@ -75,24 +79,28 @@ def main() -> None:
             searched += choice.tries > 0
         print(f"| {folder.name} | {len(placed)} | {elapsed:.2f} | {searched} |")
     print()
-    print("| teams per group | robots | links | routing s | choices tried | carried |")
-    print("| ---: | ---: | ---: | ---: | ---: | --- |")
+    print("| fleet | robots | links | routing s | choices tried | carried |")
+    print("| --- | ---: | ---: | ---: | ---: | --- |")
     with tempfile.TemporaryDirectory() as scratch:
+        fleets = [(f"mapping3d, {n} robots", mapping_fleet(n, 7)) for n in args.robots]
         for teams in args.teams:
             for per_group in (1, 2):
-                path = Path(scratch) / f"fleet_{teams}_{per_group}.yaml"
-                path.write_text(fleet_text(teams, per_group))
-                products = [e.product for e in deploy(check_fleet(load_fleet(path))).robots]
-                placed = wirings(products)
-                start = time.perf_counter()
-                found = routes(placed)
-                elapsed = time.perf_counter() - start
-                choice = Choice(*links(placed))
-                choice.choose()
-                print(
-                    f"| {per_group} | {len(choice.robots)} | {len(choice.links)} | "
-                    f"{elapsed:.2f} | {choice.tries} | {'no' if found.problems else 'yes'} |"
-                )
+                name = f"offshore, {teams} teams, {per_group} per group"
+                fleets.append((name, fleet_text(teams, per_group)))
+        for k, (name, text) in enumerate(fleets):
+            path = Path(scratch) / f"fleet_{k}.yaml"
+            path.write_text(text)
+            products = [e.product for e in deploy(check_fleet(load_fleet(path))).robots]
+            placed = wirings(products)
+            start = time.perf_counter()
+            found = routes(placed)
+            elapsed = time.perf_counter() - start
+            choice = Choice(*links(placed))
+            choice.choose()
+            print(
+                f"| {name} | {len(choice.robots)} | {len(choice.links)} | "
+                f"{elapsed:.2f} | {choice.tries} | {'no' if found.problems else 'yes'} |"
+            )
 
 
 if __name__ == "__main__":

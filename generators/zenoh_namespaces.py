@@ -2,17 +2,14 @@
 "How the bridges' namespaces are chosen").
 
 What a choice of keys does wrong is :mod:`spl.generators.zenoh_keys`'. A robot runs one
-bridge: its namespace is one choice for all of its links. The other choices are the keys
-of links between two cloud instances. The candidates are the namespaces ``n + p``, ``n``
-none or a robot's own (``/<robotID>``), ``p`` none or a rename prefix (a link whose two
-names differ by a prefix), for the robot's bridge or for either end of a link. The choice
-the generator always made first (each robot under its own, a link between cloud
-instances under the robot of its private end, or none) is tried first and kept where it
-is exact, so products it carried keep their bytes; elsewhere a search takes the first
-exact choice in order of preference, or says that none is. It backtracks with conflict
-sets (Prosser's conflict-directed backjumping): a choice with no value left goes back to
-the last choice its conflicts involve, past those that play no part (other robots of a
-large fleet), so that finding none costs about as much as finding one.
+bridge: its namespace is one choice for all of its links; the other choices are the keys
+of links between cloud instances. The candidates are ``n + p``, ``n`` none or a robot's
+own namespace, ``p`` none or a rename prefix, for a robot's bridge or either end of a
+link. The usual choice (each robot under its own, a link between cloud instances under
+the robot of its private end, or none) is kept where exact, so products it carried keep
+their bytes; elsewhere the search (Prosser's conflict-directed backjumping: a choice with
+no value left goes back to the last choice its conflicts involve, past those that play
+no part) takes the first exact choice in order of preference, or says that none is.
 """
 
 from __future__ import annotations
@@ -37,11 +34,9 @@ Variable = str | int  # a robotID (its bridge's namespace) or a link's index (it
 
 
 class Choice:
-    """The robots' bridge namespaces and the keys of the links between cloud instances:
-    the usual ones, and where they are not exact a search over the candidates, component
-    by component (choices of different tokens never meet). :meth:`choose` leaves the
-    exact choice in :attr:`namespaces` and :attr:`keys`, or returns the usual choice's
-    conflicts where none is exact."""
+    """The robots' bridge namespaces and the links' keys, searched per component (choices
+    of different tokens never meet): :meth:`choose` leaves the exact choice in
+    :attr:`namespaces` and :attr:`keys`, or returns the usual one's conflicts."""
 
     def __init__(self, links: list[Link], robots: list[str], limit: int = TRIES) -> None:
         self.links = links
@@ -51,12 +46,12 @@ class Choice:
         self.namespaces: dict[str, str] = {}
         self.keys: dict[int, str] = {}
         self.at: dict[str, list[int]] = defaultdict(list)  # robotID -> its links
-        self.near: dict[str, list[str]] = defaultdict(list)  # place -> robots with links there
+        self.near: dict[str, dict[str, None]] = defaultdict(dict)  # place -> robots there
         for index, link in enumerate(links):
             for robot in link.robots:
                 self.at[robot].append(index)
                 for place in (link.source.tag, link.target.tag):
-                    self.near[place] += [] if robot in self.near[place] else [robot]
+                    self.near[place][robot] = None
         self.placed: dict[Entry, set[int]] = defaultdict(set)  # the links behind each entry
         self.usual_keys: dict[int, str] = {}  # the usual choice, kept to name its conflicts
         self.tries = 0
@@ -205,11 +200,11 @@ class Choice:
         links: dict[Variable, list[int]] = {
             v: self.at[v] if isinstance(v, str) else [v] for v in variables
         }
-        near: dict[str, list[Variable]] = defaultdict(list)
+        near: dict[str, dict[Variable, None]] = defaultdict(dict)
         for variable in variables:
             for index in links[variable]:
                 for place in (self.links[index].source.tag, self.links[index].target.tag):
-                    near[place] += [] if variable in near[place] else [variable]
+                    near[place][variable] = None
         start = [
             owner
             for conflict in conflicts
@@ -222,11 +217,15 @@ class Choice:
         ]
         rank = {v: k for k, v in enumerate(variables)}  # model order, whatever the hashes
         order = sorted({v for v in start if v in links}, key=rank.__getitem__)
+        seen, walked = set(order), set()
         for variable in order:  # grows while it is read: a breadth-first walk
             for index in links[variable]:
                 for place in (self.links[index].source.tag, self.links[index].target.tag):
-                    order += [v for v in near[place] if v not in order]
-        order += [v for v in variables if v not in order]
+                    if place not in walked:
+                        walked.add(place)
+                        order += [v for v in near[place] if v not in seen]
+                        seen.update(near[place])
+        order += [v for v in variables if v not in seen]
         # robots first: a link's usual key and its neighbours' keys follow their choices
         return sorted(order, key=lambda v: not isinstance(v, str))
 
