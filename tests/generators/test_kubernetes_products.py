@@ -1,7 +1,9 @@
 """Every product of every shipped line: its whole bundle is generated, every Kubernetes
 manifest passes ``kubernetes-validate --strict`` (the validator's bundled schemas, no
 cluster), the kustomization lists exactly the manifests, the launch file each instance
-mounts passes the ROS 2 launch XSD, and no generated file holds a credential value."""
+mounts passes the ROS 2 launch XSD, no generated file holds a credential value, and no
+private instance is one nothing can feed (the check of
+tests/resolver/test_private_instances_shipped.py, on every product)."""
 
 from __future__ import annotations
 
@@ -19,6 +21,8 @@ from spl.resolver.analysis import enumerate_products
 from spl.resolver.engine import resolve
 from spl.resolver.product_line import load_product_line
 from spl.resolver.product_selection import ProductSelection
+
+from support.instance_chains import check_product_instances
 
 ROOT = Path(__file__).resolve().parents[2]
 # PyYAML's own representer (not kubernetes_objects._DocumentNodes) on libyaml's emitter
@@ -76,7 +80,7 @@ def test_every_product_validates_and_holds_no_credential(directory, monkeypatch)
     products = objects = 0
     for features in enumerate_products(line.fm):
         product = resolve(line, ProductSelection("p", sorted(features))).product
-        files = build_bundle(product).files
+        files = build_bundle(product, render_diagrams=False).files
         objects += check_manifests(files)
         manifests = {p: d for p, d in files.items() if p.startswith("kubernetes/")}
         # written by PyYAML (libyaml's emitter, the pure-Python one, and PyYAML's own
@@ -90,6 +94,8 @@ def test_every_product_validates_and_holds_no_credential(directory, monkeypatch)
         for path, data in files.items():
             for variable, value in secrets.items():
                 assert value.encode() not in data, f"{path} holds the value of ${variable}"
+        # and no private instance nothing can feed (docs/deployment.md, "Private instances")
+        check_product_instances(product, files)
         products += 1
     assert products >= 8
     assert objects >= products or directory.name == "data_acquisition"

@@ -20,9 +20,10 @@ import pytest
 
 from spl.generators import service
 
-from support.callback_listeners import Listener, certificate_for
+from support.callback_listeners import Listener
 from support.service_models import product
 from support.service_runtime import TOKEN, RunningService, request, wait_for, write_files
+from support.tls import certificate_for
 
 PACKAGE = "position_store_service"
 STORE = "/PositionStore"

@@ -29,6 +29,7 @@ from support.instance_chains import (
     as_vertices,
     chained,
     fed_by_robot,
+    fleet_views,
     kubernetes_instances,
     launch_instances,
     rapyuta_instances,
@@ -101,10 +102,7 @@ def fleet_of(line: Path, features: str, scratch: Path) -> None:
         return
     deployment = deploy(check)
     files = fleet_files(deployment)
-    views = {}
-    for entry in deployment.robots:
-        views |= robot_views(entry.product)
-    private = {tag for view in views.values() for tag, _ in view.candidates}
+    views, private = fleet_views(deployment)
     kubernetes = as_vertices(kubernetes_instances(files))
     rapyuta = as_vertices(rapyuta_instances(files, private))
     launched: set[Vertex] = set()

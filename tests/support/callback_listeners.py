@@ -3,11 +3,10 @@ reaches it (method, path, Host header, body) and answers with a fixed status, an
 ``Location`` when given one (a redirect). Bound to any address and port, including
 ``::`` for both IPv4 and IPv6, so that one listener catches a post to any address of
 this machine: 127.0.0.1, 127.0.0.2, ::1, 0.0.0.0 and the machine's own addresses; with
-a certificate of a name (``certificate_for``), over HTTPS."""
+a certificate of a name (``support.tls.certificate_for``), over HTTPS."""
 
 from __future__ import annotations
 
-import datetime
 import queue
 import socket
 import ssl
@@ -16,11 +15,6 @@ from dataclasses import dataclass
 from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 from pathlib import Path
 from typing import Any
-
-from cryptography import x509
-from cryptography.hazmat.primitives import hashes, serialization
-from cryptography.hazmat.primitives.asymmetric import ec
-from cryptography.x509.oid import NameOID
 
 
 @dataclass(frozen=True)
@@ -104,34 +98,3 @@ class Listener:
     def close(self) -> None:
         self.server.shutdown()
         self.server.server_close()
-
-
-def certificate_for(name: str, directory: Path) -> tuple[Path, Path]:
-    """A self-signed certificate for the DNS name ``name`` only (no address), and its
-    key: a client verifies it only when it checks the name, not the address it
-    connected to."""
-    key = ec.generate_private_key(ec.SECP256R1())
-    subject = x509.Name([x509.NameAttribute(NameOID.COMMON_NAME, name)])
-    now = datetime.datetime.now(datetime.UTC)
-    certificate = (
-        x509.CertificateBuilder()
-        .subject_name(subject)
-        .issuer_name(subject)
-        .public_key(key.public_key())
-        .serial_number(x509.random_serial_number())
-        .not_valid_before(now - datetime.timedelta(minutes=5))
-        .not_valid_after(now + datetime.timedelta(days=1))
-        .add_extension(x509.SubjectAlternativeName([x509.DNSName(name)]), critical=False)
-        .add_extension(x509.BasicConstraints(ca=True, path_length=None), critical=True)
-        .sign(key, hashes.SHA256())
-    )
-    cert_file, key_file = directory / f"{name}.crt", directory / f"{name}.key"
-    cert_file.write_bytes(certificate.public_bytes(serialization.Encoding.PEM))
-    key_file.write_bytes(
-        key.private_bytes(
-            serialization.Encoding.PEM,
-            serialization.PrivateFormat.PKCS8,
-            serialization.NoEncryption(),
-        )
-    )
-    return cert_file, key_file

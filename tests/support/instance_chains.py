@@ -124,6 +124,16 @@ def robot_views(product: Any) -> dict[str, RobotView]:
     return views
 
 
+def fleet_views(deployment: Any) -> tuple[dict[str, RobotView], set[str]]:
+    """Every robot's view of a deployed fleet (each robot's own product), and the tags
+    of every private instance any of them may hold."""
+    views: dict[str, RobotView] = {}
+    for entry in deployment.robots:
+        views |= robot_views(entry.product)
+    private = {tag for view in views.values() for tag, _ in view.candidates}
+    return views, private
+
+
 def chained(view: RobotView, deployed: set[Vertex]) -> set[Vertex]:
     """The instances of ``deployed`` joined with the robot's own nodes by a chain of
     edges, either way, directly or through an instance joined so (docs/deployment.md:
@@ -226,3 +236,24 @@ def launch_instances(
 
 def as_vertices(instances: dict[str, set[str]]) -> set[Vertex]:
     return {(tag, node) for tag, nodes in instances.items() for node in nodes}
+
+
+def check_instances(views: dict[str, RobotView], deployed: set[Vertex]) -> None:
+    """Every robot's deployed private instances are chained to it and fed, and every
+    instance its own data reaches is deployed."""
+    for view in views.values():
+        tags = {tag for tag, _ in view.candidates}
+        mine = {v for v in deployed if v[0] in tags}
+        assert chained(view, mine) == mine, view.robot_id
+        assert not idle(view, mine), (view.robot_id, sorted(idle(view, mine)))
+        assert fed_by_robot(view) <= mine, view.robot_id
+
+
+def check_product_instances(product: Any, files: dict[str, bytes]) -> None:
+    """What :func:`check_instances` asks, of a product's bundle (its Kubernetes and
+    Rapyuta files, which must deploy the same private instances)."""
+    views = robot_views(product)
+    private = {tag for view in views.values() for tag, _ in view.candidates}
+    kubernetes = as_vertices(kubernetes_instances(files))
+    assert kubernetes == as_vertices(rapyuta_instances(files, private))
+    check_instances(views, kubernetes)

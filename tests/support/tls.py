@@ -1,5 +1,7 @@
-"""A self-signed certificate for 127.0.0.1 made with ``cryptography``: what the HTTPS
-tests of generated services and of their ROS clients serve and trust."""
+"""Self-signed certificates made with ``cryptography``: for 127.0.0.1, what the HTTPS
+tests of generated services and of their ROS clients serve and trust; for a DNS name
+only (no address), what the callback tests serve, as a client verifies it only when it
+checks the name, not the address it connected to."""
 
 from __future__ import annotations
 
@@ -14,25 +16,35 @@ from cryptography.x509.oid import NameOID
 
 
 def self_signed(directory: Path) -> tuple[Path, Path]:
+    """A certificate for the address 127.0.0.1, and its key: ``tls.crt``, ``tls.key``."""
+    address = x509.IPAddress(ipaddress.ip_address("127.0.0.1"))
+    return _written(directory, "127.0.0.1", address, "tls")
+
+
+def certificate_for(name: str, directory: Path) -> tuple[Path, Path]:
+    """A certificate for the DNS name ``name`` only, and its key."""
+    return _written(directory, name, x509.DNSName(name), name)
+
+
+def _written(
+    directory: Path, common_name: str, alternative: x509.GeneralName, stem: str
+) -> tuple[Path, Path]:
     key = ec.generate_private_key(ec.SECP256R1())
-    name = x509.Name([x509.NameAttribute(NameOID.COMMON_NAME, "127.0.0.1")])
+    subject = x509.Name([x509.NameAttribute(NameOID.COMMON_NAME, common_name)])
     now = datetime.datetime.now(datetime.UTC)
     certificate = (
         x509.CertificateBuilder()
-        .subject_name(name)
-        .issuer_name(name)
+        .subject_name(subject)
+        .issuer_name(subject)
         .public_key(key.public_key())
         .serial_number(x509.random_serial_number())
         .not_valid_before(now - datetime.timedelta(minutes=5))
         .not_valid_after(now + datetime.timedelta(days=1))
-        .add_extension(
-            x509.SubjectAlternativeName([x509.IPAddress(ipaddress.ip_address("127.0.0.1"))]),
-            critical=False,
-        )
+        .add_extension(x509.SubjectAlternativeName([alternative]), critical=False)
         .add_extension(x509.BasicConstraints(ca=True, path_length=None), critical=True)
         .sign(key, hashes.SHA256())
     )
-    cert_file, key_file = directory / "tls.crt", directory / "tls.key"
+    cert_file, key_file = directory / f"{stem}.crt", directory / f"{stem}.key"
     cert_file.write_bytes(certificate.public_bytes(serialization.Encoding.PEM))
     key_file.write_bytes(
         key.private_bytes(
