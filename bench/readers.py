@@ -1,7 +1,7 @@
 """Benchmark: does each fast reader (dsl/*_reader.py) pay against textX?
 
     .venv/bin/python bench/readers.py [--sizes 1000 10000] [--repeat 3] [--runs 5]
-        [--each] [--no-in-process]
+        [--each] [--no-in-process] [--limit-gb 4]
 
 The readers exist only for speed (textX parses whatever they leave, and must give the
 same tree: tests/dsl/test_*_reader.py). For each grammar, in process:
@@ -17,13 +17,15 @@ Then whole ``spl check`` processes, ``--runs`` each, interleaved, median CPU tim
 readers, and with them switched off (each ``read`` returning None, so textX reads
 everything, as it would without the reader; ``--each``: also one reader at a time): on
 the shipped mapping3d line and on the synthetic line's .tsm and folder. The processes
-keep cached bytecode, as an installed spl does.
+keep cached bytecode, as an installed spl does; each may take ``--limit-gb`` of address
+space, and one that needs more is reported as over it instead of timed.
 """
 
 from __future__ import annotations
 
 import argparse
 import os
+import resource
 import statistics
 import subprocess
 import sys
@@ -91,45 +93,77 @@ def in_process(texts: dict[str, dict[str, list[str]]], repeat: int) -> None:
             )
 
 
-def process(arguments: list[str], off: tuple[str, ...]) -> float:
+def process(arguments: list[str], off: tuple[str, ...], limit: int) -> float | None:
     """The CPU seconds (user + system) of one process ``spl ARGUMENTS`` with the readers
     of the languages ``off`` switched off: on a shared, loaded machine the wall time
-    also measures waiting for a core."""
+    also measures waiting for a core. None where the process needed more than ``limit``
+    bytes of address space (it is stopped there rather than take a shared machine's
+    memory: the 10,000-node line folder grew to 20 GB, docs/performance.md).
+
+    The child's stderr goes to a file, not a pipe: ``spl check`` of a large line warns
+    more than a pipe holds (64 KiB), and a pipe nobody reads stops the child."""
     command = [sys.executable, "-m", "spl", *arguments]
     if off:
         command = [sys.executable, "-c", WITHOUT_READERS, ",".join(off), *arguments]
-    child = subprocess.Popen(
-        command, cwd=ROOT, env=ENVIRONMENT, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE
-    )
-    _, status, usage = os.wait4(child.pid, 0)
-    if os.waitstatus_to_exitcode(status) != 0:
-        raise SystemExit(f"{' '.join(command)} failed:\n{child.stderr.read().decode()}")
-    child.stderr.close()
+
+    def capped() -> None:
+        resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
+
+    with tempfile.TemporaryFile() as stderr:
+        child = subprocess.Popen(
+            command,
+            cwd=ROOT,
+            env=ENVIRONMENT,
+            stdout=subprocess.DEVNULL,
+            stderr=stderr,
+            preexec_fn=capped,
+        )
+        _, status, usage = os.wait4(child.pid, 0)
+        if os.waitstatus_to_exitcode(status) != 0:
+            stderr.seek(0)
+            said = stderr.read().decode(errors="replace")
+            if "MemoryError" in said:
+                return None
+            raise SystemExit(f"{' '.join(command)} failed:\n{said[-4000:]}")
     return usage.ru_utime + usage.ru_stime
 
 
-def whole_processes(targets: dict[str, Path], runs: int, each: bool) -> None:
+def whole_processes(targets: dict[str, Path], runs: int, each: bool, limit: int) -> None:
     ways = {"with readers": ()}
     if each:
         ways |= {f"no {language} reader": (language,) for language in LANGUAGES}
     ways["textX only"] = tuple(LANGUAGES)
-    print(f"median CPU s of {runs} processes each (interleaved):")
+    over = f"over {limit / 2**30:g} GB"
+    print(f"median CPU s of {runs} processes each (interleaved; {over}: stopped there):")
     print()
     print(f"| spl check | {' | '.join(ways)} |")
     print(f"| --- | {' | '.join('---:' for _ in ways)} |")
     for label, target in targets.items():
         arguments = ["check", str(target)]
-        process(arguments, ())  # writes the bytecode a first run lacks
-        samples: dict[str, list[float]] = {way: [] for way in ways}
+        # writes the bytecode a first run lacks; a target over the limit is not run again
+        if process(arguments, (), limit) is None:
+            print(f"| {label} | {' | '.join(over for _ in ways)} |", flush=True)
+            continue
+        samples: dict[str, list[float | None]] = {way: [] for way in ways}
         for _ in range(runs):  # interleaved, so a change of load hits every way alike
             for way, off in ways.items():
-                samples[way].append(process(arguments, off))
-        on = statistics.median(samples["with readers"])
-        cells = [f"{on:.3f}"]
+                if None not in samples[way]:
+                    samples[way].append(process(arguments, off, limit))
+        medians = {
+            way: None if None in times else statistics.median(times)  # type: ignore[type-var]
+            for way, times in samples.items()
+        }
+        on = medians["with readers"]
+        cells = [over if on is None else f"{on:.3f}"]
         for way in list(ways)[1:]:
-            slower = statistics.median(samples[way])
-            cells.append(f"{slower:.3f} ({slower / on:.1f} x)")
-        print(f"| {label} | {' | '.join(cells)} |")
+            slower = medians[way]
+            if slower is None:
+                cells.append(over)
+            elif on is None:
+                cells.append(f"{slower:.3f}")
+            else:
+                cells.append(f"{slower:.3f} ({slower / on:.1f} x)")
+        print(f"| {label} | {' | '.join(cells)} |", flush=True)
 
 
 def main() -> None:
@@ -139,6 +173,12 @@ def main() -> None:
     parser.add_argument("--runs", type=int, default=5)
     parser.add_argument("--each", action="store_true", help="also switch off one reader at a time")
     parser.add_argument("--no-in-process", action="store_true", help="time whole processes only")
+    parser.add_argument(
+        "--limit-gb",
+        type=float,
+        default=4.0,
+        help="address space each spl process may take (default 4; over it, it is stopped)",
+    )
     options = parser.parse_args()
     texts: dict[str, dict[str, list[str]]] = {}
     for language in LANGUAGES:
@@ -160,7 +200,7 @@ def main() -> None:
         if not options.no_in_process:
             in_process(texts, options.repeat)
             print()
-        whole_processes(targets, options.runs, options.each)
+        whole_processes(targets, options.runs, options.each, int(options.limit_gb * 2**30))
 
 
 if __name__ == "__main__":
