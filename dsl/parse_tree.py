@@ -72,6 +72,33 @@ def rule(name: str, attributes: str) -> Any:
     return type(name, (tuple,), namespace)
 
 
+class _Declared(type):
+    """Makes a declared rule's class with :func:`rule` (see :class:`Rule`)."""
+
+    def __new__(
+        mcs, name: str, bases: tuple[type, ...], namespace: dict[str, Any], **_: Any
+    ) -> Any:
+        if not bases:  # Rule itself
+            return super().__new__(mcs, name, bases, namespace)
+        fields = list(namespace.get("__annotations__", {}))
+        if fields[:1] != ["position"]:
+            raise TypeError(f"{name}: a rule's first field is its position")
+        made = rule(name, " ".join(fields[1:]))
+        made.__module__ = namespace["__module__"]
+        made.__qualname__ = namespace["__qualname__"]
+        made.__doc__ = namespace.get("__doc__")
+        return made
+
+
+class Rule(metaclass=_Declared):
+    """The base of a grammar rule declared as a class: ``position: int`` (the offset of
+    its first token) and then its attributes, annotated as the grammar gives them.
+
+    One declaration serves both: the type checker reads it as a ``typing.NamedTuple``
+    (a module imports ``NamedTuple as Rule`` under TYPE_CHECKING), and at run time the
+    class is made by :func:`rule` from the annotations' names."""
+
+
 def _make(cls: type, values: Any) -> Any:
     """namedtuple's ``_make``: an object of ``cls`` from an iterable of its values, as
     the incremental reading rebuilds a tree at a new position."""

@@ -78,33 +78,3 @@ def test_spl_check_imports_no_typed_module() -> None:
     assert "spl.metamodels.ecore_files" in loaded
     for module in ("model_types", "tsm_types", "fm_types", "rm_types"):
         assert f"spl.metamodels.{module}" not in loaded
-
-
-def test_the_declared_parse_tree_rules_are_the_readers() -> None:
-    """dsl/tsm_tree.py declares each rule for the type checker (under TYPE_CHECKING) and
-    makes it at run time with parse_tree.rule: both give the same fields, in order."""
-    import ast
-
-    from spl.dsl import tsm_tree
-
-    module = ast.parse((ROOT / "dsl" / "tsm_tree.py").read_text(encoding="utf-8"))
-    (block,) = [
-        node
-        for node in module.body
-        if isinstance(node, ast.If) and ast.unparse(node.test) == "TYPE_CHECKING"
-    ]
-    declared = {
-        node.name: tuple(
-            item.target.id
-            for item in node.body
-            if isinstance(item, ast.AnnAssign) and isinstance(item.target, ast.Name)
-        )
-        for node in block.body
-        if isinstance(node, ast.ClassDef)
-    }
-    made = {
-        name: value._fields
-        for name, value in vars(tsm_tree).items()
-        if isinstance(value, type) and issubclass(value, tuple) and hasattr(value, "_tx_position")
-    }
-    assert declared == made

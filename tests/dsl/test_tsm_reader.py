@@ -168,6 +168,29 @@ def test_the_readers_terminals_are_the_grammars() -> None:
     assert grammar.autokwd and grammar._parser_blueprint.skipws
 
 
+def test_a_rule_is_declared_once_for_the_type_checker_and_the_reader() -> None:
+    """A rule declared as a class (tsm_tree) is, at run time, the tuple the reader builds
+    and textX's attributes are compared with: its annotated fields in order, position
+    first and also read as ``_tx_position``."""
+
+    class Sample(parse_tree.Rule):
+        position: int
+        name: str
+        members: list[str]
+
+    made = Sample(4, "a", ["b"])
+    assert isinstance(made, tuple) and type(made).__name__ == "Sample"
+    assert Sample._fields == ("position", "name", "members")
+    assert (made.position, made._tx_position, made.name, made.members) == (4, 4, "a", ["b"])
+    assert tsm_tree.Index(7, None).index is None  # a field named like a tuple method
+    with pytest.raises(TypeError, match="takes 3 values"):
+        Sample(4, "a")
+    with pytest.raises(TypeError, match="first field is its position"):
+
+        class Unplaced(parse_tree.Rule):
+            name: str
+
+
 def test_parse_text_gives_the_same_model_and_errors_through_either_parser(monkeypatch) -> None:
     """The builder cannot tell the trees apart: a file built from the reader's tree and
     from textX's prints the same and fails with the same messages."""
