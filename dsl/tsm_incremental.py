@@ -26,6 +26,7 @@ too (textX then reads it).
 from __future__ import annotations
 
 from bisect import bisect_right
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -43,6 +44,7 @@ _RULES = frozenset(
     if isinstance(value, type) and issubclass(value, tuple) and hasattr(value, "_fields")
 )
 Spans = dict[int, tuple[Any, int]]  # offset of a start -> (element, offset of its end)
+Made = dict[int, Any]  # id of an element -> its copy at another position
 
 
 class Places:
@@ -166,13 +168,26 @@ def common_suffix(old: str, new: str, limit: int) -> int:
 def located(value: Any, places: Places) -> Any:
     """A tree (or list of trees) with every stored position replaced by its offset:
     what a full reading of the text gives."""
+    return relocated(value, lambda element: places.offset(element[0]))
+
+
+def relocated(value: Any, move: Callable[[Any], int | None], made: Made | None = None) -> Any:
+    """A tree (or list of trees) with each element at the position ``move`` gives for it
+    (an element it gives None for is kept as it is, with all it holds); ``made`` maps the
+    id of each element moved to its moved copy."""
     kind = type(value)
     if kind is list:
-        return [located(item, places) for item in value]
+        return [relocated(item, move, made) for item in value]
     if kind in _RULES:
-        return kind._make(  # type: ignore[attr-defined]  # a rule's class (parse_tree.rule)
-            (places.offset(value[0]), *[located(v, places) for v in value[1:]])
+        position = move(value)
+        if position is None:
+            return value
+        moved = kind._make(  # type: ignore[attr-defined]  # a rule's class (parse_tree.Rule)
+            (position, *[relocated(v, move, made) for v in value[1:]])
         )
+        if made is not None:
+            made[id(value)] = moved
+        return moved
     return value
 
 
@@ -280,20 +295,16 @@ class _Band:
         self.base = base
         self.taken = taken
         self.fresh: list[int] = []  # the offsets of the elements moved
-        self.by_id: dict[int, Any] = {}  # id of an element read -> the element moved
+        self.by_id: Made = {}  # id of an element read -> the element moved
 
     def moved(self, value: Any) -> Any:
-        kind = type(value)
-        if kind is list:
-            return [self.moved(item) for item in value]
-        if kind in _RULES and id(value) not in self.taken:
-            self.fresh.append(value[0])
-            moved = kind._make(  # type: ignore[attr-defined]  # a rule's class
-                (value[0] + self.base, *[self.moved(v) for v in value[1:]])
-            )
-            self.by_id[id(value)] = moved
-            return moved
-        return value
+        return relocated(value, self._position, self.by_id)
+
+    def _position(self, element: Any) -> int | None:
+        if id(element) in self.taken:
+            return None
+        self.fresh.append(element[0])
+        return element[0] + self.base
 
     def spans(self, spans: Spans) -> Spans:
         return {at: (self.by_id.get(id(e), e), end) for at, (e, end) in spans.items()}
