@@ -21,20 +21,22 @@ import importlib
 import json
 import os
 import shutil
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
 from spl import __version__
 from spl.dsl.tsm_printer import print_model
+from spl.generators.bundle_options import BundleInputs, BundleOptions
 from spl.generators.bundle_paths import BundleFiles, BundlePathClash, Skipped, check_paths
 from spl.generators.json_text import indented
 from spl.generators.resolved_xmi import resolved_xmi
-from spl.generators.zenoh_bridge import transport_reused
 from spl.resolver.product import ResolvedProduct, node_keys
 
 # Each output target and its generator modules; each module offers
-# generate(product) -> {bundle path: bytes}. `spl resolve --target` picks targets by
-# name; resolved.tsm, resolved.xmi and manifest.json are in every bundle.
+# generate(product, ...) -> {bundle path: bytes}, taking by keyword what READS gives it.
+# `spl resolve --target` picks targets by name; resolved.tsm, resolved.xmi and
+# manifest.json are in every bundle.
 TARGETS = {
     "ros1": ("spl.generators.ros1",),
     "ros2": ("spl.generators.ros2",),
@@ -75,15 +77,26 @@ class Bundle:
 # asks them for the source only (their ``generate`` takes ``render``).
 RENDERING = frozenset({"spl.generators.diagrams"})
 
+# What a generator reads beside the product, as keyword arguments of its ``generate``,
+# taken from the bundle's inputs when it runs: the options the bundle is written with,
+# and the product's Zenoh transport, computed once for kubernetes/ and zenoh/ together.
+READS: dict[str, Callable[[BundleInputs], dict[str, object]]] = {
+    "spl.generators.diagrams": lambda inputs: {"render": inputs.options.render_diagrams},
+    "spl.generators.deploy": lambda inputs: {"options": inputs.options},
+    "spl.generators.kubernetes": lambda inputs: {
+        "options": inputs.options,
+        "wiring": inputs.transport,
+    },
+    "spl.generators.zenoh": lambda inputs: {"wiring": inputs.transport},
+}
 
-def build_bundle(
-    product: ResolvedProduct,
-    targets: tuple[str, ...] | None = None,
-    render_diagrams: bool = True,
-) -> Bundle:
-    """Every file of the product's bundle (of ``targets``, default all), in memory, and
-    the files that were skipped; without ``render_diagrams`` no picture is rendered."""
-    targets = tuple(TARGETS) if targets is None else targets
+
+def build_bundle(product: ResolvedProduct, options: BundleOptions | None = None) -> Bundle:
+    """Every file of the product's bundle (of the ``options``' targets, default all), in
+    memory, and the files that were skipped; without ``render_diagrams`` no picture is
+    rendered."""
+    options = BundleOptions() if options is None else options
+    targets = tuple(TARGETS) if options.targets is None else options.targets
     files = BundleFiles(
         {
             "resolved.tsm": print_model(product.system).encode("utf-8"),
@@ -92,23 +105,21 @@ def build_bundle(
     )
     skipped: dict[str, str] = {}
     machine_skipped: set[str] = set()
-    with transport_reused():  # the Zenoh and Kubernetes generators share it
-        for module_name in (m for target in targets for m in TARGETS[target]):
-            generate = importlib.import_module(module_name).generate
-            if module_name in RENDERING and not render_diagrams:
-                generated = generate(product, render=False)
+    inputs = BundleInputs(product, options)  # this bundle's own: the transport dies with it
+    for module_name in (m for target in targets for m in TARGETS[target]):
+        generate = importlib.import_module(module_name).generate
+        reads = READS.get(module_name)
+        generated = generate(product, **reads(inputs)) if reads else generate(product)
+        clash = (files.keys() | skipped.keys()) & generated.keys()
+        if clash:
+            raise BundlePathClash(f"{module_name} writes {sorted(clash)} already written")
+        for path, data in generated.items():
+            if isinstance(data, Skipped):
+                skipped[path] = data.reason
+                if module_name in RENDERING:  # only a missing program stops a picture
+                    machine_skipped.add(path)
             else:
-                generated = generate(product)
-            clash = (files.keys() | skipped.keys()) & generated.keys()
-            if clash:
-                raise BundlePathClash(f"{module_name} writes {sorted(clash)} already written")
-            for path, data in generated.items():
-                if isinstance(data, Skipped):
-                    skipped[path] = data.reason
-                    if module_name in RENDERING:  # only a missing program stops a picture
-                        machine_skipped.add(path)
-                else:
-                    files[path] = data
+                files[path] = data
     skipped = dict(sorted(skipped.items()))
     check_paths([*files, "manifest.json"])
     files["manifest.json"] = manifest(product, files, skipped, targets)

@@ -15,6 +15,7 @@ from typing import TypedDict
 
 import yaml
 
+from spl.generators.bundle_options import BundleOptions
 from spl.generators.bundle_paths import BundleFiles
 from spl.generators.jinja_templates import render
 from spl.generators.json_text import Document
@@ -28,7 +29,6 @@ from spl.generators.kubernetes_network_policy import (
 from spl.generators.kubernetes_resources import resources
 from spl.generators.kubernetes_security import (
     container_security,
-    namespace_for,
     pod_security,
     waiver_annotations,
 )
@@ -61,12 +61,14 @@ def _yaml(document: Document) -> str:
     return yaml.safe_dump(document, sort_keys=False, default_flow_style=False).rstrip("\n")
 
 
-def generate(product: ResolvedProduct) -> dict[str, bytes]:
+def generate(product: ResolvedProduct, options: BundleOptions | None = None) -> dict[str, bytes]:
+    """``deploy/`` of the product's cloud data stores (none without one); its Kubernetes
+    manifests in the namespace ``options`` give (default ``spl resolve``'s)."""
     stores = cloud_stores(product.system)
     if not stores:
         return {}
     project = _project(product)
-    namespace = namespace_for(product.name)
+    namespace = (options or BundleOptions()).namespace_of(product.name)
     connections = store_connections(product)
     postgres = database_kind(product) == "postgresql"
     secret = f"{project}-secrets"

@@ -25,7 +25,9 @@ anything is written.
 Shared instances' launch files are produced by :data:`SHARED_INSTANCE_GENERATORS`, one
 function per target taking the deployment and one instance. A robot's bundle has no
 ``kubernetes/`` or ``zenoh/`` of its own: the fleet's (:mod:`spl.generators.kubernetes_fleet`)
-deploy every instance once, with the Zenoh bridges computed over all robots together.
+deploy every instance once, with the Zenoh bridges computed over all robots together:
+one :class:`~spl.generators.bundle_options.FleetInputs` per fleet bundle computes that
+transport once for ``kubernetes/``, ``zenoh/`` and ``fleet.json``'s ``skipped``.
 """
 
 from __future__ import annotations
@@ -33,6 +35,7 @@ from __future__ import annotations
 import hashlib
 import json
 from collections.abc import Callable, Iterable
+from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, Protocol
 
 from lxml import etree
@@ -41,13 +44,12 @@ from spl import __version__
 from spl.diagnostics import Diagnostic, ModelError
 from spl.generators import kubernetes_fleet, ros1, ros2_launch
 from spl.generators.bundle import TARGETS, build_bundle, manifest
+from spl.generators.bundle_options import BundleOptions, FleetInputs
 from spl.generators.json_text import Document
 from spl.generators.kubernetes import namespace_file
-from spl.generators.kubernetes_security import namespace_for
 from spl.generators.launch_xml import serialize
 from spl.generators.rapyuta import configurations, declare_once, render
 from spl.generators.rapyuta_rules import check_all
-from spl.generators.zenoh_bridge import transport
 from spl.resolver.fleet_deployment import FleetDeployment, SharedInstance
 from spl.resolver.placement import Placement
 
@@ -112,13 +114,15 @@ SHARED_INSTANCE_GENERATORS: tuple[
 ] = (_ros1_instance, _ros2_instance)
 
 
-def _robot_files(deployment: FleetDeployment, entry: RobotProduct) -> dict[str, bytes]:
+def _robot_files(
+    deployment: FleetDeployment, entry: RobotProduct, options: BundleOptions
+) -> dict[str, bytes]:
     """The robot's bundle with its cloud launch files cut down to its private instances."""
     product = entry.product
-    files = build_bundle(product, ROBOT_TARGETS).files
+    files = build_bundle(product, replace(options, targets=ROBOT_TARGETS)).files
     del files["manifest.json"]
-    namespace = namespace_for(product.name)
-    if namespace != namespace_for(deployment.check.fleet.name) and any(
+    namespace = options.namespace_of(product.name)
+    if namespace != options.namespace_of(deployment.check.fleet.name) and any(
         path.startswith("deploy/kubernetes/") for path in files
     ):
         # the robot's data services run in its product's namespace, which the fleet's
@@ -145,14 +149,40 @@ def _robot_files(deployment: FleetDeployment, entry: RobotProduct) -> dict[str, 
     return files
 
 
-def fleet_files(deployment: FleetDeployment) -> dict[str, bytes]:
+@dataclass(frozen=True)
+class FleetBundle:
+    """The files of a fleet bundle (path -> bytes, ``fleet.json`` included) and what it
+    leaves out, with the reason (``fleet.json``'s ``skipped``, and a warning of
+    ``spl fleet resolve``)."""
+
+    files: dict[str, bytes]
+    skipped: dict[str, str]
+
+
+def build_fleet_bundle(
+    deployment: FleetDeployment, options: BundleOptions | None = None
+) -> FleetBundle:
+    """Every file of the fleet bundle, checked, nothing written, and what it leaves out."""
+    inputs = FleetInputs(deployment, BundleOptions() if options is None else options)
+    files = _fleet_files(inputs)
+    return FleetBundle(files, inputs.skipped)
+
+
+def fleet_files(
+    deployment: FleetDeployment, options: BundleOptions | None = None
+) -> dict[str, bytes]:
     """Every file of the fleet bundle (bundle path -> bytes), checked, nothing written."""
+    return build_fleet_bundle(deployment, options).files
+
+
+def _fleet_files(inputs: FleetInputs) -> dict[str, bytes]:
+    deployment, options = inputs.deployment, inputs.options
     files: dict[str, bytes] = {}
     documents: dict[str, Document] = {}
     per_robot: dict[str, list[str]] = {}
     for entry in deployment.robots:
         prefix = f"robots/{entry.robot.name}/"
-        own = _robot_files(deployment, entry)
+        own = _robot_files(deployment, entry, options)
         for name, document in configurations(entry.product).items():
             documents[f"{prefix}rapyuta/{name}.json"] = document
         files.update({prefix + path: data for path, data in own.items()})
@@ -172,25 +202,20 @@ def fleet_files(deployment: FleetDeployment) -> dict[str, bytes]:
             generated = generate(deployment, instance)
             files.update(generated)
             per_instance.setdefault(instance.tag, []).extend(sorted(generated))
-    files.update(kubernetes_fleet.fleet_files(deployment, per_robot, per_instance))
-    files["fleet.json"] = _fleet_manifest(deployment, files, per_robot, per_instance)
+    files.update(kubernetes_fleet.fleet_files(inputs, per_robot, per_instance))
+    files["fleet.json"] = _fleet_manifest(
+        deployment, files, (per_robot, per_instance), inputs.skipped
+    )
     return dict(sorted(files.items()))
-
-
-def fleet_skipped(deployment: FleetDeployment) -> dict[str, str]:
-    """What the fleet bundle leaves out and why (``fleet.json``'s ``skipped``, and a
-    warning of ``spl fleet resolve``): ``zenoh/`` when Zenoh cannot carry the fleet, whose
-    instances then run without bridges."""
-    wiring = transport(*(entry.product for entry in deployment.robots))
-    return {} if wiring.carried else {"zenoh/": f"Zenoh cannot carry this fleet: {wiring.reason}"}
 
 
 def _fleet_manifest(
     deployment: FleetDeployment,
     files: dict[str, bytes],
-    per_robot: dict[str, list[str]],
-    per_instance: dict[str, list[str]],
+    listed: tuple[dict[str, list[str]], dict[str, list[str]]],
+    skipped: dict[str, str],
 ) -> bytes:
+    per_robot, per_instance = listed
     check = deployment.check
     robots = {}
     for entry in deployment.robots:
@@ -225,7 +250,7 @@ def _fleet_manifest(
         "robots": robots,
         "shared": shared,
         "toolchain": {"name": "spl-robotics", "version": __version__},
-        "skipped": fleet_skipped(deployment),  # {} when Zenoh carries the fleet
+        "skipped": skipped,  # {} when Zenoh carries the fleet
         "files": {path: hashlib.sha256(data).hexdigest() for path, data in sorted(files.items())},
     }
     return (json.dumps(document, indent=2, sort_keys=True) + "\n").encode("utf-8")

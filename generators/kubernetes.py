@@ -21,6 +21,7 @@ from __future__ import annotations
 from spl import __version__
 from spl.diagnostics import Diagnostic, ModelError
 from spl.generators import ros2_launch
+from spl.generators.bundle_options import BundleOptions
 from spl.generators.bundle_paths import BundleFiles
 from spl.generators.json_text import Document
 from spl.generators.kubernetes_names import CONFIG_SUFFIX, ROUTER, instance_names, label_value
@@ -39,7 +40,7 @@ from spl.generators.kubernetes_objects import (
     title,
 )
 from spl.generators.kubernetes_router import router_documents, secret_key, secret_name
-from spl.generators.kubernetes_security import namespace_document, namespace_for
+from spl.generators.kubernetes_security import namespace_document
 from spl.generators.zenoh_bridge import ZENOH_PORT, CloudBridge, Transport, transport
 from spl.resolver.placement import Instance, Placement
 from spl.resolver.product import ResolvedProduct
@@ -156,17 +157,25 @@ def kustomization(files: list[str]) -> bytes:
     return render([document], "kubectl apply -k this folder; see README.md")
 
 
-def generate(product: ResolvedProduct) -> dict[str, bytes]:
+def generate(
+    product: ResolvedProduct,
+    options: BundleOptions | None = None,
+    wiring: Transport | None = None,
+) -> dict[str, bytes]:
     """``kubernetes/``: one manifest per cloud instance, the Zenoh router, kustomization
-    and README; nothing when a name cannot map (a located error instead)."""
+    and README, in the namespace ``options`` give (default ``spl resolve``'s); nothing
+    when a name cannot map (a located error instead). ``wiring`` is the product's
+    transport, the one its ``zenoh/`` is written from (a bundle computes it once for
+    both); computed here when not given."""
     errors: list[Diagnostic] = []
     placement = Placement(product.system, errors, flows=product.flows)
     instances = placement.cloud_instances()
     names = instance_names(instances, errors)
-    wiring = transport(product)
+    options = BundleOptions() if options is None else options
+    wiring = transport(product) if wiring is None else wiring
     if errors:
         raise ModelError(list(dict.fromkeys(errors)))
-    namespace = namespace_for(product.name)
+    namespace = options.namespace_of(product.name)
     connections: list[Connection] = zenoh_connections(wiring, names)
     connections += store_connections(product)
     placed = Placed(namespace, product, connections)

@@ -7,7 +7,8 @@ with their nodes as their reference robots resolved them, whichever robots use t
 One Deployment per instance, as for a product (:mod:`spl.generators.kubernetes`).
 
 The Zenoh configurations are computed over all the robots' architectures together
-(:func:`spl.generators.zenoh_bridge.transport`): each robot routes under its own
+(:attr:`FleetInputs.transport <spl.generators.bundle_options.FleetInputs.transport>`,
+computed once per fleet bundle): each robot routes under its own
 namespace, and a shared instance gets one bridge per robot it serves, so every robot
 reaches the fleet's shared instances through the one router and no robot sees another
 robot's data. A fleet Zenoh cannot carry gets its instances without bridges and the
@@ -20,12 +21,11 @@ from typing import TYPE_CHECKING, cast
 
 from spl.diagnostics import Diagnostic, ModelError
 from spl.generators import kubernetes, ros2_launch, zenoh
+from spl.generators.bundle_options import FleetInputs
 from spl.generators.kubernetes_names import CONFIG_SUFFIX, ROUTER, ObjectNames
 from spl.generators.kubernetes_network_policy import zenoh_connections
 from spl.generators.kubernetes_objects import Placed, render, title
 from spl.generators.kubernetes_router import router_documents
-from spl.generators.kubernetes_security import namespace_for
-from spl.generators.zenoh_bridge import transport
 from spl.resolver.fleet_deployment import FleetDeployment, SharedInstance
 from spl.resolver.placement import Instance, Place, Placement
 
@@ -75,12 +75,14 @@ def _instances(
 
 
 def fleet_files(
-    deployment: FleetDeployment,
+    inputs: FleetInputs,
     per_robot: dict[str, list[str]],
     per_instance: dict[str, list[str]],
 ) -> dict[str, bytes]:
-    """``kubernetes/`` and ``zenoh/`` of the fleet; each instance's manifest is listed
-    with its robot (``per_robot``) or shared instance (``per_instance``)."""
+    """``kubernetes/`` and ``zenoh/`` of the fleet, in the namespace its options give,
+    from its one transport; each instance's manifest is listed with its robot
+    (``per_robot``) or shared instance (``per_instance``)."""
+    deployment = inputs.deployment
     fleet = deployment.check.fleet.name
     instances = _instances(deployment)
     errors: list[Diagnostic] = []
@@ -88,8 +90,8 @@ def fleet_files(
     named = [names.name(i.place.tag, where, "cloud instance") for _, i, _, where in instances]
     if errors:
         raise ModelError(errors)
-    wiring = transport(*(entry.product for entry in deployment.robots))
-    namespace = namespace_for(fleet)
+    wiring = inputs.transport
+    namespace = inputs.options.namespace_of(fleet)
     tags = {i.place.tag: name for (_, i, _, _), name in zip(instances, named, strict=True)}
     connections = zenoh_connections(wiring, tags)
     files: dict[str, bytes] = {

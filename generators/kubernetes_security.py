@@ -10,7 +10,8 @@ root filesystem, writing only to the ``emptyDir`` volumes :func:`scratch_volumes
 them (``/tmp``, where ``HOME`` and the ROS logs go) and to their data volumes.
 
 Every object is placed in the namespace of its product or fleet (:func:`namespace_for`,
-a DNS-1123 label, or the one ``spl resolve --namespace`` gives), which enforces the
+a DNS-1123 label), or in the one ``spl resolve --namespace`` chooses (the bundle's
+options, :class:`spl.generators.bundle_options.BundleOptions`), which enforces the
 ``restricted`` level (:func:`namespace_document`), so a pod that would break it is
 refused by the cluster itself, not only by a scanner.
 """
@@ -19,9 +20,6 @@ from __future__ import annotations
 
 import hashlib
 import re
-from collections.abc import Iterator
-from contextlib import contextmanager
-from contextvars import ContextVar
 from typing import cast
 
 from spl.generators.json_text import Document
@@ -43,8 +41,6 @@ WAIVERS = {
     "kustomization.yaml is pulled when the tag changes",
 }
 
-_OVERRIDE: ContextVar[str | None] = ContextVar("kubernetes_namespace", default=None)
-
 
 def checked_namespace(name: str) -> str:
     """``name`` when it is a DNS-1123 label (what Kubernetes accepts as a namespace),
@@ -57,24 +53,10 @@ def checked_namespace(name: str) -> str:
     return name
 
 
-@contextmanager
-def namespace_override(name: str | None) -> Iterator[None]:
-    """Within, every manifest is placed in namespace ``name`` (checked) instead of the
-    one derived from its product or fleet; None changes nothing."""
-    token = _OVERRIDE.set(checked_namespace(name) if name is not None else _OVERRIDE.get())
-    try:
-        yield
-    finally:
-        _OVERRIDE.reset(token)
-
-
 def namespace_for(owner: str) -> str:
-    """The namespace of product (or fleet) ``owner``: the override when one is set, else
-    its name as a label (lower case, ``_`` -> ``-``), shortened with a digest past 63
-    characters, or ``spl-`` and a digest when it gives no label."""
-    override = _OVERRIDE.get()
-    if override is not None:
-        return override
+    """The namespace product (or fleet) ``owner`` is given when none is chosen: its name
+    as a label (lower case, ``_`` -> ``-``), shortened with a digest past 63 characters,
+    or ``spl-`` and a digest when it gives no label."""
     name = kubernetes_label(owner).strip("-")
     if DNS_1123_LABEL.fullmatch(name) and len(name) <= MAX_LENGTH:
         return name

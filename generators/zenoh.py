@@ -94,9 +94,13 @@ def folder(owner: str, wiring: Transport) -> dict[str, bytes]:
     return dict(sorted(files.items()))
 
 
-def generate(product: ResolvedProduct) -> dict[str, bytes | Skipped]:
-    """The bridge configurations, or ``zenoh/`` skipped with the reason."""
-    wiring = transport(product)
+def generate(
+    product: ResolvedProduct, wiring: Transport | None = None
+) -> dict[str, bytes | Skipped]:
+    """The bridge configurations, or ``zenoh/`` skipped with the reason. ``wiring`` is
+    the product's transport, the one its ``kubernetes/`` deploys (a bundle computes it
+    once for both); computed here when not given."""
+    wiring = transport(product) if wiring is None else wiring
     if not wiring.carried:
         return {"zenoh/": Skipped(f"Zenoh cannot carry this product: {wiring.reason}")}
     return dict(folder(f"product {product.name}", wiring))

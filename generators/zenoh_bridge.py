@@ -30,9 +30,6 @@ routers written here. A product Zenoh cannot carry exactly is not given bridges:
 from __future__ import annotations
 
 import re
-from collections.abc import Iterator
-from contextlib import contextmanager
-from contextvars import ContextVar
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
@@ -163,37 +160,13 @@ def _plugin(namespace: str, lists: dict[str, set[str]] | None, localhost: bool) 
     return plugin
 
 
-# Inside transport_reused(): the transports computed so far, by the products' identities
-# (kept with them, so an identity is not reused while the entry lives).
-_REUSED: ContextVar[dict[tuple[int, ...], tuple[tuple, Transport]] | None] = ContextVar(
-    "transport_reused", default=None
-)
-
-
-@contextmanager
-def transport_reused() -> Iterator[None]:
-    """Within, :func:`transport` of the same products is computed once: a bundle's
-    Zenoh and Kubernetes generators both need it, and nothing changes the resolved
-    system while its bundle is generated. The callers treat the result as read-only."""
-    token = _REUSED.set({})
-    try:
-        yield
-    finally:
-        _REUSED.reset(token)
-
-
 def transport(*products: ResolvedProduct) -> Transport:
     """The bridges of every robot and cloud instance of one resolved product, or of
     several (the robots of a fleet, each resolved on its own, sharing the instances
-    their placement tags name alike), the router, or why not carried."""
-    reused = _REUSED.get()
-    if reused is None:
-        return _transport(products)
-    key = tuple(id(product) for product in products)
-    known = reused.get(key)
-    if known is None:
-        known = reused[key] = (products, _transport(products))
-    return known[1]
+    their placement tags name alike), the router, or why not carried. Computed anew at
+    each call: a bundle computes it once and hands it to the generators that read it
+    (:class:`spl.generators.bundle_options.BundleInputs`, ``spl.generators.fleet``)."""
+    return _transport(products)
 
 
 def _transport(products: tuple[ResolvedProduct, ...]) -> Transport:

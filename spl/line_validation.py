@@ -212,6 +212,7 @@ def run_case(
     """Resolve one product, generate its bundle in memory and validate every file;
     then, when the files are valid, run ``checks.rehearse`` on them."""
     from spl import pipeline
+    from spl.generators.bundle_options import BundleOptions
     from spl.resolver.product_selection import load_selection_file, selection_from_list
 
     start = time.perf_counter()
@@ -220,7 +221,8 @@ def run_case(
             selection = load_selection_file(case.selection_file)
         else:
             selection = selection_from_list(",".join(case.features), name="_".join(case.features))
-        derivation = pipeline.derive(line, selection, render_diagrams=checks.diagrams)
+        options = BundleOptions(render_diagrams=checks.diagrams)
+        derivation = pipeline.derive(line, selection, options)
         problems = pipeline.validate(derivation)
         checked = ""
         if checks.rehearse is not None and not problems:

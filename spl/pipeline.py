@@ -25,6 +25,7 @@ from spl.diagnostics import Diagnostic, Location, ModelError, counted, model_tex
 
 if TYPE_CHECKING:
     from spl.generators.bundle import Bundle
+    from spl.generators.bundle_options import BundleOptions
     from spl.resolver.engine import Resolution
     from spl.resolver.product_line import ProductLine
     from spl.resolver.product_selection import ProductSelection
@@ -90,18 +91,16 @@ def resolve_product(line: ProductLine, selection: ProductSelection) -> Resolutio
 
 
 def derive(
-    line: ProductLine,
-    selection: ProductSelection,
-    targets: tuple[str, ...] | None = None,
-    render_diagrams: bool = True,
+    line: ProductLine, selection: ProductSelection, options: BundleOptions | None = None
 ) -> Derivation:
-    """Resolve the selection and generate its bundle in memory: every output target, or
-    the ``targets`` named (``spl resolve --target``); diagrams rendered to SVG unless
-    ``render_diagrams`` is false (their Graphviz source is always generated)."""
+    """Resolve the selection and generate its bundle in memory, written as ``options``
+    say (default ``spl resolve``'s): every output target or the ones named (``--target``),
+    diagrams rendered to SVG unless ``render_diagrams`` is false (their Graphviz source is
+    always generated), the Kubernetes objects in the ``--namespace`` chosen, if any."""
     from spl.generators.bundle import build_bundle
 
     resolution = resolve_product(line, selection)
-    bundle = build_bundle(resolution.product, targets, render_diagrams)
+    bundle = build_bundle(resolution.product, options)
     warnings = (
         *(ProductWarning(str(warning)) for warning in resolution.product.warnings),
         *(

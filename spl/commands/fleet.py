@@ -134,8 +134,8 @@ def resolve(fleet_file: Path, out: Path | None, namespace: str | None) -> None:
     """Write one bundle for the fleet: each robot's own files, each shared cloud instance
     once, and fleet.json. Refused, writing nothing, when the fleet check fails."""
     from spl.generators.bundle import write_bundle
-    from spl.generators.fleet import fleet_files, fleet_skipped
-    from spl.generators.zenoh_bridge import transport_reused
+    from spl.generators.bundle_options import BundleOptions
+    from spl.generators.fleet import build_fleet_bundle
     from spl.pipeline import skip_warning
     from spl.resolver.fleet import check_fleet, located, summary
     from spl.resolver.fleet_deployment import deploy
@@ -146,17 +146,11 @@ def resolve(fleet_file: Path, out: Path | None, namespace: str | None) -> None:
     if not result.ok:
         raise ModelError(located(result.diagnostics))
     _warn(result.diagnostics)
-    deployment = deploy(result)
-    from spl.generators.kubernetes_security import namespace_override
-
-    # the fleet's wiring, computed once for all that read it
-    with transport_reused(), namespace_override(namespace):
-        files = fleet_files(deployment)
-        skipped = fleet_skipped(deployment)
-    for path, reason in skipped.items():  # as spl resolve warns of a product's
+    bundle = build_fleet_bundle(deploy(result), BundleOptions(namespace=namespace))
+    for path, reason in bundle.skipped.items():  # as spl resolve warns of a product's
         click.echo(str(skip_warning(path, reason)), err=True)
     out = out or Path("build") / fleet.name
-    write_bundle(files, out)
+    write_bundle(bundle.files, out)
     for line in summary(result):
         click.echo(line)
-    click.echo(f"  wrote {len(files)} files to {out}")
+    click.echo(f"  wrote {len(bundle.files)} files to {out}")

@@ -70,14 +70,13 @@ def command(
     cannot have (zenoh/ Zenoh cannot carry, architecture.svg without Graphviz) is left out
     with a one-line warning on stderr; the rest of the bundle is written, exit 0."""
     from spl import pipeline
+    from spl.generators.bundle_options import BundleOptions
     from spl.resolver.engine import summary_lines
 
+    options = BundleOptions(targets=targets, namespace=namespace)
     line = pipeline.load_line(directory)
     selection = selection_from_options(features, sharing, settings, capabilities)
-    from spl.generators.kubernetes_security import namespace_override
-
-    with namespace_override(namespace):
-        derivation = pipeline.derive(line, selection, targets)
+    derivation = pipeline.derive(line, selection, options)
     resolution = derivation.resolution
     out = out or Path("build") / resolution.product.name
     pipeline.write(derivation, out)

@@ -13,6 +13,7 @@ from click.testing import CliRunner
 from lxml import etree
 
 from spl.cli import main
+from spl.generators.bundle_options import BundleOptions
 from spl.junit_report import junit_xml
 from spl.line_validation import CaseResult
 from spl.pipeline import ProductWarning
@@ -227,7 +228,7 @@ def test_diagrams_are_rendered_only_when_asked() -> None:
 
     line = pipeline.load_line(LINES / "mapping3d")
     selection = load_selection_file(LINES / "mapping3d" / "products" / "youbot_stereo_room.yaml")
-    quick = pipeline.derive(line, selection, render_diagrams=False).bundle
+    quick = pipeline.derive(line, selection, BundleOptions(render_diagrams=False)).bundle
     full = pipeline.derive(line, selection).bundle
     assert "architecture.dot" in quick.files and "architecture.svg" not in quick.files
     assert quick.skipped == {}  # nothing to warn about: it was not asked for

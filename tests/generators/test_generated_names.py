@@ -19,6 +19,7 @@ import yaml
 from spl.diagnostics import ModelError
 from spl.generators import clients
 from spl.generators.bundle import build_bundle
+from spl.generators.bundle_options import BundleOptions
 from spl.generators.bundle_paths import BundleFiles, BundlePathClash, check_paths
 from spl.resolver.engine import resolve
 from spl.resolver.generated_names import dns_name, unique_names
@@ -90,7 +91,7 @@ def cloud(name: str, *stores: tuple[str, int]) -> str:
 
 def bundle_of(folder: Path) -> dict[str, bytes]:
     resolution = resolve(load_product_line(folder), selection_from_list("Base"))
-    return build_bundle(resolution.product, render_diagrams=False).files
+    return build_bundle(resolution.product, BundleOptions(render_diagrams=False)).files
 
 
 @pytest.fixture(scope="module")

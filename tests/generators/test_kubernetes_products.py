@@ -16,6 +16,7 @@ import yaml
 
 from spl.generators import kubernetes_objects
 from spl.generators.bundle import build_bundle
+from spl.generators.bundle_options import BundleOptions
 from spl.generators.launch_schema import validate_ros2_launch
 from spl.resolver.analysis import enumerate_products
 from spl.resolver.engine import resolve
@@ -80,7 +81,7 @@ def test_every_product_validates_and_holds_no_credential(directory, monkeypatch)
     products = objects = 0
     for features in enumerate_products(line.fm):
         product = resolve(line, ProductSelection("p", sorted(features))).product
-        files = build_bundle(product, render_diagrams=False).files
+        files = build_bundle(product, BundleOptions(render_diagrams=False)).files
         objects += check_manifests(files)
         manifests = {p: d for p, d in files.items() if p.startswith("kubernetes/")}
         # written by PyYAML (libyaml's emitter, the pure-Python one, and PyYAML's own
@@ -89,7 +90,7 @@ def test_every_product_validates_and_holds_no_credential(directory, monkeypatch)
             with monkeypatch.context() as patch:
                 patch.setattr(kubernetes_objects, "WRITER", None)
                 patch.setattr(kubernetes_objects, "DUMPER", dumper)
-                other = build_bundle(product, ("kubernetes",)).files
+                other = build_bundle(product, BundleOptions(targets=("kubernetes",))).files
             assert manifests == {p: d for p, d in other.items() if p.startswith("kubernetes/")}
         for path, data in files.items():
             for variable, value in secrets.items():

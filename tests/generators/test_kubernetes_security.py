@@ -10,13 +10,13 @@ import yaml
 from spl.diagnostics import ModelError
 from spl.generators import deploy
 from spl.generators.bundle import build_bundle
+from spl.generators.bundle_options import BundleOptions
 from spl.generators.kubernetes_resources import resources
 from spl.generators.kubernetes_security import (
     UID,
     WAIVERS,
     checked_namespace,
     namespace_for,
-    namespace_override,
 )
 from spl.resolver.product import ResolvedProduct
 
@@ -72,10 +72,18 @@ def test_namespace_is_the_products_name_or_the_option(tmp_path):
     assert len(long) <= 63 and checked_namespace(long) == long
     assert namespace_for("A" * 80) != namespace_for("A" * 81)  # a digest of the whole
     assert namespace_for("___").startswith("spl-")  # no label: spl- and a digest
-    with namespace_override("prod"):
-        assert namespace_for("anything") == "prod"
+    assert BundleOptions(namespace="prod").namespace_of("anything") == "prod"
+    assert BundleOptions().namespace_of("youbot_stereo_room") == "youbot-stereo-room"
     with pytest.raises(ValueError, match="'Bad_Name' is not a DNS-1123 label"):
         checked_namespace("Bad_Name")
+    with pytest.raises(ValueError, match="'Bad_Name' is not a DNS-1123 label"):
+        BundleOptions(namespace="Bad_Name")  # options are checked when made, not when read
+    product = dict(shipped_products())[PAPER]
+    chosen = build_bundle(product, BundleOptions(namespace="robots-prod")).files
+    assert {w["metadata"]["namespace"] for w in workloads(chosen)} == {"robots-prod"}
+    # the option is the call's own: the next bundle is in the product's namespace again
+    again = build_bundle(product).files
+    assert {w["metadata"]["namespace"] for w in workloads(again)} == {"youbot-stereo-room"}
     out = tmp_path / "bundle"
     result = run(
         "resolve", LINES / "mapping3d", "--features", PAPER, "-o", out, "--namespace", "robots-prod"

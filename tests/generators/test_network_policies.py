@@ -23,7 +23,7 @@ import yaml
 
 from spl.generators.bundle import build_bundle
 from spl.generators.fleet import fleet_files
-from spl.generators.zenoh_bridge import transport, transport_reused
+from spl.generators.zenoh_bridge import transport
 from spl.metamodels import tsm
 from spl.resolver.fleet import check_fleet
 from spl.resolver.fleet_deployment import deploy
@@ -205,8 +205,7 @@ def test_every_fleet_allows_exactly_its_flows(fleet_file):
     result = check_fleet(load_fleet(fleet_file))
     assert result.ok
     deployment = deploy(result)
-    with transport_reused():
-        files = fleet_files(deployment)
+    files = fleet_files(deployment)
     documents = manifests(files)
     products = [entry.product for entry in deployment.robots]
     fleet = [d for d in manifests({k: v for k, v in files.items() if k.startswith("kubernetes/")})]

@@ -28,6 +28,7 @@ from hypothesis import event, given, settings, target
 from hypothesis import strategies as st
 
 from spl.generators.bundle import build_bundle, write_bundle
+from spl.generators.bundle_options import BundleOptions
 from spl.resolver.engine import resolve
 from spl.resolver.flows import SERVICE, TOPIC, FlowTable
 from spl.resolver.placement import Placement
@@ -268,7 +269,7 @@ def test_every_output_carries_exactly_the_flow_table(case):
         table = {(f.kind, name(f.source), name(f.target)) for f in product.flows}
         assert table == reachability(product.system)
 
-        bundle = build_bundle(product, render_diagrams=False)
+        bundle = build_bundle(product, BundleOptions(render_diagrams=False))
         files = bundle.files
         expected = expected_deliveries(product)
         assert rapyuta_deliveries(files) == expected

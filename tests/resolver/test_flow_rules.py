@@ -13,6 +13,7 @@ from click.testing import CliRunner
 
 from spl.cli import main
 from spl.generators.bundle import build_bundle, write_bundle
+from spl.generators.bundle_options import BundleOptions
 from spl.resolver.engine import resolve
 from spl.resolver.product_line import load_product_line
 from spl.resolver.product_selection import selection_from_list
@@ -73,7 +74,7 @@ def test_fan_out_is_one_row_per_subscriber_and_each_bridge_carries_its_own(tmp_p
     assert routes == {"SA": [], "SB": ["B"]} or routes["SB"] == ["B"]
     # the smoke plan: one relay per connection of R's endpoint subscriber, each passing P's
     bundle = tmp_path / "bundle"
-    write_bundle(build_bundle(fan, render_diagrams=False).files, bundle)
+    write_bundle(build_bundle(fan, BundleOptions(render_diagrams=False)).files, bundle)
     plan = {i.id: i for i in load_plan(bundle).interfaces()}
     relays = plan["R.endpoint.sub_T"].relays
     assert sorted((r.container, r.passes) for r in relays) == [
@@ -132,7 +133,7 @@ CROSS = (
 
 
 def rapyuta_connections(product_) -> set[tuple[str, str]]:
-    files = build_bundle(product_, render_diagrams=False).files
+    files = build_bundle(product_, BundleOptions(render_diagrams=False)).files
     return {
         (c["tagA"], c["tagB"])
         for path, data in files.items()
@@ -239,7 +240,7 @@ def test_data_reaching_a_subscriber_by_two_chains_of_bridges_is_warned_and_carri
     assert warning.startswith("SC.inp gets the data of P.out along two chains of bridges or more")
     (row,) = [f for f in twice.flows if f.routes > 1]
     assert (row.source.name, row.target.eContainer().name) == ("out", "SC")
-    bundle = build_bundle(twice, render_diagrams=False)
+    bundle = build_bundle(twice, BundleOptions(render_diagrams=False))
     # Zenoh would deliver it twice through A's and B's bridges: not carried, and it says so
     assert bundle.skipped["zenoh/"].endswith("C.SC.inp would get the data of R.P.out a second time")
     folder = tmp_path / "bundle"

@@ -16,6 +16,7 @@ from pathlib import Path
 import pytest
 
 from spl.generators.bundle import build_bundle
+from spl.generators.bundle_options import BundleOptions
 from spl.resolver.engine import resolve
 from spl.resolver.product_line import load_product_line
 from spl.resolver.product_selection import load_selection_file, selection_from_list
@@ -88,7 +89,7 @@ def survey(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 def bundle(folder: Path, features: str) -> dict[str, bytes]:
     product = resolve(load_product_line(folder), selection_from_list(features)).product
-    return build_bundle(product, render_diagrams=False).files
+    return build_bundle(product, BundleOptions(render_diagrams=False)).files
 
 
 def mentions(files: dict[str, bytes], *words: str) -> list[str]:
@@ -140,7 +141,9 @@ def test_orchard_without_scouting_deploys_no_scout() -> None:
     """The shipped line: the product that found the defect."""
     line = load_product_line(ORCHARD)
     selection = load_selection_file(ORCHARD / "products" / "cloud_vacuum.yaml")
-    files = build_bundle(resolve(line, selection).product, render_diagrams=False).files
+    files = build_bundle(
+        resolve(line, selection).product, BundleOptions(render_diagrams=False)
+    ).files
     for path in ("ros1/Scout.launch", "ros2/Scout.launch.xml", "rapyuta/Scout.json"):
         assert path not in files
     assert mentions(files, "scout_1", "Scout") == []

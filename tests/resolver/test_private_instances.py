@@ -16,6 +16,7 @@ from click.testing import CliRunner
 
 from spl.cli import main
 from spl.generators.bundle import build_bundle, write_bundle
+from spl.generators.bundle_options import BundleOptions
 from spl.generators.fleet import fleet_files
 from spl.resolver.engine import resolve
 from spl.resolver.fleet import check_fleet
@@ -52,7 +53,7 @@ def product():
 
 @pytest.fixture(scope="module")
 def bundle(product):
-    return build_bundle(product, render_diagrams=False)
+    return build_bundle(product, BundleOptions(render_diagrams=False))
 
 
 def test_the_placement_gives_each_robot_the_instances_it_feeds_or_reads(product):

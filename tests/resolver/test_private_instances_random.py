@@ -15,6 +15,7 @@ from hypothesis import event, given, settings, target
 from hypothesis import strategies as st
 
 from spl.generators.bundle import build_bundle
+from spl.generators.bundle_options import BundleOptions
 from spl.generators.fleet import fleet_files
 from spl.resolver.engine import resolve
 from spl.resolver.fleet import check_fleet
@@ -75,7 +76,7 @@ def test_every_private_instance_of_every_target_is_chained_to_its_robot(case):
         product = resolve(load_product_line(folder), selection_from_list(features)).product
         views = robot_views(product)
         private = {tag for view in views.values() for tag, _ in view.candidates}
-        bundle = build_bundle(product, render_diagrams=False)
+        bundle = build_bundle(product, BundleOptions(render_diagrams=False))
         files = bundle.files
         kubernetes = as_vertices(kubernetes_instances(files))
         rapyuta = as_vertices(rapyuta_instances(files, private))

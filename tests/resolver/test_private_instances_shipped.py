@@ -13,6 +13,7 @@ from __future__ import annotations
 import pytest
 
 from spl.generators.bundle import build_bundle
+from spl.generators.bundle_options import BundleOptions
 from spl.generators.fleet import fleet_files
 from spl.resolver.fleet import check_fleet
 from spl.resolver.fleet_deployment import deploy
@@ -36,7 +37,9 @@ FLEETS = sorted(LINES.glob("*/fleets/*.yaml"))
     [pytest.param(p, id=f"{path.parents[1].name}/{path.stem}") for path, p in shipped_products()],
 )
 def test_no_listed_product_has_an_instance_nothing_can_feed(product):
-    check_product_instances(product, build_bundle(product, render_diagrams=False).files)
+    check_product_instances(
+        product, build_bundle(product, BundleOptions(render_diagrams=False)).files
+    )
 
 
 @pytest.mark.parametrize("path", FLEETS, ids=lambda p: f"{p.parents[1].name}/{p.stem}")

@@ -1,0 +1,87 @@
+"""How a bundle is written, as its command was told (docs/outputs.md, docs/kubernetes.md).
+
+``spl resolve``, ``spl fleet resolve`` and ``spl validate`` make one
+:class:`BundleOptions` from their command line and hand it down through
+``spl.pipeline.derive`` and :func:`spl.generators.bundle.build_bundle` to the generators
+that read it, so a reader of a generator sees every input it depends on in its
+signature.
+
+:class:`BundleInputs` is what a product's generators read beside the product: the
+options, and the product's Zenoh transport, which both ``kubernetes/`` and ``zenoh/``
+need. It is made by the one call that builds the bundle and dies with it, so the
+transport is computed at most once per bundle and never outlives the product it was
+computed from. :class:`FleetInputs` is the same for a fleet bundle, whose transport is
+computed over all robots together.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cached_property
+
+from spl.generators.kubernetes_security import checked_namespace, namespace_for
+from spl.generators.zenoh_bridge import Transport, transport
+from spl.resolver.fleet_deployment import FleetDeployment
+from spl.resolver.product import ResolvedProduct
+
+
+@dataclass(frozen=True)
+class BundleOptions:
+    """The choices a bundle is written with; the defaults are ``spl resolve``'s.
+
+    ``targets``: the output targets written (``--target``), None for all of them.
+    ``render_diagrams``: whether ``architecture.svg`` is rendered (``spl validate``
+    without ``--diagrams`` skips the ``dot`` process; the source is always written).
+    ``namespace``: the Kubernetes namespace of every object (``--namespace``, a
+    DNS-1123 label, checked here), None for the one named from the product or fleet.
+    """
+
+    targets: tuple[str, ...] | None = None
+    render_diagrams: bool = True
+    namespace: str | None = None
+
+    def __post_init__(self) -> None:
+        if self.namespace is not None:
+            checked_namespace(self.namespace)  # ValueError saying what is wrong
+
+    def namespace_of(self, owner: str) -> str:
+        """The namespace of product (or fleet) ``owner``'s objects: the one chosen, else
+        its own (:func:`namespace_for`)."""
+        return self.namespace if self.namespace is not None else namespace_for(owner)
+
+
+class BundleInputs:
+    """What the generators of one product's bundle read beside the product."""
+
+    def __init__(self, product: ResolvedProduct, options: BundleOptions) -> None:
+        self.product = product
+        self.options = options
+
+    @cached_property
+    def transport(self) -> Transport:
+        """The product's Zenoh transport, computed when first read (a bundle without
+        ``kubernetes/`` and ``zenoh/`` never computes it). Read-only for its readers."""
+        return transport(self.product)
+
+
+class FleetInputs:
+    """What the generators of one fleet bundle read beside its deployment."""
+
+    def __init__(self, deployment: FleetDeployment, options: BundleOptions) -> None:
+        self.deployment = deployment
+        self.options = options
+
+    @cached_property
+    def transport(self) -> Transport:
+        """The fleet's Zenoh transport: every robot's product together, computed when
+        first read. Read-only for its readers."""
+        return transport(*(entry.product for entry in self.deployment.robots))
+
+    @property
+    def skipped(self) -> dict[str, str]:
+        """What the fleet bundle leaves out and why: ``zenoh/`` when Zenoh cannot carry
+        the fleet, whose instances then run without bridges."""
+        wiring = self.transport
+        if wiring.carried:
+            return {}
+        return {"zenoh/": f"Zenoh cannot carry this fleet: {wiring.reason}"}
