@@ -4,13 +4,14 @@
         [--each] [--no-in-process] [--limit-gb 4]
 
 The readers exist only for speed (textX parses whatever they leave, and must give the
-same tree: tests/dsl/test_*_reader.py). For each grammar, in process:
+same tree: tests/dsl/test_*_reader.py). For each grammar, in process (CPU seconds):
 
 * **metamodel**: importing textX, and textX building the grammar's metamodel, which every
   process that parses with textX pays once (the readers need neither);
-* **parse tree**, best of ``--repeat``: textX's ``model_from_str`` against the reader's
-  ``read`` on every shipped model of the language (product_lines/, summed) and on the
-  synthetic line of bench/tsm_scale.py (``--sizes`` nodes: its .tsm, .fm and .rm).
+* **parse tree**, least CPU time of ``--repeat``: textX's ``model_from_str`` against
+  the reader's ``read`` on every shipped model of the language (product_lines/, summed)
+  and on the synthetic line of bench/tsm_scale.py (``--sizes`` nodes: its .tsm, .fm and
+  .rm).
 
 Then whole ``spl check`` processes, ``--runs`` each, interleaved, median CPU time (user
 + system: on a loaded machine the wall time also measures waiting for a core): with the
@@ -56,11 +57,13 @@ WITHOUT_READERS = (
 
 
 def best(repeat: int, action) -> float:
+    """The least CPU time (of this process) of ``repeat`` runs of ``action``: on a shared,
+    loaded machine the wall time also measures waiting for a core."""
     times = []
     for _ in range(repeat):
-        start = time.perf_counter()
+        start = time.process_time()
         action()
-        times.append(time.perf_counter() - start)
+        times.append(time.process_time() - start)
     return min(times)
 
 
@@ -70,18 +73,18 @@ def parse_all(parse, texts: list[str]) -> None:
 
 
 def in_process(texts: dict[str, dict[str, list[str]]], repeat: int) -> None:
-    start = time.perf_counter()
+    start = time.process_time()
     import textx  # noqa: F401  (what a process parsing with textX imports first)
 
-    print(f"importing textX: {time.perf_counter() - start:.3f} s (the readers need none)")
+    print(f"importing textX: {time.process_time() - start:.3f} s (the readers need none)")
     print()
     print("| grammar | texts | KB | textX metamodel s | textX tree s | reader tree s | ratio |")
     print("| --- | --- | ---: | ---: | ---: | ---: | ---: |")
     for language, (grammar, read) in LANGUAGES.items():
         grammar.cache_clear()
-        start = time.perf_counter()
+        start = time.process_time()
         metamodel = grammar()
-        built = time.perf_counter() - start
+        built = time.process_time() - start
         for label, group in texts[language].items():
             assert all(read(t) is not None for t in group), f"{label}: the reader refuses one"
             size = sum(len(t) for t in group) / 1024
