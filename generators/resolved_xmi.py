@@ -4,7 +4,7 @@ The file is what pyecore's XMI writer writes (the format other EMF tools read ba
 byte for byte. For the models spl writes (one package, references inside the file, text
 an XML file can hold) the text is written directly, as lxml's pretty printer lays out the
 elements pyecore builds, each feature's role in the file (skipped, attribute, reference,
-containment) looked up once per process: pyecore builds an lxml element per model
+containment) looked up once per file: pyecore builds an lxml element per model
 element and asks the metamodel these questions again for every element and reference
 it writes, through its descriptors (a product's model took about 1.2 ms; the text takes
 a half of that). Every other model goes through pyecore's writer itself.
@@ -42,38 +42,23 @@ class _InMemoryURI(URI):
 
 
 def _role(feature: EStructuralFeature) -> Role:
-    """(feature, role, name, type, default) of a metamodel feature, looked up once per
-    process (the feature is kept with it, so its id is never reused)."""
-    known = _ROLES.get(id(feature))
-    if known is None:
-        etype, default = feature._eType, None
-        if feature.derived or feature.transient:
-            role = _SKIP
-        elif etype is None or (hasattr(etype, "eType") and etype.eType is dict):
-            role = _OTHER  # untyped (no default to compare with), map entries: pyecore's
-        elif feature.is_attribute:
-            role = _ATTRIBUTES if feature.many else _ATTRIBUTE
-            default = feature.get_default_value()
-        elif feature.eOpposite and feature.eOpposite.containment:
-            role = _SKIP
-        elif not feature.containment:
-            role = _REFERENCES if feature.many else _REFERENCE
-        else:
-            role = _CHILDREN if feature.many else _CHILD
-        known = _ROLES[id(feature)] = (feature, role, feature._name, etype, default)
-    return known
+    """(feature, role, name, type, default) of a metamodel feature."""
+    etype, default = feature._eType, None
+    if feature.derived or feature.transient:
+        role = _SKIP
+    elif etype is None or (hasattr(etype, "eType") and etype.eType is dict):
+        role = _OTHER  # untyped (no default to compare with), map entries: pyecore's
+    elif feature.is_attribute:
+        role = _ATTRIBUTES if feature.many else _ATTRIBUTE
+        default = feature.get_default_value()
+    elif feature.eOpposite and feature.eOpposite.containment:
+        role = _SKIP
+    elif not feature.containment:
+        role = _REFERENCES if feature.many else _REFERENCE
+    else:
+        role = _CHILDREN if feature.many else _CHILD
+    return (feature, role, feature._name, etype, default)
 
-
-def _id_attribute(eclass: EClass) -> EStructuralFeature | None:
-    """The class's ID attribute (pyecore refers to an element by it), looked up once."""
-    known = _ID_ATTRIBUTES.get(id(eclass))
-    if known is None:  # the class is kept with it, so its id is never reused
-        known = _ID_ATTRIBUTES[id(eclass)] = (eclass, XMIResource.get_id_attribute(eclass))
-    return known[1]
-
-
-_ROLES: dict[int, Role] = {}  # by id(feature)
-_ID_ATTRIBUTES: dict[int, tuple[EClass, EStructuralFeature | None]] = {}  # by id(class)
 
 # Text lxml writes in an attribute escaping only these: characters XML allows (lxml
 # refuses the others, and that refusal is left to it).
@@ -115,6 +100,10 @@ class _XMIText:
             raise _Elsewhere
         self.paths = {id(root): "/"}
         self.typed = False  # an xsi:type written: the root declares the xsi namespace
+        # each feature's role and each class's ID attribute, looked up once for the file
+        # (by id: the metamodel, holding them, outlives the file)
+        self.roles: dict[int, Role] = {}
+        self.id_attributes: dict[int, EStructuralFeature | None] = {}
         # text, or a referenced element standing for its path (None: the root's start tag)
         self.out: list[str | EObject | None] = []
 
@@ -145,10 +134,13 @@ class _XMIText:
     def _content(self, obj: EObject, path: str) -> list[tuple[EObject, str]]:
         """Writes the element's attributes, in the order pyecore writes them (the order
         the features were set); returns its children with their tags, their paths known."""
-        out, paths = self.out, self.paths
+        out, paths, roles = self.out, self.paths, self.roles
         children: list[tuple[EObject, str]] = []
         for feature in obj._isset:
-            _, role, name, etype, default = _ROLES.get(id(feature)) or _role(feature)
+            known = roles.get(id(feature))
+            if known is None:
+                known = roles[id(feature)] = _role(feature)
+            _, role, name, etype, default = known
             if role == _SKIP:
                 continue
             if role in (_OTHER, _ATTRIBUTES):
@@ -161,12 +153,13 @@ class _XMIText:
                     text = cast("EDataType", etype).to_string(value)  # an attribute's type
                     out.append(f' {name}="{_quoted(text)}"')
             elif role == _REFERENCE:
-                out.extend((f' {name}="', _referable(value), '"'))
+                out.extend((f' {name}="', self._referable(value), '"'))
             elif role == _REFERENCES:
                 if value:
                     out.append(f' {name}="')
                     for index, target in enumerate(value):
-                        out.extend((" ", _referable(target)) if index else (_referable(target),))
+                        referable = self._referable(target)
+                        out.extend((" ", referable) if index else (referable,))
                     out.append('"')
             elif role == _CHILD:
                 paths[id(value)] = f"{path}/@{name}"
@@ -196,14 +189,19 @@ class _XMIText:
             else:
                 out.append("/>\n")
 
-
-def _referable(target: EObject) -> EObject:
-    """The referenced element, standing for its path; one with an ID attribute is
-    referred to by its ID, which is left to pyecore (so is a reference pyecore holds as
-    text, an href it never resolved)."""
-    if type(target) is str or _id_attribute(target.eClass):
-        raise _Elsewhere
-    return target
+    def _referable(self, target: EObject) -> EObject:
+        """The referenced element, standing for its path; one with an ID attribute is
+        referred to by its ID, which is left to pyecore (so is a reference pyecore holds
+        as text, an href it never resolved)."""
+        if type(target) is str:
+            raise _Elsewhere
+        eclass = target.eClass
+        known = self.id_attributes.get(id(eclass), False)
+        if known is False:
+            known = self.id_attributes[id(eclass)] = XMIResource.get_id_attribute(eclass)
+        if known:
+            raise _Elsewhere
+        return target
 
 
 def resolved_xmi(system: EObject) -> bytes:

@@ -67,6 +67,18 @@ class FeatureModelCNF:
     def num_features(self) -> int:
         return len(self.names)
 
+    @cached_property
+    def occurrences(self) -> tuple[list[Clause], list[list[int]]]:
+        """Every clause, and per variable the numbers of the clauses it occurs in: what
+        the configurator's counts gather from (``count_with_fixed``), built once per
+        formula and kept with it."""
+        clauses = list(self.clauses)
+        occurs: list[list[int]] = [[] for _ in range(self.num_vars + 1)]
+        for number, clause in enumerate(clauses):
+            for lit in clause:
+                occurs[abs(lit)].append(number)
+        return clauses, occurs
+
     @property
     def clauses(self) -> Iterator[Clause]:
         for clauses in self.rule_clauses:

@@ -13,7 +13,6 @@ from collections import defaultdict
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
-from weakref import WeakKeyDictionary
 
 from pysat.solvers import Solver
 
@@ -66,11 +65,6 @@ def product_count(
         return ProductCount(None, str(exc))
 
 
-# each formula's clauses and, per variable, the clauses it occurs in (built once)
-_CLAUSE_INDEX: WeakKeyDictionary[FeatureModelFormula, tuple[list[Clause], list[list[int]]]]
-_CLAUSE_INDEX = WeakKeyDictionary()
-
-
 def count_with_fixed(
     formula: FeatureModelFormula, fixed: Mapping[int, bool], seconds: float | None
 ) -> ProductCount:
@@ -87,15 +81,7 @@ def count_with_fixed(
     cnf = formula.cnf
     n = cnf.num_features
     deadline = time.monotonic() + seconds if seconds is not None else float("inf")
-    index = _CLAUSE_INDEX.get(formula)
-    if index is None:
-        clauses = list(cnf.clauses)
-        occurs: list[list[int]] = [[] for _ in range(cnf.num_vars + 1)]
-        for number, clause in enumerate(clauses):
-            for lit in clause:
-                occurs[abs(lit)].append(number)
-        index = _CLAUSE_INDEX[formula] = (clauses, occurs)
-    clauses, occurs = index
+    clauses, occurs = cnf.occurrences  # the formula's own, built at its first count
     true = {v if value else -v for v, value in fixed.items()}
     reached: set[int] = set()
     pending: list[int] = []
