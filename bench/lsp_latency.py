@@ -200,7 +200,7 @@ async def main_async(sizes: list[int], runs: int, in_line: bool) -> None:
                     f"| {spread(shown)} | {spread(cleared)} |",
                     flush=True,
                 )
-            if in_line:  # the line's .rm: its .tsm is not built again (reusing_models)
+            if in_line:  # the line's .rm: its .tsm is not built again (the workspace keeps it)
                 rm = folder / "synthetic.rm"
                 text = rm.read_text(encoding="utf-8")
                 at = text.index("require ") + len("require ")

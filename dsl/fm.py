@@ -22,7 +22,6 @@ from spl.diagnostics import (
     Location,
     ModelError,
     counted,
-    model_text,
 )
 from spl.dsl import fm_reader, literals
 from spl.dsl.fm_capability import capability_condition
@@ -34,9 +33,9 @@ from spl.dsl.fm_vocabulary import RESERVED_WORDS as RESERVED_WORDS
 from spl.dsl.fm_vocabulary import SHARING_MODES as SHARING_MODES
 from spl.dsl.fm_vocabulary import canonical_value, formula_too_deep, too_deep
 from spl.dsl.fm_vocabulary import is_feature_name as is_feature_name
-from spl.dsl.model_reuse import Built, keep, reused
 from spl.dsl.parse_tree import Positions
 from spl.dsl.textx_text import model_from_text
+from spl.dsl.workspace import Workspace, last_built, text_of
 from spl.metamodels import fm as fm_metamodel
 
 
@@ -49,25 +48,25 @@ def _grammar() -> Any:
     )
 
 
-def parse_file(path: str | Path) -> Any:
-    """Parse a .fm file into an ``fm.FeatureModel``; raise ModelError with every problem."""
+def parse_file(path: str | Path, workspace: Workspace | None = None) -> Any:
+    """Parse a .fm file into an ``fm.FeatureModel``; raise ModelError with every problem.
+    Read as the editor's ``workspace`` has it, when given (:mod:`spl.dsl.workspace`)."""
     path = Path(path)
-    return parse_text(model_text(path), str(path))
+    return parse_text(text_of(path, workspace), str(path), workspace)
 
 
-def parse_text(text: str, filename: str = "<string>") -> Any:
-    """Parse .fm source text; ``filename`` is only used in locations. A text built
-    before inside :func:`spl.dsl.model_reuse.reusing_models` gives the same model (a
-    line's .rm built before refers to its features, and is then built no more)."""
-    known = reused(_BUILT, text, filename)
+def parse_text(text: str, filename: str = "<string>", workspace: Workspace | None = None) -> Any:
+    """Parse .fm source text; ``filename`` is only used in locations. In an editor's
+    ``workspace`` that keeps its line checks' models, a text built before gives the same
+    model (a line's .rm built before refers to its features, and is then built no more)."""
+    last = workspace.models if workspace is not None else None
+    known = last_built(last.feature_models, text, filename) if last is not None else None
     if known is not None:
         return known
     model = _parse(text, filename)
-    keep(_BUILT, text, filename, model)
+    if last is not None:
+        last.feature_models[filename] = (text, model)
     return model
-
-
-_BUILT: Built = {}
 
 
 def _parse(text: str, filename: str) -> Any:

@@ -10,26 +10,30 @@ formats import it, and this module imports the formats when asked for one.
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from spl.atomic_write import write_atomically
 from spl.diagnostics import Diagnostic, Location, ModelError, location_of
 
+if TYPE_CHECKING:
+    from spl.dsl.workspace import Workspace
+
 FORMATS = {".fm": "FeatureModel (.fm)", ".uvl": "UVL", ".xml": "FeatureIDE XML"}
 
 
-def load_feature_model(path: str | Path) -> Any:
-    """Read a feature model from a .fm, .uvl or FeatureIDE .xml file."""
+def load_feature_model(path: str | Path, workspace: Workspace | None = None) -> Any:
+    """Read a feature model from a .fm, .uvl or FeatureIDE .xml file; a .fm or .uvl as
+    the editor's ``workspace`` has it, when given."""
     path = Path(path)
     suffix = path.suffix.lower()
     if suffix == ".fm":
         from spl.dsl.fm import parse_file
 
-        return parse_file(path)
+        return parse_file(path, workspace)
     if suffix == ".uvl":
         from spl.dsl.uvl import read_uvl
 
-        return read_uvl(path)
+        return read_uvl(path, workspace)
     if suffix == ".xml":
         from spl.dsl.featureide import read_featureide
 

@@ -16,7 +16,7 @@ from functools import cache
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, cast
 
-from spl.diagnostics import Diagnostic, DiagnosticSink, Location, ModelError, counted, model_text
+from spl.diagnostics import Diagnostic, DiagnosticSink, Location, ModelError, counted
 from spl.dsl import literals, rm_reader, rm_reuse, rosnames
 from spl.dsl.fm import all_features
 from spl.dsl.grammar_comments import COMMENT, is_comment
@@ -34,6 +34,7 @@ from spl.dsl.rm_models import referenced_models
 from spl.dsl.rm_names import BRIDGE_FORMS, NameProblem, Names
 from spl.dsl.textx_text import model_from_text
 from spl.dsl.tsm_data import PERIOD_RANGE, period_fits
+from spl.dsl.workspace import Workspace, text_of
 from spl.metamodels import rm as rm_metamodel
 from spl.metamodels import tsm as tsm_metamodel
 
@@ -62,8 +63,8 @@ def _grammar() -> Any:
     return metamodel_from_file(str(Path(__file__).with_name("rm.tx")), use_regexp_group=False)
 
 
-def parse_file(path: str | Path) -> rm_types.ResolutionModel:
-    return load(path).rm
+def parse_file(path: str | Path, workspace: Workspace | None = None) -> rm_types.ResolutionModel:
+    return load(path, workspace).rm
 
 
 def summary(model: rm_types.ResolutionModel) -> str:
@@ -72,22 +73,22 @@ def summary(model: rm_types.ResolutionModel) -> str:
     return f"{elements}, {counted(transformations, 'transformation')}"
 
 
-def load(path: str | Path) -> ResolutionModelFiles:
-    """Parse a .rm file and the .tsm and .fm it names; raise ModelError on any problem."""
+def load(path: str | Path, workspace: Workspace | None = None) -> ResolutionModelFiles:
+    """Parse a .rm file and the .tsm and .fm it names, as ``workspace`` has them (ModelError)."""
     path = Path(path)
-    return parse_text(model_text(path), str(path), base=path.parent)
+    return parse_text(text_of(path, workspace), str(path), base=path.parent, workspace=workspace)
 
 
 def parse_text(
-    text: str, filename: str = "<string>", base: Path | None = None
+    text: str,
+    filename: str = "<string>",
+    base: Path | None = None,
+    workspace: Workspace | None = None,
 ) -> ResolutionModelFiles:
     base = base or Path(filename).parent
-    again = rm_reuse.kept(text, filename)  # the editor's model of this text, if any
+    again = rm_reuse.still_built(workspace, text, filename, base)  # the editor's model
     if again is not None:
-        sink = DiagnosticSink()
-        system, feature_model = referenced_models(again.header, again.where, base, sink)
-        if not sink.errors and rm_reuse.still_meant(again, system, feature_model):
-            return ResolutionModelFiles(again.model, system, feature_model, Path(filename))
+        return ResolutionModelFiles(*again, Path(filename))
     # the fast reader takes what it can; textX parses the rest and words syntax errors
     tree = rm_reader.read(text)
     if tree is None:
@@ -95,11 +96,11 @@ def parse_text(
     positions = Positions(text, filename)
     sink = DiagnosticSink()
     header = _header_lines(text, positions, positions.of(tree))
-    system, feature_model = referenced_models(tree, header, base, sink)
+    system, feature_model = referenced_models(tree, header, base, sink, workspace)
     sink.raise_if_errors()
     model = _Builder(positions, system, feature_model, sink).build(tree)
     model.tsmPath, model.fmPath = tree.tsm, tree.fm
-    rm_reuse.remember(text, filename, tree, header, system, feature_model, model, not sink.errors)
+    rm_reuse.remember(workspace, text, filename, tree, header, system, feature_model, model, sink)
     sink.raise_if_errors()
     return ResolutionModelFiles(model, system, feature_model, Path(filename))
 

@@ -11,9 +11,12 @@ from __future__ import annotations
 import importlib
 from collections.abc import Mapping
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from spl.diagnostics import DiagnosticSink, Location, ModelError
+
+if TYPE_CHECKING:
+    from spl.dsl.workspace import Workspace
 
 # How each model named in a .rm header is read: the module and function of its
 # language (imported when first needed) and the files it may be; a feature model may
@@ -25,18 +28,29 @@ _READERS = {
 
 
 def referenced_models(
-    tree: Any, where: Mapping[str, Location], base: Path, sink: DiagnosticSink
+    tree: Any,
+    where: Mapping[str, Location],
+    base: Path,
+    sink: DiagnosticSink,
+    workspace: Workspace | None = None,
 ) -> tuple[Any, Any]:
     """(tsm.System, fm.FeatureModel) named by the parsed header ``tree`` (its ``tsm`` and
-    ``fm`` lines written at ``where``); None for one that could not be read, its problems
-    reported to ``sink``."""
+    ``fm`` lines written at ``where``), read as the editor's ``workspace`` has them when
+    given; None for one that could not be read, its problems reported to ``sink``."""
     return (
-        _load("tsm", tree, where["tsm"], base, sink),
-        _load("fm", tree, where["fm"], base, sink),
+        _load("tsm", tree, where["tsm"], base, sink, workspace),
+        _load("fm", tree, where["fm"], base, sink, workspace),
     )
 
 
-def _load(attr: str, tree: Any, where: Location, base: Path, sink: DiagnosticSink) -> Any:
+def _load(
+    attr: str,
+    tree: Any,
+    where: Location,
+    base: Path,
+    sink: DiagnosticSink,
+    workspace: Workspace | None,
+) -> Any:
     """The model named by header field ``attr``, when it is an existing file of its kind."""
     module, function, suffixes = _READERS[attr]
     relative = getattr(tree, attr)
@@ -48,7 +62,7 @@ def _load(attr: str, tree: Any, where: Location, base: Path, sink: DiagnosticSin
         sink.error(where, f"{attr} file {str(path)!r} not found")
         return None
     try:
-        return getattr(importlib.import_module(module), function)(path)
+        return getattr(importlib.import_module(module), function)(path, workspace)
     except ModelError as exc:
         sink.diagnostics.extend(exc.diagnostics)
         return None

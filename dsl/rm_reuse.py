@@ -1,5 +1,5 @@
 """A line's resolution model kept from one of the editor's checks to the next, while the
-models it was built against say the same to it (:func:`spl.dsl.model_reuse.reusing_models`).
+models it was built against say the same to it.
 
 Why: after an edit of a large .tsm the line's .rm is built again although it did not
 change (a quarter of a second on a 10,000-node line), only because its references point
@@ -11,20 +11,27 @@ text mentions (any word of it, strings and comments too). Its feature model must
 very one it was built against (a .fm text is built once).
 
 The last model built from each file against the editor's template is kept with its
-references; the next build forgets those references (pyecore records each one on the
-element referred to, which would keep every model of the session alive).
+references (in its workspace's :class:`~spl.dsl.workspace.LastModels`); the next build
+forgets those references (pyecore records each one on the element referred to, which
+would keep every model of the session alive).
 """
 
 from __future__ import annotations
 
 import re
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from spl.dsl.tsm import built_template
+from spl.diagnostics import DiagnosticSink
+from spl.dsl.rm_models import referenced_models
 from spl.dsl.tsm_declarations import BuiltTemplate, Key, declaration_of
 from spl.emf import forget_references, references
 from spl.metamodels import tsm as tsm_metamodel
+
+if TYPE_CHECKING:
+    from pathlib import Path
+
+    from spl.dsl.workspace import LastModels, Workspace
 
 WORD = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 
@@ -41,19 +48,27 @@ class KeptModel:
     words: frozenset[str]
 
 
-_KEPT: dict[str, KeptModel] = {}
+def still_built(
+    workspace: Workspace | None, text: str, filename: str, base: Path
+) -> tuple[Any, Any, Any] | None:
+    """The model ``workspace`` keeps for ``filename`` built from ``text``, with the .tsm
+    and .fm models it names (read as the workspace has them), while it means the same
+    against them; else None."""
+    last = workspace.models if workspace is not None else None
+    found = last.resolution_models.get(filename) if last is not None else None
+    if last is None or found is None or found.text != text:
+        return None
+    sink = DiagnosticSink()
+    system, feature_model = referenced_models(found.header, found.where, base, sink, workspace)
+    if sink.errors or not _still_meant(last, found, system, feature_model):
+        return None
+    return found.model, system, feature_model
 
 
-def kept(text: str, filename: str) -> KeptModel | None:
-    """The model kept for ``filename`` when it was built from ``text``."""
-    found = _KEPT.get(filename)
-    return found if found is not None and found.text == text else None
-
-
-def still_meant(found: KeptModel, system: Any, feature_model: Any) -> bool:
+def _still_meant(last: LastModels, found: KeptModel, system: Any, feature_model: Any) -> bool:
     """Whether ``found``'s model means the same against these models; if so, they are
     what it is compared with next."""
-    template = built_template(system) if system is not None else None
+    template = last.built_template(system) if system is not None else None
     if template is None or feature_model is not found.feature_model:
         return False
     if any(template.elements.get(k) is not e for k, e in found.refers_to.items()):
@@ -72,6 +87,7 @@ def still_meant(found: KeptModel, system: Any, feature_model: Any) -> bool:
 
 
 def remember(
+    workspace: Workspace | None,
     text: str,
     filename: str,
     tree: Any,
@@ -79,17 +95,18 @@ def remember(
     system: Any,
     feature_model: Any,
     model: Any,
-    built: bool,
+    sink: DiagnosticSink,
 ) -> None:
-    """Keep ``model``, built from ``text`` (``built``: without errors), when it refers
-    into the editor's template; forget the references of the one kept before."""
-    template = built_template(system) if system is not None else None
-    if template is None:
+    """Keep ``model``, built from ``text`` (when ``sink`` holds no error), when it refers
+    into the template ``workspace`` keeps; forget the references of the one kept before."""
+    last = workspace.models if workspace is not None else None
+    template = last.built_template(system) if last is not None and system is not None else None
+    if last is None or template is None:
         return
-    previous = _KEPT.pop(filename, None)
+    previous = last.resolution_models.pop(filename, None)
     if previous is not None:
         forget_references(previous.model)
-    if not built:
+    if sink.errors:
         forget_references(model)
         return
     declarations = {id(element): key for key, element in template.elements.items()}
@@ -101,4 +118,6 @@ def remember(
         declaration = declaration_of(target)
         refers_to[declarations[id(declaration)]] = declaration
     words = frozenset(WORD.findall(text))
-    _KEPT[filename] = KeptModel(text, tree, where, template, feature_model, model, refers_to, words)
+    last.resolution_models[filename] = KeptModel(
+        text, tree, where, template, feature_model, model, refers_to, words
+    )

@@ -26,7 +26,6 @@ from spl.diagnostics import (
     Location,
     ModelError,
     counted,
-    model_text,
 )
 from spl.dsl import (
     transform_types,
@@ -40,7 +39,6 @@ from spl.dsl import (
     tsm_transforms,
 )
 from spl.dsl.cyclic_gc import without_cyclic_gc
-from spl.dsl.model_reuse import Built, keep, reused, reusing, reusing_models
 from spl.dsl.textx_text import model_from_text
 from spl.dsl.tsm_bridges import (
     bridged_clients,
@@ -52,10 +50,10 @@ from spl.dsl.tsm_bridges import (
 )
 from spl.dsl.tsm_names import Names
 from spl.dsl.tsm_syntax import kind, syntax_diagnostic
+from spl.dsl.workspace import Workspace, last_built, text_of
 from spl.emf import copy_model
 
 __all__ = [
-    "built_template",
     "check_file",
     "check_text",
     "endpoint_client_name",
@@ -66,7 +64,6 @@ __all__ = [
     "normalize_endpoints",
     "parse_file",
     "parse_text",
-    "reusing_models",
     "summary",
 ]
 
@@ -81,82 +78,78 @@ def _grammar() -> Any:
     )
 
 
-def parse_file(path: str | Path) -> Any:
-    """Parse and check a .tsm file; raise ModelError with every problem found."""
-    return parse_text(model_text(path), str(path))
+def parse_file(path: str | Path, workspace: Workspace | None = None) -> Any:
+    """Parse and check a .tsm file; raise ModelError with every problem found. Read as
+    the editor's ``workspace`` has it, when given (:mod:`spl.dsl.workspace`)."""
+    return parse_text(text_of(path, workspace), str(path), workspace)
 
 
-def parse_text(text: str, filename: str = "<string>") -> Any:
-    """Parse and check .tsm text; ``filename`` is what diagnostics name."""
-    _raise_if_refused(text, filename)
-    known = reused(_BUILT, text, filename)
+def parse_text(text: str, filename: str = "<string>", workspace: Workspace | None = None) -> Any:
+    """Parse and check .tsm text; ``filename`` is what diagnostics name. In an editor's
+    ``workspace`` that keeps its line checks' models, a text built before gives the same
+    model, and a changed one is built from what the file's last template holds."""
+    if workspace is not None:
+        workspace.refused.raise_if_refused(text, filename)
+    last = workspace.models if workspace is not None else None
+    known = last_built(last.systems, text, filename) if last is not None else None
     if known is not None:
         return known
     # Built and checked over plain objects, then set up in pyecore in one pass, which
     # skips pyecore's descriptors, type checks and notifications: half the time of
     # building through them (a 10,000-node file: 0.56 s against 1.06 s), the same
     # model (tests/dsl/test_tsm_plain.py compares the two builds).
-    plain = check_text(text, filename)
+    plain = check_text(text, filename, workspace=workspace)
     # the model's objects all stay alive: the collector's passes over them free nothing
     with without_cyclic_gc():
-        if not reusing():
+        if last is None:
             return copy_model(plain)
         # the editor's: what the last build of the file holds and the edit left alone is
         # taken over, and the declarations are kept for the next build
-        built = tsm_declarations.build(plain, _TEMPLATES.get(filename))
-    _TEMPLATES[filename] = built
-    keep(_BUILT, text, filename, built.system)
+        built = tsm_declarations.build(plain, last.templates.get(filename))
+    last.templates[filename] = built
+    last.systems[filename] = (text, built.system)
     return built.system
 
 
-# The System (pyecore, and plain) each file's text last built inside
-# :func:`reusing_models`.
-_BUILT: Built = {}
-_CHECKED: Built = {}
-# The last template of each file built inside :func:`reusing_models`, with its
-# declarations: the next build of the file takes over what an edit left alone. A build
-# takes its elements out of the template before it, which is not used again.
-_TEMPLATES: dict[str, tsm_declarations.BuiltTemplate] = {}
-# The last text of each file that :func:`check_text` refused, with its problems. The
-# pyecore build finds exactly those (tests/dsl/test_tsm_plain.py compares the two
-# builds), so a later reading of the same text raises them without building anything:
-# the editor checks a .tsm of a product line with the plain build, then loads the line
-# (which reads the .tsm through the .rm, and on its own), and a refused 10,000-node text
-# costs one plain build instead of three pyecore builds.
-_REFUSED: dict[str, tuple[str, tuple[Diagnostic, ...]]] = {}
-
-
-def _raise_if_refused(text: str, filename: str) -> None:
-    refused = _REFUSED.get(filename)
-    if refused is not None and refused[0] == text:
-        raise ModelError(list(refused[1]))
-
-
-def check_file(path: str | Path, trees: tsm_incremental.Trees | None = None) -> Any:
+def check_file(
+    path: str | Path,
+    trees: tsm_incremental.Trees | None = None,
+    workspace: Workspace | None = None,
+) -> Any:
     """``spl check FILE.tsm``: every problem of a .tsm file (raised as a ModelError), or
     the checked System made of plain objects (:mod:`spl.dsl.tsm_plain`)."""
-    return check_text(model_text(path), str(path), trees)
+    return check_text(text_of(path, workspace), str(path), trees, workspace)
 
 
 def check_text(
-    text: str, filename: str = "<string>", trees: tsm_incremental.Trees | None = None
+    text: str,
+    filename: str = "<string>",
+    trees: tsm_incremental.Trees | None = None,
+    workspace: Workspace | None = None,
 ) -> Any:
     """The problems :func:`parse_text` finds, found by the same builder over plain
     objects, several times faster; for checks that need no pyecore model (the command
     line's and the editor's diagnostics of one .tsm). With ``trees`` (the last reading
-    of each file), a file read before is read again incrementally."""
-    _raise_if_refused(text, filename)
-    known = reused(_CHECKED, text, filename)
+    of each file), a file read before is read again incrementally. In a ``workspace``,
+    a text refused before is refused again without building anything, and one checked
+    last is not checked again where the workspace keeps its line checks' models."""
+    if workspace is not None:
+        workspace.refused.raise_if_refused(text, filename)
+    last = workspace.models if workspace is not None else None
+    known = last_built(last.checked, text, filename) if last is not None else None
     if known is not None:
         return known
     try:
         with without_cyclic_gc():
             system = _parse(text, filename, tsm_plain.metamodel(), trees)
     except ModelError as exc:
-        _REFUSED[filename] = (text, tuple(exc.diagnostics))
+        if workspace is not None:
+            workspace.refused.refuse(text, filename, exc.diagnostics)
         raise
-    _REFUSED.pop(filename, None)
-    keep(_CHECKED, text, filename, system)
+    if workspace is not None:
+        workspace.refused.built(filename)
+    if last is not None:
+        last.checked[filename] = (text, system)
     return system
 
 
@@ -298,11 +291,3 @@ def normalize_endpoints(system: Any) -> None:
         if [i for _, i in ranked] != interfaces:
             container.endpoint.interfaces.clear()
             container.endpoint.interfaces.extend(i for _, i in ranked)
-
-
-def built_template(system: Any) -> tsm_declarations.BuiltTemplate | None:
-    """The declarations of a template built inside :func:`reusing_models` and still the
-    last of its file; None for any other, and for one whose declarations could not be
-    told apart by their keys (the checks refuse such a template)."""
-    found = next((b for b in _TEMPLATES.values() if b.system is system), None)
-    return found if found is not None and found.declarations.unique else None

@@ -21,6 +21,7 @@ from spl.dsl.fm_printer import format_capabilities, format_formula
 from spl.dsl.fm_vocabulary import too_deep
 from spl.dsl.uvl_lexer import KEYWORDS
 from spl.dsl.uvl_reader import parse_uvl_plain
+from spl.dsl.workspace import Workspace, text_of
 
 # Names spelled like a UVL keyword are quoted on export ("abstract" too: older readers
 # took it for one, and a quoted name reads the same).
@@ -36,10 +37,11 @@ def read_uvl_plain(path: str | Path) -> FeatureModel:
     return parse_uvl_plain(model_text(path), str(path), default_name=path.stem)
 
 
-def read_uvl(path: str | Path) -> Any:
-    """Import a UVL file as an ``fm.FeatureModel``; raise ModelError with every problem."""
+def read_uvl(path: str | Path, workspace: Workspace | None = None) -> Any:
+    """Import a UVL file as an ``fm.FeatureModel``; raise ModelError with every problem.
+    Read as the editor's ``workspace`` has it, when given."""
     path = Path(path)
-    return parse_uvl(model_text(path), str(path), default_name=path.stem)
+    return parse_uvl(text_of(path, workspace), str(path), default_name=path.stem)
 
 
 def parse_uvl(text: str, filename: str = "<string>", default_name: str = "FeatureModel") -> Any:

@@ -5,7 +5,7 @@ aliases) is a located error instead of a crash or an endless walk."""
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from pathlib import Path
 
 import yaml
@@ -13,11 +13,14 @@ import yaml
 from spl.diagnostics import DiagnosticSink, Location, model_text
 
 
-def read_yaml(path: Path, sink: DiagnosticSink) -> tuple[yaml.Node | None, Callable]:
+def read_yaml(
+    path: Path, sink: DiagnosticSink, unsaved: Mapping[str, str] | None = None
+) -> tuple[yaml.Node | None, Callable]:
     """The YAML of ``path`` composed into nodes (which keep their line and column), and the
-    function giving a node's location; invalid YAML is raised as a located error."""
+    function giving a node's location; invalid YAML is raised as a located error.
+    ``unsaved``: an editor's texts, which stand in for the files on disk."""
     filename = str(path)
-    text = model_text(path)
+    text = model_text(path, unsaved)
     try:
         root = yaml.compose(text, Loader=yaml.SafeLoader)
     except RecursionError:

@@ -13,6 +13,7 @@ from spl.dsl import rm
 from spl.dsl.cyclic_gc import without_cyclic_gc
 
 if TYPE_CHECKING:
+    from spl.dsl.workspace import Workspace
     from spl.metamodels import fm_types, rm_types, tsm_types
     from spl.resolver.analysis import FeatureModelFormula
     from spl.resolver.flows import FlowTable
@@ -104,7 +105,9 @@ def find_resolution_model(directory: Path) -> Path:
     return found[0]
 
 
-def load_product_line(directory: str | Path) -> ProductLine:
+def load_product_line(directory: str | Path, workspace: Workspace | None = None) -> ProductLine:
+    """The line in ``directory``; its models read as the editor's ``workspace`` has them,
+    when given (:mod:`spl.dsl.workspace`)."""
     directory = Path(directory)
     with without_cyclic_gc():  # the models live on: the collector need not walk them
-        return ProductLine(directory, rm.load(find_resolution_model(directory)))
+        return ProductLine(directory, rm.load(find_resolution_model(directory), workspace))

@@ -9,7 +9,7 @@ every name that will later reach a generated file is checked here.
 from __future__ import annotations
 
 import re
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, cast
@@ -94,11 +94,14 @@ def _refuse_duplicate_keys(
                 pending.append(value_node.value)
 
 
-def load_selection_file(path: str | Path) -> ProductSelection:
+def load_selection_file(
+    path: str | Path, unsaved: Mapping[str, str] | None = None
+) -> ProductSelection:
+    """A product selection file (``unsaved``: an editor's texts standing in for files)."""
     path = Path(path)
     filename = str(path)
     sink = DiagnosticSink()
-    root, at = read_yaml(path, sink)
+    root, at = read_yaml(path, sink, unsaved)
     selection = ProductSelection(name=path.stem, features=[], source=filename)
     if not isinstance(root, yaml.MappingNode):
         sink.error(Location(filename, 1, 1), "a product selection is a mapping (product, features)")

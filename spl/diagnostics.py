@@ -9,9 +9,7 @@ from __future__ import annotations
 
 import os
 import re
-from collections.abc import Iterator, Mapping
-from contextlib import contextmanager
-from contextvars import ContextVar
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Literal
@@ -98,30 +96,13 @@ def location_of(element: Any) -> Location | None:
     return Location(file, element.srcLine or 0, element.srcCol or 0)
 
 
-# Texts that stand in for files on disk while a block runs (see unsaved_texts).
-_UNSAVED: ContextVar[Mapping[str, str] | None] = ContextVar("unsaved_texts", default=None)
-
-
-@contextmanager
-def unsaved_texts(
-    texts: Mapping[str, str] | Mapping[Path, str] | Mapping[str | Path, str],
-) -> Iterator[None]:
-    """Inside the block, :func:`model_text` of a path in ``texts`` returns that text
-    instead of reading the file: the language server (``spl lsp``) checks an editor's
-    unsaved buffers with the very parsers ``spl check`` runs on the saved files."""
-    token = _UNSAVED.set({os.path.abspath(p): text for p, text in texts.items()})
-    try:
-        yield
-    finally:
-        _UNSAVED.reset(token)
-
-
-def model_text(path: str | Path) -> str:
+def model_text(path: str | Path, unsaved: Mapping[str, str] | None = None) -> str:
     """The text of a model or selection file (UTF-8, a byte order mark dropped); a file
-    that is not UTF-8 is a located error at the first bad byte, not a crash. Within
-    :func:`unsaved_texts`, an editor's unsaved text of the file."""
-    unsaved = _UNSAVED.get()
-    if unsaved is not None and (text := unsaved.get(os.path.abspath(path))) is not None:
+    that is not UTF-8 is a located error at the first bad byte, not a crash. ``unsaved``
+    (by absolute path): an editor's texts, which stand in for the files on disk, so the
+    language server (``spl lsp``) checks its unsaved buffers with the very parsers
+    ``spl check`` runs on the saved files (:class:`spl.dsl.workspace.Workspace`)."""
+    if unsaved and (text := unsaved.get(os.path.abspath(path))) is not None:
         return _line_breaks(text.removeprefix("\ufeff"))
     path = Path(path)
     data = _read(path)

@@ -22,6 +22,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from spl.diagnostics import Diagnostic, Location, ModelError, counted, model_text
+from spl.dsl.workspace import Workspace
 
 if TYPE_CHECKING:
     from spl.generators.bundle import Bundle
@@ -76,11 +77,12 @@ class Derivation:
     warnings: tuple[ProductWarning, ...]
 
 
-def load_line(directory: Path) -> ProductLine:
-    """Parse the line's three models and build its feature formula (ModelError)."""
+def load_line(directory: Path, workspace: Workspace | None = None) -> ProductLine:
+    """Parse the line's three models and build its feature formula (ModelError); read as
+    the editor's ``workspace`` has them, when given (:mod:`spl.dsl.workspace`)."""
     from spl.resolver.product_line import load_product_line
 
-    return load_product_line(directory)
+    return load_product_line(directory, workspace)
 
 
 def resolve_product(line: ProductLine, selection: ProductSelection) -> Resolution:
@@ -157,7 +159,7 @@ def read_bundle(bundle: Path) -> tuple[Any, str]:
     return system, product
 
 
-def parse_model(path: Path) -> tuple[Any, Any]:
+def parse_model(path: Path, workspace: Workspace | None = None) -> tuple[Any, Any]:
     """One model file parsed by the language its suffix names: ``(language, model)``."""
     module_name = LANGUAGES.get(path.suffix)
     if module_name is None:
@@ -166,18 +168,18 @@ def parse_model(path: Path) -> tuple[Any, Any]:
             [Diagnostic(Location(str(path), 1, 1), f"unknown model kind (expected {known})")]
         )
     language = importlib.import_module(module_name)
-    return language, language.parse_file(path)
+    return language, language.parse_file(path, workspace)
 
 
-def model_summary(path: Path) -> str:
+def model_summary(path: Path, workspace: Workspace | None = None) -> str:
     """Parse one model file; its one-line summary (ModelError with every problem). A
     .tsm is checked without building pyecore objects (``tsm.check_file``, what the
     editor runs too); the problems are the same."""
     if path.suffix == ".tsm":
         from spl.dsl import tsm
 
-        return tsm.summary(tsm.check_file(path))
-    language, model = parse_model(path)
+        return tsm.summary(tsm.check_file(path, workspace=workspace))
+    language, model = parse_model(path, workspace)
     return language.summary(model)
 
 
@@ -193,11 +195,12 @@ def line_summaries(line: ProductLine) -> dict[Path, str]:
     }
 
 
-def check_line(line: ProductLine) -> list[Diagnostic]:
-    """The product-line checks (docs/commands.md, "spl check") of a line whose models load."""
+def check_line(line: ProductLine, workspace: Workspace | None = None) -> list[Diagnostic]:
+    """The product-line checks (docs/commands.md, "spl check") of a line whose models load
+    (through the editor's ``workspace``, when given)."""
     from spl.resolver.line_checks import check_product_line
 
-    return check_product_line(line)
+    return check_product_line(line, workspace=workspace)
 
 
 # --- spl check: every model of a file or folder, and the line as a whole ------------
@@ -210,7 +213,9 @@ def model_files(directory: Path) -> list[Path]:
     return sorted(p for p in directory.iterdir() if p.suffix in LANGUAGES and p.is_file())
 
 
-def check_models(target: Path, count: bool = True) -> tuple[dict[str, Any], list[Diagnostic]]:
+def check_models(
+    target: Path, count: bool = True, workspace: Workspace | None = None
+) -> tuple[dict[str, Any], list[Diagnostic]]:
     """Everything ``spl check`` finds for a file or folder: the ``--json`` object and
     the diagnostics it lists.
 
@@ -220,18 +225,23 @@ def check_models(target: Path, count: bool = True) -> tuple[dict[str, Any], list
     problem in a .tsm is reported once, not again through the .rm). A line whose models
     all parse is then checked as a whole; its products are counted (bounded) unless
     ``count`` is false (the language server shows no count).
+
+    The files are read as the editor's ``workspace`` has them, when given; without one,
+    the check keeps a workspace of its own, which remembers only the .tsm texts it
+    refused: a .tsm the line's loading refused is not built again on its own.
     """
+    workspace = workspace if workspace is not None else Workspace()
     files = model_files(target) if target.is_dir() else [target]
     if not files:
         raise NothingToCheck(f"{target} holds no .tsm, .fm or .rm file")
     resolution_models = sum(p.suffix == ".rm" for p in files)
-    line = _load_line(target) if target.is_dir() and resolution_models == 1 else None
+    line = _load_line(target, workspace) if target.is_dir() and resolution_models == 1 else None
     summaries = line_summaries(line) if line is not None else {}
     report: dict[str, Any] = {"target": str(target), "files": [], "diagnostics": []}
     found: list[Diagnostic] = []
     for path in files:
         try:
-            summary = summaries.get(path.resolve()) or model_summary(path)
+            summary = summaries.get(path.resolve()) or model_summary(path, workspace)
             report["files"].append({"path": str(path), "ok": True, "summary": summary})
         except ModelError as exc:
             report["files"].append({"path": str(path), "ok": False, "summary": None})
@@ -253,7 +263,7 @@ def check_models(target: Path, count: bool = True) -> tuple[dict[str, Any], list
         report["not_a_line"] = "its models do not parse"
     else:
         report["not_a_line"] = None
-        line_report = _check_line(line, count)
+        line_report = _check_line(line, count, workspace)
         found.extend(line_report.pop("diagnostics"))
     unique = list(dict.fromkeys(found))
     report["diagnostics"] = [d.as_dict() for d in unique]
@@ -264,16 +274,16 @@ def check_models(target: Path, count: bool = True) -> tuple[dict[str, Any], list
     return report, unique
 
 
-def _load_line(directory: Path) -> Any:
+def _load_line(directory: Path, workspace: Workspace) -> Any:
     """The product line in ``directory``, or None when its models do not load."""
     try:
-        return load_line(directory)
+        return load_line(directory, workspace)
     except ModelError:
         return None  # the files are then parsed one by one to report each problem once
 
 
-def _check_line(line: Any, count: bool) -> dict[str, Any]:
-    diagnostics = check_line(line)
+def _check_line(line: Any, count: bool, workspace: Workspace) -> dict[str, Any]:
+    diagnostics = check_line(line, workspace)
     products = line.formula.count(COUNT_SECONDS) if count else None
     return {
         "name": line.name,

@@ -57,6 +57,7 @@ from __future__ import annotations
 
 from spl.diagnostics import Diagnostic, Location
 from spl.dsl.cyclic_gc import without_cyclic_gc
+from spl.dsl.workspace import Workspace
 from spl.resolver.line_checks.activation import ActivationSolver
 from spl.resolver.line_checks.cross_robot import cross_robot_flows_in_line
 from spl.resolver.line_checks.dataflow import unfed_inputs_in_line
@@ -70,23 +71,30 @@ from spl.resolver.line_checks.unreachable_optionals import unreachable_optional_
 from spl.resolver.product_line import ProductLine
 
 
-def check_product_line(line: ProductLine, products: bool = True) -> list[Diagnostic]:
-    """Every line check, sorted by location; ``products`` includes the listed products."""
+def check_product_line(
+    line: ProductLine, products: bool = True, workspace: Workspace | None = None
+) -> list[Diagnostic]:
+    """Every line check, sorted by location; ``products`` includes the listed products.
+    In the editor's ``workspace`` (the line loaded through it), its unsaved texts stand
+    in for the listed products' files, and what its memory of the line keeps that is
+    still right is not found again (:mod:`.witnesses`, :mod:`.statements`)."""
     # what the checks build (witness products, their resolutions, clauses) is dropped
     # with them: a 10,000-node line's checks took twice as long with the collector on
     with without_cyclic_gc("dropped"):
-        found = _line_checks(line, products)
+        found = _line_checks(line, products, workspace)
     return sorted(found, key=diagnostic_order)
 
 
-def _line_checks(line: ProductLine, products: bool) -> list[Diagnostic]:
-    listed = read_listed(line)
-    found = statement_findings(line)  # the .rm's own, on a solver of their own
+def _line_checks(
+    line: ProductLine, products: bool, workspace: Workspace | None
+) -> list[Diagnostic]:
+    listed = read_listed(line, workspace.texts if workspace is not None else None)
+    found = statement_findings(line, workspace)  # the .rm's own, on a solver of their own
     with ActivationSolver(line) as solver:
         solver.decide(list(line.rm.elements))  # each element's activity, in few models
         found += unreachable_optional_elements(line, solver)
-        found += cross_robot_flows_in_line(line, solver, listed)
-        found += unfed_inputs_in_line(line, solver)
+        found += cross_robot_flows_in_line(line, solver, listed, workspace)
+        found += unfed_inputs_in_line(line, solver, workspace)
         found += unconsumed_outputs_in_line(line, solver)
     found += shared_robot_ids(line)
     found += incomplete_endpoints(line)

@@ -35,11 +35,12 @@ from spl.resolver.transformations import sharing_targets
 from spl.resolver.wiring import CROSS_ROBOT, cut_off
 
 if TYPE_CHECKING:
+    from spl.dsl.workspace import Workspace
     from spl.metamodels import tsm_types
 
 
 def cross_robot_flows_in_line(
-    line: ProductLine, solver: ActivationSolver, listed: Listed
+    line: ProductLine, solver: ActivationSolver, listed: Listed, workspace: Workspace | None = None
 ) -> list[Diagnostic]:
     robots = [c for c in line.tsm.containers if c.eClass.name == "RobotContainer"]
     if len(robots) < 2:
@@ -89,7 +90,7 @@ def cross_robot_flows_in_line(
             continue
         witness = solver.witness_where(None, clauses)
         if witness is not None:
-            found += _confirmed(line, witness, cut.taker)
+            found += _confirmed(line, witness, cut.taker, workspace)
     return found
 
 
@@ -106,13 +107,16 @@ def _warnings(line: ProductLine, selection: ProductSelection) -> list[Diagnostic
 
 
 def _confirmed(
-    line: ProductLine, witness: tuple[str, ...], taker: tsm_types.Interface
+    line: ProductLine,
+    witness: tuple[str, ...],
+    taker: tsm_types.Interface,
+    workspace: Workspace | None,
 ) -> list[Diagnostic]:
     """The witness product's own SPL050 at ``taker``, naming the product."""
     where = location_of(taker)
     named = f", in the product {', '.join(witness)}"
     return [
         Diagnostic(w.location, w.message + named, w.severity, w.code)
-        for w in witness_warnings(line, witness)
+        for w in witness_warnings(line, witness, workspace)
         if w.code == CROSS_ROBOT and w.location == where
     ]

@@ -41,6 +41,7 @@ from spl.resolver.transformations import kind_of
 from spl.resolver.transformations.kind import Binding
 
 if TYPE_CHECKING:
+    from spl.dsl.workspace import Workspace
     from spl.metamodels import rm_types, tsm_types
 
 UNFED = "SPL045"  # the codes spl resolve gives (resolver/architecture_checks.py)
@@ -66,8 +67,10 @@ class Feeds:
     statements rebinding each interface, the publishers statements put on each topic,
     and the warnings of the products resolved."""
 
-    def __init__(self, line: ProductLine, solver: ActivationSolver) -> None:
-        self.line, self.solver = line, solver
+    def __init__(
+        self, line: ProductLine, solver: ActivationSolver, workspace: Workspace | None = None
+    ) -> None:
+        self.line, self.solver, self.workspace = line, solver, workspace
         self.root = line.fm.root.name
         self.presence = Presence(line, solver)
         # interface -> (element, binding, the topic it binds to when certain)
@@ -146,7 +149,7 @@ class Feeds:
         report)."""
         if witness not in self.resolved:
             found = self.resolved[witness] = {}
-            for warning in witness_warnings(self.line, witness):
+            for warning in witness_warnings(self.line, witness, self.workspace):
                 found.setdefault((warning.code, warning.location), warning)
         return self.resolved[witness].get((code, where))
 
@@ -171,10 +174,13 @@ def _key(binding: Binding, placement: Placement) -> Key | None:
     return None if container is None else (id(container), binding.topic)
 
 
-def unfed_inputs_in_line(line: ProductLine, solver: ActivationSolver) -> list[Diagnostic]:
-    """The inputs some product of the line leaves unfed, each with its witness product."""
+def unfed_inputs_in_line(
+    line: ProductLine, solver: ActivationSolver, workspace: Workspace | None = None
+) -> list[Diagnostic]:
+    """The inputs some product of the line leaves unfed, each with its witness product
+    (resolved again in the editor's ``workspace`` only when what it reads changed)."""
     T = tsm()
-    shared = Feeds(line, solver)
+    shared = Feeds(line, solver, workspace)
     template = line.template_flows
     found: list[Diagnostic] = []
     for container in line.tsm.containers:

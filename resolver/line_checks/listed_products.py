@@ -6,6 +6,7 @@ at the file's first line for a choice it leaves open, or where the file is malfo
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from pathlib import Path
 
 from spl.diagnostics import Diagnostic, Location, ModelError
@@ -19,13 +20,14 @@ UNRESOLVABLE_PRODUCT = "SPL015"
 Listed = list[tuple[Path, "ProductSelection | ModelError"]]
 
 
-def read_listed(line: ProductLine) -> Listed:
+def read_listed(line: ProductLine, unsaved: Mapping[str, str] | None = None) -> Listed:
     """Each listed product's selection, or the error reading it: read once for the checks
-    that look at them (this one, and SPL019's sharing modes)."""
+    that look at them (this one, and SPL019's sharing modes). ``unsaved``: an editor's
+    texts, which stand in for the files (:func:`spl.diagnostics.model_text`)."""
     listed: Listed = []
     for path in line.product_files():
         try:
-            listed.append((path, load_selection_file(path)))
+            listed.append((path, load_selection_file(path, unsaved)))
         except ModelError as exc:
             listed.append((path, exc))
     return listed

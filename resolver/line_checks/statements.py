@@ -4,7 +4,8 @@ features without effect (SPL014) and statements that fail in some product (SPL01
 
 They run on a solver of their own, so what they ask leaves the witnesses the other
 checks find as they are. The editor keeps their findings while its .rm and .fm models
-are the very ones they were found on (:mod:`.memory`): the editor keeps a
+are the very ones they were found on (its workspace's memory of the line,
+:class:`spl.dsl.workspace.LineMemory`): the editor keeps a
 .rm model only while it means the same against the template
 (:mod:`spl.dsl.rm_reuse`: every declaration it refers into taken over, no declaration
 the edit changed declaring a word of its text), and a .fm text is built once, so an
@@ -17,11 +18,11 @@ from __future__ import annotations
 import weakref
 
 from spl.diagnostics import Diagnostic
+from spl.dsl.workspace import Workspace
 from spl.resolver.line_checks.activation import ActivationSolver
 from spl.resolver.line_checks.conflicts import reachable_conflicts
 from spl.resolver.line_checks.dead_elements import never_active_elements
 from spl.resolver.line_checks.lookups import product_dependent_statements
-from spl.resolver.line_checks.memory import remembered
 from spl.resolver.line_checks.no_effect import features_without_effect
 from spl.resolver.product_line import ProductLine
 
@@ -41,10 +42,11 @@ class StatementFindings:
         return list(found)
 
 
-def statement_findings(line: ProductLine) -> list[Diagnostic]:
-    """SPL010, SPL012, SPL014 and SPL016 on ``line``."""
-    kept = remembered(StatementFindings)
-    return kept.findings(line) if kept is not None else _checked(line)
+def statement_findings(line: ProductLine, workspace: Workspace | None = None) -> list[Diagnostic]:
+    """SPL010, SPL012, SPL014 and SPL016 on ``line``; in an editor's ``workspace`` that
+    remembers the line, found again only on other models."""
+    memory = workspace.line_memory(line.directory) if workspace is not None else None
+    return memory.of(StatementFindings).findings(line) if memory is not None else _checked(line)
 
 
 def _checked(line: ProductLine) -> list[Diagnostic]:

@@ -1,6 +1,6 @@
 """The warnings of the witness products the line checks resolve, remembered from one check
-of a line to the next (the editor's, after every change:
-:func:`spl.resolver.line_checks.memory.remembering`).
+of a line to the next (the editor's, after every change: its workspace's memory of the
+line, :class:`spl.dsl.workspace.LineMemory`).
 
 Why: the dataflow check confirms each unfed input by resolving a witness product
 (:mod:`.dataflow`), and on a 10,000-node line that one resolution is half a second of
@@ -31,11 +31,10 @@ import dataclasses
 from typing import Any
 
 from spl.diagnostics import Diagnostic, ModelError
-from spl.dsl.tsm import built_template
-from spl.dsl.tsm_declarations import Declarations, Key, path_of
+from spl.dsl.tsm_declarations import BuiltTemplate, Declarations, Key, path_of
+from spl.dsl.workspace import Workspace
 from spl.emf import fingerprint
 from spl.metamodels import tsm
-from spl.resolver.line_checks.memory import remembered
 from spl.resolver.product_line import ProductLine
 from spl.resolver.product_selection import selection_from_list
 
@@ -59,10 +58,11 @@ class WitnessResolutions:
     def __init__(self) -> None:
         self._kept: dict[Witness, _Remembered] = {}
 
-    def warnings(self, line: ProductLine, witness: Witness) -> Warnings:
+    def warnings(
+        self, line: ProductLine, witness: Witness, built: BuiltTemplate | None
+    ) -> Warnings:
         """The warnings of the product ``witness``, resolved again only when what its
-        resolution reads changed."""
-        built = built_template(line.tsm)
+        resolution reads changed; ``built``: the line's template as the editor built it."""
         if built is None:  # not the editor's template: no declarations to compare
             return _resolved(line, witness)[0]
         key, lines = _inputs(line, built.declarations, witness)
@@ -80,11 +80,17 @@ class WitnessResolutions:
         return found
 
 
-def witness_warnings(line: ProductLine, witness: Witness) -> Warnings:
+def witness_warnings(
+    line: ProductLine, witness: Witness, workspace: Workspace | None = None
+) -> Warnings:
     """The warnings of the product ``witness`` (none when it does not resolve, which
-    resolve, validate and the other checks report)."""
-    kept = remembered(WitnessResolutions)
-    return kept.warnings(line, witness) if kept is not None else _resolved(line, witness)[0]
+    resolve, validate and the other checks report); in an editor's ``workspace`` that
+    remembers the line, resolved again only when what the resolution reads changed."""
+    memory = workspace.line_memory(line.directory) if workspace is not None else None
+    if memory is None or workspace is None or workspace.models is None:
+        return _resolved(line, witness)[0]
+    built = workspace.models.built_template(line.tsm)
+    return memory.of(WitnessResolutions).warnings(line, witness, built)
 
 
 def _resolved(line: ProductLine, witness: Witness) -> tuple[Warnings, bool]:

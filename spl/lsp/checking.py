@@ -1,8 +1,8 @@
 """Every call of the language server into spl's checking, in one module.
 
 The editor must report what ``spl check`` prints, so this module calls what
-:mod:`spl.commands.check` calls, with the editor's unsaved texts standing in for the
-files (:func:`spl.diagnostics.unsaved_texts`):
+:mod:`spl.commands.check` calls, through the server's workspace
+(:class:`spl.dsl.workspace.Workspace`), whose unsaved texts stand in for the files:
 
 * a model file in a product-line folder (one holding exactly one .rm) is checked as
   ``spl check FOLDER`` checks it (its parse errors, then the product-line checks SPL0xx
@@ -27,11 +27,11 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from spl.diagnostics import Diagnostic, Location, ModelError, unsaved_texts
+from spl.diagnostics import Diagnostic, Location, ModelError
+from spl.dsl.workspace import LastModels, Workspace
 
 if TYPE_CHECKING:
     from spl.dsl.tsm_incremental import Trees
-    from spl.resolver.line_checks.memory import LineMemory
 
 MODEL_SUFFIXES = (".tsm", ".fm", ".rm")
 FEATURE_MODEL_SUFFIXES = (".uvl", ".xml")
@@ -69,35 +69,42 @@ def is_featureide(text: str) -> bool:
     return _FEATUREIDE_ROOT.search(text[:4096]) is not None
 
 
-def check_file(path: str, texts: Mapping[str, str], trees: Trees | None = None) -> FileCheck:
+def editor_workspace() -> Workspace:
+    """The workspace one language server keeps from check to check: the .tsm texts it
+    refused, the models its line checks built last, and what it keeps of each line's
+    checks (docs/editors.md, "What the editor keeps")."""
+    return Workspace(models=LastModels(), lines={})
+
+
+def check_file(path: str, workspace: Workspace, trees: Trees | None = None) -> FileCheck:
     """``spl check FILE`` (or the feature-model reading of ``spl analyze``) on ``path``,
-    reading the open files from ``texts``; a .tsm read incrementally from its last
-    reading in ``trees``."""
+    reading the open files as ``workspace`` has them; a .tsm read incrementally from
+    its last reading in ``trees``."""
     suffix = os.path.splitext(path)[1].lower()
     try:
-        with unsaved_texts(texts):
-            if suffix == ".tsm":  # what spl check FILE.tsm runs: the plain-object check
-                from spl.dsl import tsm
+        if suffix == ".tsm":  # what spl check FILE.tsm runs: the plain-object check
+            from spl.dsl import tsm
 
-                return FileCheck(path, (), tsm.check_file(path, trees))
-            if suffix in MODEL_SUFFIXES:
-                return FileCheck(path, (), _parse_model(path, suffix))
-            if suffix == ".xml" and path in texts:
-                return FileCheck(path, (), _parse_featureide(path, texts[path]))
-            from spl.dsl.fm_formats import load_feature_model
+            return FileCheck(path, (), tsm.check_file(path, trees, workspace))
+        if suffix in MODEL_SUFFIXES:
+            return FileCheck(path, (), _parse_model(path, suffix, workspace))
+        text = workspace.texts.get(os.path.abspath(path))
+        if suffix == ".xml" and text is not None:
+            return FileCheck(path, (), _parse_featureide(path, text))
+        from spl.dsl.fm_formats import load_feature_model
 
-            return FileCheck(path, (), load_feature_model(path))
+        return FileCheck(path, (), load_feature_model(path, workspace))
     except ModelError as exc:
         return FileCheck(path, tuple(dict.fromkeys(exc.diagnostics)))
 
 
-def _parse_model(path: str, suffix: str) -> Any:
+def _parse_model(path: str, suffix: str, workspace: Workspace) -> Any:
     from spl.pipeline import LANGUAGES
 
     language = importlib.import_module(LANGUAGES[suffix])
-    if suffix == ".rm":
-        return language.load(path)  # what parse_file does, keeping the .tsm and .fm
-    return language.parse_file(path)
+    if suffix == ".rm":  # what parse_file does, keeping the .tsm and .fm
+        return language.load(path, workspace)
+    return language.parse_file(path, workspace)
 
 
 def _parse_featureide(path: str, text: str) -> Any:
@@ -113,18 +120,17 @@ def _parse_featureide(path: str, text: str) -> Any:
     return parse_featureide(data, path, default_name=Path(path).stem)
 
 
-def check_line(folder: str, texts: Mapping[str, str]) -> tuple[Diagnostic, ...]:
-    """``spl check FOLDER``: every finding, in every file of the line, a product-line
-    check's error shown as a warning (:func:`editor_severity`)."""
+def check_line(folder: str, workspace: Workspace) -> tuple[Diagnostic, ...]:
+    """``spl check FOLDER`` through ``workspace``: every finding, in every file of the
+    line, a product-line check's error shown as a warning (:func:`editor_severity`)."""
     from spl.pipeline import NothingToCheck, check_models
 
-    with unsaved_texts(texts):
-        try:
-            _, found = check_models(Path(folder), count=False)
-        except ModelError as exc:
-            found = exc.diagnostics
-        except NothingToCheck:
-            found = []
+    try:
+        _, found = check_models(Path(folder), count=False, workspace=workspace)
+    except ModelError as exc:
+        found = exc.diagnostics
+    except NothingToCheck:
+        found = []
     return tuple(editor_severity(d) for d in found)
 
 
@@ -138,8 +144,8 @@ class LineChecks:
     (what ``spl check FILE.tsm`` runs): when it refuses the text, loading the line meets
     the same problems without building the model again (:func:`spl.dsl.tsm.parse_text`),
     and the answer is that of ``spl check FOLDER``, only sooner. A text that builds is
-    checked in full, from what the last check built
-    (:func:`spl.dsl.model_reuse.reusing_models`): the line's pyecore model is built from
+    checked in full, from what the last check built (the workspace's
+    :class:`~spl.dsl.workspace.LastModels`): the line's pyecore model is built from
     the plain model just checked, taking over the declarations the edit left alone (moved
     where it moved them), a file the edit left alone is not built again, nor a .rm whose
     names still mean the same, and a witness product whose resolution reads nothing the
@@ -147,9 +153,10 @@ class LineChecks:
 
     KEPT = 4  # input sets kept per folder
 
-    def __init__(self) -> None:
+    def __init__(self, workspace: Workspace | None = None) -> None:
+        """``workspace``: the server's (:func:`editor_workspace`, made here when not given)."""
+        self.workspace = workspace if workspace is not None else editor_workspace()
         self._kept: dict[str, list[tuple[tuple[object, ...], tuple[Diagnostic, ...]]]] = {}
-        self._memories: dict[str, LineMemory] = {}
 
     def check(
         self, folder: str, texts: Mapping[str, str], trees: Trees, inputs: set[str]
@@ -161,17 +168,13 @@ class LineChecks:
             if known == key:  # the last used stay: an edit undone and done again
                 kept.append(kept.pop(at))
                 return found, []
-        from spl.dsl.model_reuse import reusing_models
-        from spl.resolver.line_checks.memory import LineMemory, remembering
-
-        memory = self._memories.setdefault(folder, LineMemory())
         # the line is loaded from the plain models checked here, and witness products
         # are resolved again, and the .rm's own checks run again, only when what they
         # read changed
-        with reusing_models(), remembering(memory):
-            tsm_files = sorted(p for p in inputs if p.endswith(".tsm"))
-            plain = [check_file(path, texts, trees) for path in tsm_files]
-            found = check_line(folder, texts)
+        workspace = self.workspace.reading(texts)
+        tsm_files = sorted(p for p in inputs if p.endswith(".tsm"))
+        plain = [check_file(path, workspace, trees) for path in tsm_files]
+        found = check_line(folder, workspace)
         kept.append((key, found))
         del kept[: -self.KEPT]
         return found, plain

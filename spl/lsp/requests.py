@@ -127,7 +127,7 @@ def build_server() -> SplLanguageServer:
         text = ls.project.text(path) or ""
         texts = {**ls.project.open_texts(), path: text}
         loop = asyncio.get_running_loop()
-        parsed = await loop.run_in_executor(ls.checker, checking.check_file, path, texts)
+        parsed = await loop.run_in_executor(ls.checker, checking.check_file, path, ls.files(texts))
         formatted, reason = formatting.formatted(path, text, parsed.model)
         if formatted is None:
             ls.window_show_message(

@@ -30,6 +30,7 @@ from spl import __version__
 from spl.diagnostics import Diagnostic
 from spl.dsl.cyclic_gc import without_cyclic_gc
 from spl.dsl.tsm_incremental import Trees
+from spl.dsl.workspace import Workspace
 from spl.lsp import checking
 from spl.lsp.positions import LineIndex
 from spl.lsp.project import Project
@@ -78,7 +79,9 @@ class SplLanguageServer(LanguageServer):
         super().__init__("spl", __version__)
         self.project = Project()
         self.trees = Trees()  # the last reading of each .tsm: a change is read incrementally
-        self.line_checks = checking.LineChecks()  # the product lines' last findings
+        # what the editor keeps between checks, passed to each (docs/editors.md)
+        self.spl_workspace = checking.editor_workspace()
+        self.line_checks = checking.LineChecks(self.spl_workspace)  # the lines' last findings
         # deep models recurse deeply in textX and the analysis: the checking thread gets
         # the stack of a main thread, not a small thread default
         threading.stack_size(CHECK_STACK_BYTES)
@@ -188,11 +191,16 @@ class SplLanguageServer(LanguageServer):
             text = self.project.text(path)
             if text is not None and self.project.read_texts.get(path) != text:
                 try:
-                    result = checking.check_file(path, texts, self.trees)
+                    result = checking.check_file(path, self.files(texts), self.trees)
                 except Exception:
                     logger.error("parsing %s failed:\n%s", path, traceback.format_exc())
                     continue
                 self._keep_models(result, texts, text)
+
+    def files(self, texts: dict[str, str]) -> Workspace:
+        """The workspace as checks of single files read it: the open ``texts`` standing
+        in for the files, each model built afresh (requests keep and read them)."""
+        return self.spl_workspace.reading(texts).of_files()
 
     def _first_open(self, folder: str) -> str:
         found = [p for p in list(self.project.documents) if os.path.dirname(p) == folder]
@@ -202,7 +210,7 @@ class SplLanguageServer(LanguageServer):
         kind, where = unit
         if kind == "file":
             text = self.project.text(where)
-            result = checking.check_file(where, texts, self.trees)
+            result = checking.check_file(where, self.files(texts), self.trees)
             self._keep_models(result, texts, text)
             diagnostics: Iterable[Diagnostic] = result.diagnostics
         else:

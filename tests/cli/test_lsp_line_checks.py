@@ -17,6 +17,7 @@ import pytest
 
 from spl.dsl import tsm
 from spl.dsl.tsm_incremental import Trees
+from spl.dsl.workspace import Workspace
 from spl.lsp import checking
 
 from support.typing_edits import model_edit
@@ -41,9 +42,9 @@ def copied(line: Path, tmp_path: Path) -> tuple[Path, set[str]]:
 
 
 def full_check(folder: Path, texts: dict[str, str]) -> tuple:
-    """What ``spl check FOLDER`` says of these texts, every model built afresh."""
-    tsm._REFUSED.clear()
-    return checking.check_line(str(folder), texts)
+    """What ``spl check FOLDER`` says of these texts, every model built afresh (a new
+    workspace, which keeps no models)."""
+    return checking.check_line(str(folder), Workspace().reading(texts))
 
 
 def test_the_line_check_follows_every_edit_and_reuses_only_unchanged_inputs(tmp_path) -> None:
@@ -227,7 +228,9 @@ def test_a_tsm_edit_builds_again_only_what_it_touched(tmp_path, monkeypatch) -> 
         return codes, *done
 
     def references() -> int:
-        system = tsm.built_template(tsm._BUILT[path][1]).system  # type: ignore[union-attr]
+        models = checks.workspace.models
+        assert models is not None
+        system = models.built_template(models.systems[path][1]).system  # type: ignore[union-attr]
         return sum(len(e._inverse_rels) for e in system.eAllContents())
 
     assert check(original) == (["SPL045", "SPL046"], 1, 2)
@@ -333,7 +336,9 @@ def test_the_editor_lets_go_of_a_template_it_will_not_build_on_again(tmp_path) -
     checks, trees = checking.LineChecks(), Trees()
     found, _ = checks.check(str(folder), {path: original + SPARE}, trees, inputs)
     assert any(d.code == "SPL045" for d in found)  # witness products were resolved
-    before = weakref.ref(tsm._BUILT[path][1])
+    models = checks.workspace.models
+    assert models is not None
+    before = weakref.ref(models.systems[path][1])
     # every declaration moved, and no input left unfed: no witness is asked again
     fed = re.sub(r"\n.*(subscribes scan|calls classify).*", "", original)
     found, _ = checks.check(str(folder), {path: "// moved\n" + fed + SPARE}, trees, inputs)

@@ -20,6 +20,7 @@ from test_tsm_reader import SHIPPED, SUBSTITUTES
 from spl.diagnostics import ModelError
 from spl.dsl import tsm, tsm_plain
 from spl.dsl.tsm_printer import print_model
+from spl.dsl.workspace import Workspace
 from spl.emf_compare import differences
 from spl.metamodels import tsm as ecore_metamodel
 
@@ -60,10 +61,8 @@ def through_pyecore(text: str, filename: str) -> Any:
 
 
 def assert_same(text: str) -> None:
-    tsm._REFUSED.clear()  # each build itself, not a refusal the plain one remembered
-    built = outcome(through_pyecore, text)
+    built = outcome(through_pyecore, text)  # each build itself: no workspace remembers
     assert outcome(tsm.check_text, text) == built
-    tsm._REFUSED.clear()
     assert outcome(tsm.parse_text, text) == built
     try:
         model = tsm.parse_text(text, "m.tsm")
@@ -115,25 +114,34 @@ def test_plain_elements_answer_like_the_metamodels_objects() -> None:
 
 def test_a_text_the_plain_build_refused_is_refused_again_without_building(monkeypatch) -> None:
     """The editor's folder check meets a refused .tsm up to three times (the line, the
-    .rm's models, the file alone): only the plain build reads it."""
+    .rm's models, the file alone): only the plain build reads it. The refusal is the
+    workspace's: without one, or in another, the text is built again."""
     text = SHIPPED[0].read_text(encoding="utf-8") + "\nbridge Robot.Nothing -> Nowhere.Nothing\n"
+    workspace = Workspace()
     with pytest.raises(ModelError) as plain:
-        tsm.check_text(text, "m.tsm")
+        tsm.check_text(text, "m.tsm", workspace=workspace)
     built: list[str] = []
     real = tsm._parse
     monkeypatch.setattr(tsm, "_parse", lambda *args, **kw: built.append(args[1]) or real(*args))
     with pytest.raises(ModelError) as again:
-        tsm.parse_text(text, "m.tsm")
+        tsm.parse_text(text, "m.tsm", workspace)
+    with pytest.raises(ModelError) as checked_again:
+        tsm.check_text(text, "m.tsm", workspace=workspace)
     assert built == [] and again.value.diagnostics == plain.value.diagnostics
-    # another text, or another file, is built
+    assert checked_again.value.diagnostics == plain.value.diagnostics
+    # another text, or another file, is built; so is the text outside the workspace
     with pytest.raises(ModelError):
-        tsm.parse_text(text + " ", "m.tsm")
+        tsm.parse_text(text + " ", "m.tsm", workspace)
     with pytest.raises(ModelError):
-        tsm.parse_text(text, "other.tsm")
-    assert built == ["m.tsm", "other.tsm"]
+        tsm.parse_text(text, "other.tsm", workspace)
+    with pytest.raises(ModelError):
+        tsm.parse_text(text, "m.tsm")
+    with pytest.raises(ModelError):
+        tsm.parse_text(text, "m.tsm", Workspace())
+    assert built == ["m.tsm", "other.tsm", "m.tsm", "m.tsm"]
     # once the file's text builds, its old refusal is forgotten
-    tsm.check_text(SHIPPED[0].read_text(encoding="utf-8"), "m.tsm")
+    tsm.check_text(SHIPPED[0].read_text(encoding="utf-8"), "m.tsm", workspace=workspace)
     built.clear()
     with pytest.raises(ModelError):
-        tsm.parse_text(text, "m.tsm")
+        tsm.parse_text(text, "m.tsm", workspace)
     assert built == ["m.tsm"]
