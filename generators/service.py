@@ -2,15 +2,18 @@
 
 A store becomes ``services/<Store>/``: a FastAPI + SQLAlchemy 2 application (uvicorn
 serves it) with its first-order table, one typed table per refinement, the compiled
-transforms and a transformer, plus README, pyproject.toml and requirements.txt. The
-templates under ``templates/service`` hold the code; this module only builds their
-context from the resolved model (the names the clients and the deployment share are
-:mod:`spl.generators.store_contract`'s), passing every model name through validation
-first.
+transforms and a transformer, plus README, pyproject.toml and requirements.txt. What is
+the same in every service is :mod:`spl.generators.service_runtime`, copied byte for byte
+into the service's package as ``runtime/`` (docs/services.md, "The runtime package");
+the templates under ``templates/service`` hold what the product decides, and this
+module builds their context from the resolved model (the names the clients and the
+deployment share are :mod:`spl.generators.store_contract`'s), passing every model name
+through validation first.
 """
 
 from __future__ import annotations
 
+from importlib.resources import files as package_files
 from typing import TYPE_CHECKING
 
 from spl.diagnostics import Diagnostic, ModelError, location_of
@@ -56,11 +59,10 @@ PACKAGE_FILES = (
     "ingest.py",
     "access.py",
     "linked.py",
-    "callback_targets.py",
     "subscriptions.py",
-    "contract.py",
     "app.py",
 )
+RUNTIME = "spl.generators.service_runtime"  # shipped as <package>/runtime/
 TOP_FILES = ("README.md", "pyproject.toml", "requirements.txt")
 
 
@@ -159,6 +161,15 @@ def _refinement_context(
     }
 
 
+def runtime_files() -> dict[str, bytes]:
+    """The runtime's modules by file name, as they are in spl (copied, not rendered)."""
+    found = {}
+    for entry in package_files(RUNTIME).iterdir():
+        if entry.name.endswith(".py") and entry.is_file():
+            found[entry.name] = entry.read_bytes()
+    return dict(sorted(found.items()))
+
+
 def generate_store(store: tsm_types.Store, product: ResolvedProduct) -> dict[str, bytes]:
     names = store_context(store, product)
     context = {
@@ -178,6 +189,8 @@ def generate_store(store: tsm_types.Store, product: ResolvedProduct) -> dict[str
     files = {f"{root}/{name}": render(f"service/{name}.j2", **context) for name in TOP_FILES}
     for name in PACKAGE_FILES:
         files[f"{package}/{name}"] = render(f"service/package/{name}.j2", **context)
+    for name, data in runtime_files().items():
+        files[f"{package}/runtime/{name}"] = data
     transforms = {id(r.transform): r.transform for r in store.refinements}
     files[f"{package}/transforms.py"] = transforms_module(transforms.values()).encode("utf-8")
     return files

@@ -4,16 +4,19 @@ Python file compiles, hostile names are refused before any code is written."""
 from __future__ import annotations
 
 import ast
+import sys
+from pathlib import Path
 
 import pytest
 
 from spl.diagnostics import ModelError
-from spl.generators import service
+from spl.generators import service, service_runtime
 from spl.metamodels import tsm
 
 from support.service_models import product
 
 T = tsm()
+RUNTIME = Path(service_runtime.__file__).parent
 
 
 @pytest.fixture(scope="module")
@@ -53,6 +56,46 @@ def test_one_runnable_package_per_store(files) -> None:
             f"{store.upper()[:-5]}_STORE_TOKEN",
         ):
             assert word in readme
+
+
+def test_every_service_ships_the_runtime_byte_for_byte(files) -> None:
+    """docs/services.md, "The runtime package": the service's runtime/ is spl's own
+    service_runtime, each module as it is in spl, and the distribution installs it."""
+    shipped = sorted(RUNTIME.glob("*.py"))
+    assert {p.name for p in shipped} >= {"__init__.py", "callback_targets.py", "access.py"}
+    for store, package in [
+        ("PositionStore", "position_store_service"),
+        ("FollowStore", "follow_store_service"),
+    ]:
+        runtime = {
+            path.removeprefix(f"services/{store}/{package}/runtime/"): data
+            for path, data in files.items()
+            if path.startswith(f"services/{store}/{package}/runtime/")
+        }
+        assert runtime == {p.name: p.read_bytes() for p in shipped}
+        pyproject = files[f"services/{store}/pyproject.toml"].decode()
+        assert f'packages = ["{package}", "{package}.runtime"]' in pyproject
+
+
+def test_the_runtime_imports_only_itself_and_the_services_libraries(files) -> None:
+    """Copied into a service, the runtime finds no spl: its own modules are imported
+    relatively, anything else must be the standard library or requirements.txt's."""
+    required = files["services/PositionStore/requirements.txt"].decode()
+    libraries = {line.split(">")[0].split("[")[0].lower() for line in required.splitlines()}
+    libraries |= {"starlette", "pydantic"}  # FastAPI's own, which the runtime names
+    for path in sorted(RUNTIME.glob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.Import):
+                names = [alias.name for alias in node.names]
+            elif isinstance(node, ast.ImportFrom) and not node.level:
+                names = [node.module or ""]
+            else:
+                continue
+            for name in names:
+                top = name.split(".")[0]
+                assert top in sys.stdlib_module_names or top.lower() in libraries, (
+                    f"{path.name}: imports {name}"
+                )
 
 
 def test_generation_is_deterministic(files) -> None:

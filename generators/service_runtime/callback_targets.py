@@ -1,5 +1,5 @@
-"""Where a callback subscription of the {{ store.name }} store may post
-(docs/services.md, "Where callbacks may go").
+"""Where a callback subscription of a store may post (docs/services.md, "Where
+callbacks may go").
 
 A callback makes the service send requests to a URI a client chose, from inside the
 cluster: without a check, a client could make it post into the pod network, to the
@@ -9,8 +9,8 @@ host is, or resolves to, must be globally routable. Loopback, link-local, privat
 multicast, reserved, unspecified and other non-global addresses are refused in every
 spelling the resolver takes (``127.1``, ``2130706433``, ``0x7f000001``, ``0177.0.0.1``,
 ``[::ffff:127.0.0.1]``, a trailing dot, names that resolve to them), unless
-``{{ store.callback_hosts_env }}`` lists the host (``host`` or ``host:port``, comma-separated):
-a site's own receiver may be internal.
+the store's allow list (``<STORE>_CALLBACK_HOSTS``: ``host`` or ``host:port``, comma-separated)
+names the host: a site's own receiver may be internal.
 
 The check runs when the subscription is made (400 with the reason) and again before
 every post: the name is resolved once, every address checked, and the post connects to
@@ -18,7 +18,6 @@ a checked address (the original host in the Host header and, for https, in SNI a
 certificate checks), so a name that resolves to a public address when checked and to
 an internal one a moment later (DNS rebinding) is never posted to.
 """
-{% raw %}
 
 from __future__ import annotations
 
@@ -30,8 +29,6 @@ import ssl
 import urllib.parse
 from dataclasses import dataclass
 
-from .settings import CALLBACK_HOSTS_ENV, settings
-
 Address = ipaddress.IPv4Address | ipaddress.IPv6Address
 MAX_URI = 2000
 # what a host name may hold (lower case); anything else is no name a resolver takes alike
@@ -41,6 +38,42 @@ NAME = re.compile(r"[a-z0-9_](?:[a-z0-9_.-]*[a-z0-9_])?\.?\Z")
 CARRIERS = (ipaddress.ip_network("64:ff9b::/96"), ipaddress.ip_network("::/96"))
 LOCAL_NAT64 = ipaddress.ip_network("64:ff9b:1::/48")  # RFC 8215: a site's own translator
 DEFAULT_PORTS = {"http": 80, "https": 443}
+
+
+@dataclass(frozen=True)
+class AllowList:
+    """The internal hosts a site lets callbacks post to: (host, port or None for any
+    port), read from the environment variable ``variable`` (named in refusals)."""
+
+    variable: str
+    hosts: frozenset[tuple[str, int | None]]
+
+
+def allow_list(variable: str, value: str | None) -> AllowList:
+    """``host``, ``host:port``, ``[v6]`` or ``[v6]:port`` entries, comma-separated; a
+    malformed entry stops the service with a message naming the variable."""
+    entries = set()
+    for entry in (value or "").split(","):
+        entry = entry.strip().lower()
+        if not entry:
+            continue
+        if entry.startswith("["):  # [v6] or [v6]:port
+            host, bracket, rest = entry[1:].partition("]")
+            colon, port = rest[:1], rest[1:]
+            if not bracket or rest[:1] not in ("", ":"):
+                host = ""
+        elif entry.count(":") == 1:
+            host, colon, port = entry.partition(":")
+        else:  # a name, an IPv4 address or a bare IPv6 address
+            host, colon, port = entry, "", ""
+        number = port.isascii() and port.isdigit() and 0 < int(port) < 65536
+        if not host or (colon and not number):
+            raise SystemExit(
+                f"{variable}: {entry!r} is no host, host:port, "
+                "[address] or [address]:port (a port from 1 to 65535)"
+            )
+        entries.add((host, int(port) if colon else None))
+    return AllowList(variable, frozenset(entries))
 
 
 class CallbackRefused(ValueError):
@@ -140,34 +173,43 @@ def refusal(address: Address) -> str | None:
 def parse(uri: str | None) -> Callback:
     """The callback URI of a ``Callback`` header, taken apart (CallbackRefused: why not)."""
     if not uri:
-        raise CallbackRefused("Upgrade: callback needs a Callback header with the URI "
-                              "to post new records to")
+        raise CallbackRefused(
+            "Upgrade: callback needs a Callback header with the URI to post new records to"
+        )
     uri = uri.strip()
     if any(c.isspace() or ord(c) < 0x21 or ord(c) == 0x7F for c in uri) or len(uri) > MAX_URI:
-        raise CallbackRefused(f"Callback {uri[:100]!r}: spaces, control characters or more "
-                              f"than {MAX_URI} characters")
+        raise CallbackRefused(
+            f"Callback {uri[:100]!r}: spaces, control characters or more than {MAX_URI} characters"
+        )
     try:
         parts = urllib.parse.urlsplit(uri)
         port = parts.port  # a port that is no number, or out of range, raises here
     except ValueError as exc:
         raise CallbackRefused(f"Callback {uri!r} is not a URI: {exc}") from None
     if parts.scheme not in DEFAULT_PORTS or not parts.hostname:
-        raise CallbackRefused(f"Callback {uri!r}: only http and https URIs with a host "
-                              "are called back")
+        raise CallbackRefused(
+            f"Callback {uri!r}: only http and https URIs with a host are called back"
+        )
     if "@" in parts.netloc or "\\" in uri:
-        raise CallbackRefused(f"Callback {uri!r}: user information and backslashes are "
-                              "refused (put a secret of the receiver in its path)")
+        raise CallbackRefused(
+            f"Callback {uri!r}: user information and backslashes are "
+            "refused (put a secret of the receiver in its path)"
+        )
     host = parts.hostname
     bracketed = parts.netloc.startswith("[")
     if (bracketed and not isinstance(literal(host), ipaddress.IPv6Address)) or (
-            not bracketed and not NAME.match(host)):
-        raise CallbackRefused(f"Callback {uri!r}: {host!r} is no host name or address "
-                              "(an internationalised name is written in its xn-- form)")
+        not bracketed and not NAME.match(host)
+    ):
+        raise CallbackRefused(
+            f"Callback {uri!r}: {host!r} is no host name or address "
+            "(an internationalised name is written in its xn-- form)"
+        )
     if port == 0:
         raise CallbackRefused(f"Callback {uri!r}: port 0 is no port")
     target = (parts.path or "/") + (f"?{parts.query}" if parts.query else "")
-    return Callback(uri, parts.scheme, host, port or DEFAULT_PORTS[parts.scheme],
-                    parts.netloc, target)
+    return Callback(
+        uri, parts.scheme, host, port or DEFAULT_PORTS[parts.scheme], parts.netloc, target
+    )
 
 
 def _canonical(host: str) -> str:
@@ -175,11 +217,12 @@ def _canonical(host: str) -> str:
     return str(found) if found is not None else host.lower().removesuffix(".")
 
 
-def allowed(callback: Callback) -> bool:
+def allowed(callback: Callback, allow: AllowList) -> bool:
     """Whether the site lists the callback's host (any port, or its port)."""
     host = _canonical(callback.host)
-    return any(_canonical(name) == host and port in (None, callback.port)
-               for name, port in settings.callback_hosts)
+    return any(
+        _canonical(name) == host and port in (None, callback.port) for name, port in allow.hosts
+    )
 
 
 def addresses(callback: Callback) -> list[str]:
@@ -189,32 +232,37 @@ def addresses(callback: Callback) -> list[str]:
     if found is not None:
         return [str(found)]
     try:
-        answers = socket.getaddrinfo(callback.host, callback.port, type=socket.SOCK_STREAM,
-                                     proto=socket.IPPROTO_TCP)
+        answers = socket.getaddrinfo(
+            callback.host, callback.port, type=socket.SOCK_STREAM, proto=socket.IPPROTO_TCP
+        )
     except (OSError, UnicodeError) as exc:
-        raise CallbackRefused(f"Callback {callback.uri!r}: {callback.host} does not "
-                              f"resolve ({exc})") from None
+        raise CallbackRefused(
+            f"Callback {callback.uri!r}: {callback.host} does not resolve ({exc})"
+        ) from None
     return list(dict.fromkeys(str(answer[4][0]) for answer in answers))
 
 
-def destinations(uri: str | None) -> tuple[Callback, list[Destination]]:
+def destinations(uri: str | None, allow: AllowList) -> tuple[Callback, list[Destination]]:
     """The callback and the checked addresses to post to, in order; CallbackRefused with
     the reason when its host is internal and not listed. Run when a subscription is
     made and before every post: it resolves the name (blocking, in a thread)."""
     callback = parse(uri)
     host = callback.host.removesuffix(".")
-    listed = allowed(callback)
+    listed = allowed(callback, allow)
     if not listed and (host == "localhost" or host.endswith(".localhost")):
-        raise CallbackRefused(_refused(callback, f"{callback.host} is a loopback name"))
+        raise CallbackRefused(_refused(callback, allow, f"{callback.host} is a loopback name"))
     found = addresses(callback)
     if not listed:
         for address in found:
             reason = refusal(ipaddress.ip_address(address.partition("%")[0]))
             if reason is not None:
-                raise CallbackRefused(_refused(callback, f"{_spelled(callback, address)}, "
-                                                         f"{reason}"))
-    return callback, [Destination(callback.url(address), callback.netloc,
-                                  callback.server_name) for address in found]
+                raise CallbackRefused(
+                    _refused(callback, allow, f"{_spelled(callback, address)}, {reason}")
+                )
+    return callback, [
+        Destination(callback.url(address), callback.netloc, callback.server_name)
+        for address in found
+    ]
 
 
 def _spelled(callback: Callback, address: str) -> str:
@@ -236,7 +284,8 @@ def authorities() -> ssl.SSLContext | bool:
     return True
 
 
-def _refused(callback: Callback, why: str) -> str:
-    return (f"Callback {callback.uri!r}: {why}; the service posts only to public "
-            f"addresses, or to hosts {CALLBACK_HOSTS_ENV} lists")
-{% endraw %}
+def _refused(callback: Callback, allow: AllowList, why: str) -> str:
+    return (
+        f"Callback {callback.uri!r}: {why}; the service posts only to public "
+        f"addresses, or to hosts {allow.variable} lists"
+    )
