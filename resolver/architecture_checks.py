@@ -5,7 +5,9 @@ differs across a connection is an error; a subscriber no flow feeds or a service
 client no flow serves is a warning (the data may come from outside the product), unless
 the .tsm says what feeds it from outside (``external "why"``, docs/tsm.md).
 Whether a flow reaches an input is the flow table's answer (:mod:`spl.resolver.flows`),
-the one every output follows.
+the one every output follows. Where the nodes run gives two more warnings, read from
+the placement (:mod:`spl.resolver.placement`): a shared instance robots of two Rapyuta
+users use (SPL047), a cloud container no robot reaches (SPL048).
 """
 
 from __future__ import annotations
@@ -16,6 +18,14 @@ from spl.diagnostics import Diagnostic, Severity, location_of
 from spl.metamodels import tsm
 from spl.resolver.context import qualified
 from spl.resolver.flows import CutRoute, FlowTable
+from spl.resolver.placement import (
+    SHARED_ACROSS_USERS,
+    SHARED_MODES,
+    Instance,
+    Placement,
+    links,
+    rapyuta_user,
+)
 from spl.resolver.product import topic_ros_name
 
 if TYPE_CHECKING:
@@ -163,3 +173,85 @@ def check_architecture(
                 "SPL044",
             )
     return problems
+
+
+def shared_across_users(system: tsm_types.System) -> list[Diagnostic]:
+    """A warning for each shared cloud instance that robots of two Rapyuta users use.
+
+    The model says they share one instance, and Kubernetes and Zenoh deploy one; but the
+    engine keeps each user's containers apart, so on Rapyuta each user gets an instance
+    of its own and the robots share nothing there (a yield map one robot builds never
+    reaches the other). Tag problems are left to the generators, which report them."""
+    logins = {id(c): user for c in system.containers if (user := rapyuta_user(c))}
+    if len(set(logins.values())) < 2:
+        return []  # one user (most lines): nothing to place
+    placement = Placement(system, [])
+    users = {placement.robot_ids[i]: user for i, user in logins.items()}
+    problems = []
+    for instance in _shared_instances(placement):
+        using = [r for r in instance.robots if r in users]
+        if not instance.place.shared or len({users[r] for r in using}) < 2:
+            continue
+        nodes = ", ".join(node.name for node in instance.nodes)
+        robots = ", ".join(f"{r} (user {users[r]!r})" for r in using)
+        problems.append(
+            Diagnostic(
+                location_of(instance.container),
+                f"cloud container {instance.container.name}: its {instance.place.kind} nodes "
+                f"({nodes}) run in one instance, {instance.place.tag}, for robots {robots}; "
+                "the Rapyuta engine keeps each user's containers apart, so rapyuta/ gives "
+                "each user an instance of its own and they share nothing there (kubernetes/ "
+                "and zenoh/ deploy one): give these robots one user",
+                "warning",
+                SHARED_ACROSS_USERS,
+            )
+        )
+    return problems
+
+
+def _shared_instances(placement: Placement) -> list[Instance]:
+    """The shared cloud instances, as :meth:`Placement.cloud_instances` lists them. Which
+    private instances exist (costly to decide: their flows) matters only where one would
+    take a shared one's tag: then every instance is placed."""
+    shared = placement.cloud_instances(SHARED_MODES)
+    private = {
+        placement.place(cloud, "private", robot, claim=False).tag
+        for robot in placement.robots
+        for cloud in placement.scope(robot)
+    }
+    if private & {instance.place.tag for instance in shared}:
+        return placement.cloud_instances()
+    return shared
+
+
+UNLINKED_CLOUD = "SPL048"
+
+
+def unlinked_clouds(system: tsm_types.System) -> list[Diagnostic]:
+    """A warning at each cloud container with nodes that no robot container reaches
+    through endpoint connections (directly or through other clouds).
+
+    A cloud instance is deployed for the robots that use it (Rapyuta declares it in a
+    robot's file; Kubernetes deploys what some robot's scope holds), so such a container's
+    nodes get a launch file and nothing that starts them: deployed by neither."""
+    T = tsm()
+    neighbours = links(system)
+    reached = {id(c) for c in system.containers if isinstance(c, T.RobotContainer)}
+    frontier = list(reached)
+    while frontier:
+        for neighbour in neighbours[frontier.pop()] - reached:
+            reached.add(neighbour)
+            frontier.append(neighbour)
+    return [
+        Diagnostic(
+            location_of(cloud),
+            f"cloud container {cloud.name} is linked to no robot container (no bridge joins "
+            "it to one, directly or through other clouds): rapyuta/ and kubernetes/ deploy "
+            f"none of its nodes ({', '.join(n.name for n in cloud.nodes)}); bridge it to the "
+            "robot containers that use it",
+            "warning",
+            UNLINKED_CLOUD,
+        )
+        for cloud in system.containers
+        if isinstance(cloud, T.CloudContainer) and cloud.nodes and id(cloud) not in reached
+    ]

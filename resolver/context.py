@@ -83,6 +83,9 @@ class ResolutionContext:
     # id of a migrated node or of an interface connected to another container's topic ->
     # why: the endpoint rewiring names it in every decision it takes for them
     displaced: dict[int, Cause] = field(default_factory=dict)
+    # the template's nodes the copy left out (nothing can keep them, pruning.py), by the
+    # id of the container of the copy holding theirs: a migration still finds their names
+    left_out: dict[int, list[tsm_types.Node]] = field(default_factory=dict)
     # the active resolution element whose transformations run
     element: rm_types.ResolutionElement | None = None
     # id(container) -> its topics by name

@@ -20,12 +20,15 @@ from spl.dsl.cyclic_gc import without_cyclic_gc
 from spl.emf import copy_with_map
 from spl.metamodels import tsm
 from spl.resolver import pruning, rewiring
-from spl.resolver.architecture_checks import check_architecture
+from spl.resolver.architecture_checks import (
+    check_architecture,
+    shared_across_users,
+    unlinked_clouds,
+)
 from spl.resolver.capabilities import CapabilityChoice, choose_features, merge_choices
 from spl.resolver.context import ResolutionContext, describe
 from spl.resolver.data_clients import implement_data_clients
 from spl.resolver.flows import FlowTable
-from spl.resolver.placement import shared_across_users, unlinked_clouds
 from spl.resolver.product import AttributeValue, ResolvedProduct, node_keys
 from spl.resolver.product_line import ProductLine
 from spl.resolver.product_selection import CommandLineValue, ProductSelection, typed_text
@@ -36,6 +39,7 @@ from spl.resolver.wiring import cross_robot_flows
 
 if TYPE_CHECKING:
     from spl.metamodels import fm_types, rm_types, tsm_types
+    from spl.metamodels.model_types import EObject
 
 
 @dataclass
@@ -72,18 +76,22 @@ def _resolve(line: ProductLine, selection: ProductSelection) -> Resolution:
     attributes = product_attributes(line.fm, selected, selection, sink)
     sink.raise_if_errors()
 
-    system, copies = copy_with_map(line.tsm)  # step 2
+    active = [  # the elements of the product, in file order
+        element
+        for element in line.rm.elements
+        if (element.feature.name in selected) == element.activeIfSelected
+    ]
+    # step 2: what the product drops before anything reads it is not copied (pruning.py)
+    left = pruning.left_out(line.unreferred_optionals, active)
+    system, copies = copy_with_map(line.tsm, left)
     trace = Trace()
     for feature in completion.added:
         trace.record(feature, "selected", "added by completion of the selection (feature model)")
     _apply_deployment(system, selection, sink)
     ctx = ResolutionContext(system, copies, trace, sink, attributes)
+    ctx.left_out = _left_out_by_container(line.tsm, copies, left)
 
-    active: list[rm_types.ResolutionElement] = []
-    for element in line.rm.elements:  # step 3, file order
-        if (element.feature.name in selected) != element.activeIfSelected:
-            continue
-        active.append(element)
+    for element in active:  # step 3, file order
         ctx.element = element
         for required in element.required:
             ctx.keep(
@@ -96,8 +104,9 @@ def _resolve(line: ProductLine, selection: ProductSelection) -> Resolution:
     _apply_sharing(ctx, active, selection)  # step 4
     sink.raise_if_errors()
 
-    before = node_keys(system)  # pruning removes nodes: named as the template names them
-    pruning.prune_unkept(system, ctx.kept, trace)  # step 5
+    # pruning removes nodes: named as the template names them
+    before = node_keys(system, ctx.left_out)
+    pruning.prune_unkept(system, ctx.kept, trace, line.tsm, left)  # step 5
     implement_data_clients(system)
     warnings, cut = rewiring.rewire(system, trace, ctx.displaced)
     left_out = pruning.prune_unused(system, trace)
@@ -124,6 +133,18 @@ def _resolve(line: ProductLine, selection: ProductSelection) -> Resolution:
     remaining = {id(n) for c in system.containers for n in c.nodes}
     removed = tuple(sorted(key for i, key in before.items() if i not in remaining))
     return Resolution(product, trace, completion, removed, kept, tuple(choices))
+
+
+def _left_out_by_container(
+    template: tsm_types.System, copies: dict[int, EObject], left: set[int]
+) -> dict[int, list[tsm_types.Node]]:
+    """The template's nodes the copy left out, by the id of the container copying theirs."""
+    found: dict[int, list[tsm_types.Node]] = {}
+    for container in template.containers:
+        nodes = [n for n in container.nodes if id(n) in left]
+        if nodes:
+            found[id(copies[id(container)])] = nodes
+    return found
 
 
 def product_attributes(

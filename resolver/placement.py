@@ -286,29 +286,33 @@ class Placement:
         self.errors.append(clash)
         self.clashes.append(clash)
 
-    def partitions(self, robot: tsm_types.Container) -> list[Instance]:
+    def partitions(
+        self, robot: tsm_types.Container, modes: tuple[str, ...] = MODES
+    ) -> list[Instance]:
         """The cloud instances ``robot`` uses, by container (by name) and sharing mode:
         its private ones holding the private nodes it gets (none: not deployed), the
-        shared ones whole."""
+        shared ones whole; of the sharing ``modes`` only."""
         robot_id = self.robot_ids[id(robot)]
         found = []
         for cloud in self.scope(robot):
-            for mode in MODES:
-                nodes = tuple(
-                    n for n in cloud.nodes if sharing_mode(n) == mode and self.deploys(n, robot)
-                )
+            by_mode: dict[str, list[tsm_types.Node]] = {mode: [] for mode in modes}
+            for node in cloud.nodes:  # each node's mode read once
+                held = by_mode.get(sharing_mode(node))
+                if held is not None and self.deploys(node, robot):
+                    held.append(node)
+            for mode, nodes in by_mode.items():
                 if nodes:
-                    found.append(
-                        Instance(self.place(cloud, mode, robot), cloud, nodes, (robot_id,))
-                    )
+                    place = self.place(cloud, mode, robot)
+                    found.append(Instance(place, cloud, tuple(nodes), (robot_id,)))
         return found
 
-    def cloud_instances(self) -> list[Instance]:
+    def cloud_instances(self, modes: tuple[str, ...] = MODES) -> list[Instance]:
         """Every deployed cloud instance once, with its nodes, ordered by tag: the
-        partitions robots use (a shared one is listed once, with every robot using it)."""
+        partitions robots use (a shared one is listed once, with every robot using it);
+        of the sharing ``modes`` only."""
         found: dict[str, Instance] = {}
         for robot in self.robots:
-            for instance in self.partitions(robot):
+            for instance in self.partitions(robot, modes):
                 known = found.setdefault(instance.place.tag, instance._replace(robots=()))
                 found[instance.place.tag] = known._replace(robots=(*known.robots, *instance.robots))
         return [found[tag] for tag in sorted(found)]
@@ -321,70 +325,3 @@ class Placement:
 
 
 SHARED_ACROSS_USERS = "SPL047"
-
-
-def shared_across_users(system: tsm_types.System) -> list[Diagnostic]:
-    """A warning for each shared cloud instance that robots of two Rapyuta users use.
-
-    The model says they share one instance, and Kubernetes and Zenoh deploy one; but the
-    engine keeps each user's containers apart, so on Rapyuta each user gets an instance
-    of its own and the robots share nothing there (a yield map one robot builds never
-    reaches the other). Tag problems are left to the generators, which report them."""
-    logins = {id(c): user for c in system.containers if (user := rapyuta_user(c))}
-    if len(set(logins.values())) < 2:
-        return []  # one user (most lines): nothing to place
-    placement = Placement(system, [])
-    users = {placement.robot_ids[i]: user for i, user in logins.items()}
-    problems = []
-    for instance in placement.cloud_instances():
-        using = [r for r in instance.robots if r in users]
-        if not instance.place.shared or len({users[r] for r in using}) < 2:
-            continue
-        nodes = ", ".join(node.name for node in instance.nodes)
-        robots = ", ".join(f"{r} (user {users[r]!r})" for r in using)
-        problems.append(
-            Diagnostic(
-                location_of(instance.container),
-                f"cloud container {instance.container.name}: its {instance.place.kind} nodes "
-                f"({nodes}) run in one instance, {instance.place.tag}, for robots {robots}; "
-                "the Rapyuta engine keeps each user's containers apart, so rapyuta/ gives "
-                "each user an instance of its own and they share nothing there (kubernetes/ "
-                "and zenoh/ deploy one): give these robots one user",
-                "warning",
-                SHARED_ACROSS_USERS,
-            )
-        )
-    return problems
-
-
-UNLINKED_CLOUD = "SPL048"
-
-
-def unlinked_clouds(system: tsm_types.System) -> list[Diagnostic]:
-    """A warning at each cloud container with nodes that no robot container reaches
-    through endpoint connections (directly or through other clouds).
-
-    A cloud instance is deployed for the robots that use it (Rapyuta declares it in a
-    robot's file; Kubernetes deploys what some robot's scope holds), so such a container's
-    nodes get a launch file and nothing that starts them: deployed by neither."""
-    T = tsm()
-    neighbours = links(system)
-    reached = {id(c) for c in system.containers if isinstance(c, T.RobotContainer)}
-    frontier = list(reached)
-    while frontier:
-        for neighbour in neighbours[frontier.pop()] - reached:
-            reached.add(neighbour)
-            frontier.append(neighbour)
-    return [
-        Diagnostic(
-            location_of(cloud),
-            f"cloud container {cloud.name} is linked to no robot container (no bridge joins "
-            "it to one, directly or through other clouds): rapyuta/ and kubernetes/ deploy "
-            f"none of its nodes ({', '.join(n.name for n in cloud.nodes)}); bridge it to the "
-            "robot containers that use it",
-            "warning",
-            UNLINKED_CLOUD,
-        )
-        for cloud in system.containers
-        if isinstance(cloud, T.CloudContainer) and cloud.nodes and id(cloud) not in reached
-    ]

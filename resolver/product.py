@@ -56,11 +56,16 @@ class ResolvedProduct:
         return FlowTable.of(self.system)
 
 
-def node_keys(system: tsm_types.System) -> dict[int, str]:
+def node_keys(
+    system: tsm_types.System, left_out: dict[int, list[tsm_types.Node]] | None = None
+) -> dict[int, str]:
     """How reports name each node of ``system`` (by ``id``): its name, or
     ``CONTAINER.NODE`` when two containers hold a node of that name (docs/semantics.md
-    allows it), so a manifest or summary never folds two nodes into one entry."""
-    nodes = [(c.name, n) for c in system.containers for n in c.nodes]
+    allows it), so a manifest or summary never folds two nodes into one entry. A
+    product's copy of its template names with its own the nodes it left out of each
+    container (``left_out``, by the container's id: :mod:`spl.resolver.pruning`)."""
+    left = left_out or {}
+    nodes = [(c.name, n) for c in system.containers for n in [*c.nodes, *left.get(id(c), ())]]
     counts: dict[str, int] = {}
     for _, node in nodes:
         counts[node.name] = counts.get(node.name, 0) + 1

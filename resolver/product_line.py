@@ -74,6 +74,15 @@ class ProductLine:
 
         return reached_topics(self.tsm)
 
+    @cached_property
+    def unreferred_optionals(self) -> dict[int, int]:
+        """The template's optional nodes and stores nothing else in it refers into, and
+        what they hold (:func:`spl.resolver.pruning.unreferred_optionals`), found once:
+        a product whose elements name none of one leaves it out of its copy."""
+        from spl.resolver.pruning import unreferred_optionals
+
+        return unreferred_optionals(self.tsm)
+
     @property
     def name(self) -> str:
         return self.directory.resolve().name

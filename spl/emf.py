@@ -9,7 +9,7 @@ so errors in a resolved model still point into the original file.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Container, Iterator
 from typing import Any
 
 from ordered_set import OrderedSet
@@ -22,9 +22,8 @@ _NAMES: dict[int, str] = {}  # each class's name, with its plan (pyecore reads i
 
 
 def remove_all(collection: Any, values: list[EObject]) -> None:
-    """``collection.remove(v)`` for each of ``values``, in time linear in the
-    collection: pyecore's ordered sets renumber every later member on each removal, so
-    a product dropping half of 10,000 optional nodes one by one took quadratic time."""
+    """``collection.remove(v)`` for each of ``values``, in time linear in the collection:
+    pyecore's ordered sets renumber every later member on each removal (quadratic)."""
     if len(values) < 8:  # the usual few: as pyecore does it
         for value in values:
             collection.remove(value)
@@ -71,25 +70,28 @@ def copy_model(root: EObject) -> EObject:
     return copy_with_map(root)[0]
 
 
-def copy_with_map(root: EObject) -> tuple[EObject, dict[int, EObject]]:
-    """Like :func:`copy_model`, also returning ``id(original) -> copy`` for every element.
-
-    Models that refer into the original (a resolution model into its template) use the
-    map to find the element they mean in the copy. Values equal to the feature's
-    default are not set again: a copy costs what the model holds, not its metamodel.
-    """
-    copies, mapping = copy_trees([root])
+def copy_with_map(
+    root: EObject, left_out: Container[int] = ()
+) -> tuple[EObject, dict[int, EObject]]:
+    """Like :func:`copy_model` (but ``left_out``, see :func:`copy_trees`), with the map
+    ``id(original) -> copy``: a model referring into the original (a resolution model into
+    its template) finds its elements in the copy. A default value is not set again."""
+    copies, mapping = copy_trees([root], left_out=left_out)
     return copies[0], mapping
 
 
 def copy_trees(
-    roots: list[EObject], outside: Callable[[EObject], EObject] | None = None
+    roots: list[EObject],
+    outside: Callable[[EObject], EObject] | None = None,
+    left_out: Container[int] = (),
 ) -> tuple[list[EObject], dict[int, EObject]]:
-    """Deep copies of the containment trees under ``roots``, each reference to an element
-    of one of them remapped to its copy, and each other reference to what ``outside``
-    gives for its target (kept as it is without ``outside``); with the map of
-    :func:`copy_with_map`. The template rebuilt after an edit copies the declarations the
-    edit changed this way, their references into the others going to those kept."""
+    """Deep copies of the trees under ``roots``, each reference to an element of one of
+    them remapped to its copy, each other one to what ``outside`` gives for its target
+    (kept without ``outside``); with the map of :func:`copy_with_map`. The template
+    rebuilt after an edit copies the declarations the edit changed this way, their
+    references into the others going to those kept. The members of collections
+    ``left_out`` (by id) are not copied, nor what they hold: a product leaves out what
+    it drops before anything reads it (:mod:`spl.resolver.pruning`)."""
     mapping: dict[int, EObject] = {}
     pending: list[tuple[EObject, EObject, tuple]] = []
 
@@ -110,7 +112,9 @@ def copy_trees(
                 value = slot._value if type(slot) is EValue else getattr(src, name)
             if many:
                 if value:
-                    items = [clone(child) for child in value] if containment else list(value)
+                    items = list(value)
+                    if containment:
+                        items = [clone(c) for c in items if id(c) not in left_out]
                     if feature is not None:
                         _extend(dst, feature, name, items, containment)
                     else:

@@ -39,7 +39,9 @@ class NodeMigration(TransformationKind["rm_types.NodeMigration"]):
         target = ctx.copy_of(t.target)
         where = location_of(t)
         ctx.keep(node, f"it is migrated by {ctx.by()}", where)
-        resident = next((n for n in target.nodes if n.name == node.name and n is not node), None)
+        # the nodes the copy left out come first, as the template's own before those moved in
+        residents = [*ctx.left_out.get(id(target), ()), *target.nodes]
+        resident = next((n for n in residents if n.name == node.name and n is not node), None)
         if resident is not None:  # a container's nodes have distinct names (one ROS graph)
             ctx.sink.error(where, name_taken(node, target, resident))
             return
