@@ -22,12 +22,12 @@ import json
 import os
 import shutil
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 from spl import __version__
 from spl.dsl.tsm_printer import print_model
-from spl.generators.bundle_options import BundleInputs, BundleOptions
+from spl.generators.bundle_options import BundleInputs, BundleMemo, BundleOptions
 from spl.generators.bundle_paths import BundleFiles, BundlePathClash, Skipped, check_paths
 from spl.generators.json_text import indented
 from spl.generators.resolved_xmi import resolved_xmi
@@ -71,6 +71,9 @@ class Bundle:
     # the skipped paths a program missing on this machine left out (a picture not
     # rendered), which another machine writes: warned about, never the product's fault
     machine_skipped: frozenset[str]
+    # the memo it was written with: its validation reuses it (the Rapyuta sets it found
+    # clean are not checked again)
+    memo: BundleMemo = field(default_factory=BundleMemo, compare=False)
 
 
 # Generators that run an external program to render a picture; ``render_diagrams=False``
@@ -79,33 +82,44 @@ RENDERING = frozenset({"spl.generators.diagrams"})
 
 # What a generator reads beside the product, as keyword arguments of its ``generate``,
 # taken from the bundle's inputs when it runs: the options the bundle is written with,
-# and the product's Zenoh transport, computed once for kubernetes/ and zenoh/ together.
+# the product's Zenoh transport, computed once for kubernetes/ and zenoh/ together, and
+# the memo of the bundles written with this one.
 READS: dict[str, Callable[[BundleInputs], dict[str, object]]] = {
-    "spl.generators.diagrams": lambda inputs: {"render": inputs.options.render_diagrams},
+    "spl.generators.rapyuta": lambda inputs: {"clean": inputs.memo.clean},
+    "spl.generators.diagrams": lambda inputs: {
+        "render": inputs.options.render_diagrams,
+        "quoted": inputs.memo.quoted,
+    },
     "spl.generators.deploy": lambda inputs: {"options": inputs.options},
     "spl.generators.kubernetes": lambda inputs: {
         "options": inputs.options,
         "wiring": inputs.transport,
+        "plain": inputs.memo.plain,
     },
     "spl.generators.zenoh": lambda inputs: {"wiring": inputs.transport},
 }
 
 
-def build_bundle(product: ResolvedProduct, options: BundleOptions | None = None) -> Bundle:
+def build_bundle(
+    product: ResolvedProduct,
+    options: BundleOptions | None = None,
+    memo: BundleMemo | None = None,
+) -> Bundle:
     """Every file of the product's bundle (of the ``options``' targets, default all), in
     memory, and the files that were skipped; without ``render_diagrams`` no picture is
-    rendered."""
+    rendered. ``memo``: the one of the bundles written with it (a run over many
+    products), else the bundle's own."""
     options = BundleOptions() if options is None else options
     targets = tuple(TARGETS) if options.targets is None else options.targets
+    inputs = BundleInputs(product, options, memo)  # the transport dies with this bundle
     files = BundleFiles(
         {
             "resolved.tsm": print_model(product.system).encode("utf-8"),
-            "resolved.xmi": resolved_xmi(product.system),
+            "resolved.xmi": resolved_xmi(product.system, inputs.memo.xmi),
         }
     )
     skipped: dict[str, str] = {}
     machine_skipped: set[str] = set()
-    inputs = BundleInputs(product, options)  # this bundle's own: the transport dies with it
     for module_name in (m for target in targets for m in TARGETS[target]):
         generate = importlib.import_module(module_name).generate
         reads = READS.get(module_name)
@@ -123,7 +137,7 @@ def build_bundle(product: ResolvedProduct, options: BundleOptions | None = None)
     skipped = dict(sorted(skipped.items()))
     check_paths([*files, "manifest.json"])
     files["manifest.json"] = manifest(product, files, skipped, targets)
-    return Bundle(dict(sorted(files.items())), skipped, frozenset(machine_skipped))
+    return Bundle(dict(sorted(files.items())), skipped, frozenset(machine_skipped), inputs.memo)
 
 
 def bundle_files(product: ResolvedProduct) -> dict[str, bytes]:

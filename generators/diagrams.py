@@ -263,11 +263,14 @@ def _legend(graph: graphviz.Digraph) -> None:
 
 
 def architecture_graph(
-    system: tsm_types.System, product: ResolvedProduct | None = None
+    system: tsm_types.System,
+    product: ResolvedProduct | None = None,
+    quoted: dict[tuple[type, str], str] | None = None,
 ) -> graphviz.Digraph:
     """The resolved (or template) architecture in the notation of the paper's Fig. 4
-    (docs/index.md)."""
-    graph = Digraph(name=system.name or "system")
+    (docs/index.md); ``quoted``: Graphviz's quoting of the texts met so far by the
+    diagrams drawn with this one (a run's), else the diagram's own."""
+    graph = Digraph(name=system.name or "system", quoted=quoted)
     graph.attr(
         rankdir="LR",
         fontname=FONT,
@@ -306,7 +309,11 @@ def architecture_graph(
     return graph
 
 
-def generate(product: ResolvedProduct, render: bool = True) -> dict[str, bytes | Skipped]:
+def generate(
+    product: ResolvedProduct,
+    render: bool = True,
+    quoted: dict[tuple[type, str], str] | None = None,
+) -> dict[str, bytes | Skipped]:
     """``architecture.dot`` (the Graphviz source, always) and ``architecture.svg``
     (unless ``render`` is false: ``spl validate`` checks many products and would pay one
     ``dot`` process each for a picture nobody looks at).
@@ -315,7 +322,7 @@ def generate(product: ResolvedProduct, render: bool = True) -> dict[str, bytes |
     (the least important file must not take the bundle down) and the source can be
     rendered later with ``dot -Tsvg architecture.dot``.
     """
-    graph = architecture_graph(product.system, product)
+    graph = architecture_graph(product.system, product, quoted)
     files: dict[str, bytes | Skipped] = {"architecture.dot": graph.source.encode("utf-8")}
     if not render:
         return files

@@ -44,7 +44,7 @@ from spl import __version__
 from spl.diagnostics import Diagnostic, ModelError
 from spl.generators import kubernetes_fleet, ros1, ros2_launch
 from spl.generators.bundle import TARGETS, build_bundle, manifest
-from spl.generators.bundle_options import BundleOptions, FleetInputs
+from spl.generators.bundle_options import BundleMemo, BundleOptions, FleetInputs
 from spl.generators.json_text import Document
 from spl.generators.kubernetes import namespace_file
 from spl.generators.launch_xml import serialize
@@ -115,11 +115,11 @@ SHARED_INSTANCE_GENERATORS: tuple[
 
 
 def _robot_files(
-    deployment: FleetDeployment, entry: RobotProduct, options: BundleOptions
+    deployment: FleetDeployment, entry: RobotProduct, options: BundleOptions, memo: BundleMemo
 ) -> dict[str, bytes]:
     """The robot's bundle with its cloud launch files cut down to its private instances."""
     product = entry.product
-    files = build_bundle(product, replace(options, targets=ROBOT_TARGETS)).files
+    files = build_bundle(product, replace(options, targets=ROBOT_TARGETS), memo).files
     del files["manifest.json"]
     namespace = options.namespace_of(product.name)
     if namespace != options.namespace_of(deployment.check.fleet.name) and any(
@@ -182,12 +182,12 @@ def _fleet_files(inputs: FleetInputs) -> dict[str, bytes]:
     per_robot: dict[str, list[str]] = {}
     for entry in deployment.robots:
         prefix = f"robots/{entry.robot.name}/"
-        own = _robot_files(deployment, entry, options)
+        own = _robot_files(deployment, entry, options, inputs.memo)
         for name, document in configurations(entry.product).items():
             documents[f"{prefix}rapyuta/{name}.json"] = document
         files.update({prefix + path: data for path, data in own.items()})
     declare_once(documents)  # each shared instance by the first robot's file using it
-    problems = check_all(list(documents.values()), list(documents))
+    problems = check_all(list(documents.values()), list(documents), inputs.memo.clean)
     if problems:
         raise ModelError([Diagnostic(None, f"fleet Rapyuta files refused: {p}") for p in problems])
     files.update({path: render(document) for path, document in documents.items()})

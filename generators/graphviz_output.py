@@ -9,12 +9,13 @@ the same model gives the same bytes on any machine with the same layout engine.
 
 from __future__ import annotations
 
-import functools
 import html
 import os
 import re
-from collections.abc import Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping
+from functools import partial
 from pathlib import Path
+from typing import Any
 
 import graphviz
 from graphviz import _tools, quoting
@@ -30,32 +31,18 @@ Attributes = Mapping[str, str | None] | Iterable[tuple[str, str | None]]
 
 # Graphviz's own quoting, without the check for deprecated positional arguments that
 # wraps every call (a product's diagram quotes some 400 ids and attributes, and the
-# check cost as much as the quoting); remembered per text *and type*: the same text
-# quotes differently as a ``graphviz.escape``-d (NoHtml) string than as a plain one.
-_QUOTED: dict[tuple[type, str], str] = {}
-_graphviz_quote = quoting.quote.__wrapped__
+# check cost as much as the quoting).
+_quote: Callable[[str], str] = quoting.quote.__wrapped__
 
 
-def _quote(identifier: str) -> str:
-    """graphviz.quoting.quote(identifier), computed once per text and type."""
-    key = (type(identifier), identifier)
-    quoted = _QUOTED.get(key)
-    if quoted is None:
-        if len(_QUOTED) >= 65_536:
-            _QUOTED.clear()
-        quoted = _QUOTED[key] = _graphviz_quote(identifier)
-    return quoted
-
-
-@functools.lru_cache(maxsize=65_536)
-def _quote_edge(identifier: str) -> str:
+def _quote_edge(identifier: str, quote: Callable[[str], str] = _quote) -> str:
     """``node[:port[:compass]]`` quoted as graphviz.quoting.quote_edge does it (its
-    parts are plain strings whatever ``identifier``'s type, so the text is the key)."""
+    parts are plain strings whatever ``identifier``'s type)."""
     node, _, rest = identifier.partition(":")
-    parts = [_quote(node)]
+    parts = [quote(node)]
     if rest:
         port, _, compass = rest.partition(":")
-        parts.append(_quote(port))
+        parts.append(quote(port))
         if compass:
             parts.append(compass)
     return ":".join(parts)
@@ -65,16 +52,17 @@ def _a_list(
     label: str | None = None,
     kwargs: Mapping[str, str | None] | None = None,
     attributes: Attributes | None = None,
+    quote: Callable[[str], str] = _quote,
 ) -> str:
-    """graphviz.quoting.a_list with the remembered quoting (plain dicts sorted, as there)."""
-    result = [f"label={_quote(label)}"] if label is not None else []
+    """graphviz.quoting.a_list without the argument check (plain dicts sorted, as there)."""
+    result = [f"label={quote(label)}"] if label is not None else []
     if kwargs:
         result += [
-            f"{_quote(k)}={_quote(v)}" for k, v in _tools.mapping_items(kwargs) if v is not None
+            f"{quote(k)}={quote(v)}" for k, v in _tools.mapping_items(kwargs) if v is not None
         ]
     if attributes:
         items = _tools.mapping_items(attributes) if hasattr(attributes, "items") else attributes
-        result += [f"{_quote(k)}={_quote(v)}" for k, v in items if v is not None]
+        result += [f"{quote(k)}={quote(v)}" for k, v in items if v is not None]
     return " ".join(result)
 
 
@@ -82,20 +70,45 @@ def _attr_list(
     label: str | None = None,
     kwargs: Mapping[str, str | None] | None = None,
     attributes: Attributes | None = None,
+    quote: Callable[[str], str] = _quote,
 ) -> str:
-    """graphviz.quoting.attr_list with the remembered quoting."""
-    content = _a_list(label, kwargs=kwargs, attributes=attributes)
+    """graphviz.quoting.attr_list without the argument check."""
+    content = _a_list(label, kwargs=kwargs, attributes=attributes, quote=quote)
     return f" [{content}]" if content else ""
 
 
 class Digraph(graphviz.Digraph):
-    """graphviz.Digraph writing the same source with :func:`_quote` (its subgraphs are
-    of the same class); tests/test_graphviz_output.py checks the bytes equal."""
+    """graphviz.Digraph writing the same source without graphviz's argument checks, each
+    text quoted once per diagram (its subgraphs are of the same class and share the
+    diagram's quoting: a diagram repeats its attribute names and ids hundreds of times);
+    tests/generators/test_graphviz_quoting.py checks the bytes equal."""
 
-    _quote = staticmethod(_quote)
-    _quote_edge = staticmethod(_quote_edge)
-    _a_list = staticmethod(_a_list)
-    _attr_list = staticmethod(_attr_list)
+    def __init__(
+        self, *args: Any, quoted: dict[tuple[type, str], str] | None = None, **kwargs: Any
+    ) -> None:
+        super().__init__(*args, **kwargs)
+        # by type and text: the same text quotes differently as a graphviz.escape-d
+        # (NoHtml) string than as a plain one
+        memo: dict[tuple[type, str], str] = {} if quoted is None else quoted
+        self._quoted = memo
+
+        def quote(identifier: str) -> str:
+            key = (type(identifier), identifier)
+            found = memo.get(key)
+            if found is None:
+                found = memo[key] = _quote(identifier)
+            return found
+
+        # graphviz calls these on the graph: bound here to this diagram's memo
+        self._quote = quote
+        self._quote_edge = partial(_quote_edge, quote=quote)
+        self._a_list = partial(_a_list, quote=quote)
+        self._attr_list = partial(_attr_list, quote=quote)
+
+    def _copy_kwargs(self, **kwargs: Any) -> dict[str, Any]:
+        """graphviz's, and the memo: a subgraph (made from these) shares its diagram's."""
+        return {**super()._copy_kwargs(**kwargs), "quoted": self._quoted}
+
     # graphviz's own statements, without the positional-argument check around each call
     # (spl passes attributes by keyword only)
     node = graphviz.Digraph.node.__wrapped__

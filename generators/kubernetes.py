@@ -59,11 +59,13 @@ def instance_file(
     placed: Placed,
     bridges: tuple[CloudBridge, ...] = (),
     kind: str = "product",
+    plain: dict[str, bool] | None = None,
 ) -> bytes:
-    """``<name>.yaml`` of one cloud instance of ``owner``, a product or (``kind``) a fleet."""
+    """``<name>.yaml`` of one cloud instance of ``owner``, a product or (``kind``) a
+    fleet; ``plain``: the YAML strings found plain so far (:func:`render`)."""
     documents = instance_documents(owner, instance, name, launch, list(bridges), placed)
     what = f"{instance.place.describe()} as {instance.place.tag}"
-    return render(documents, title(owner, what, kind))
+    return render(documents, title(owner, what, kind), plain)
 
 
 def transport_note(wiring: Transport) -> str:
@@ -161,12 +163,14 @@ def generate(
     product: ResolvedProduct,
     options: BundleOptions | None = None,
     wiring: Transport | None = None,
+    plain: dict[str, bool] | None = None,
 ) -> dict[str, bytes]:
     """``kubernetes/``: one manifest per cloud instance, the Zenoh router, kustomization
     and README, in the namespace ``options`` give (default ``spl resolve``'s); nothing
     when a name cannot map (a located error instead). ``wiring`` is the product's
     transport, the one its ``zenoh/`` is written from (a bundle computes it once for
-    both); computed here when not given."""
+    both); computed here when not given. ``plain``: the bundle memo's YAML strings."""
+    plain = {} if plain is None else plain
     errors: list[Diagnostic] = []
     placement = Placement(product.system, errors, flows=product.flows)
     instances = placement.cloud_instances()
@@ -187,11 +191,13 @@ def generate(
         )
         bridges = wiring.cloud_bridges.get(instance.place.tag, []) if wiring.carried else []
         files[f"kubernetes/{name}.yaml"] = instance_file(
-            product.name, instance, name, launch, placed, tuple(bridges)
+            product.name, instance, name, launch, placed, tuple(bridges), plain=plain
         )
     if wiring.routed:
         files[f"kubernetes/{ROUTER}.yaml"] = render(
-            router_documents(product.name, wiring, placed), title(product.name, "Zenoh router")
+            router_documents(product.name, wiring, placed),
+            title(product.name, "Zenoh router"),
+            plain,
         )
     files["kubernetes/kustomization.yaml"] = kustomization(
         [path.removeprefix("kubernetes/") for path in files]

@@ -110,7 +110,7 @@ def fleet_files(
         # (robots/<robot>/deploy/), so the fleet's instances connect to Zenoh only
         placed = Placed(namespace, product, connections)
         files[path] = kubernetes.instance_file(
-            fleet, instance, name, launch, placed, bridges, "fleet"
+            fleet, instance, name, launch, placed, bridges, "fleet", inputs.memo.plain
         )
         if robot is None:
             per_instance.setdefault(instance.place.tag, []).append(path)
@@ -119,7 +119,7 @@ def fleet_files(
     if wiring.routed:
         documents = router_documents(fleet, wiring, Placed(namespace, None, connections))
         files[f"kubernetes/{ROUTER}.yaml"] = render(
-            documents, title(fleet, "Zenoh router", "fleet")
+            documents, title(fleet, "Zenoh router", "fleet"), inputs.memo.plain
         )
     files["kubernetes/kustomization.yaml"] = kubernetes.kustomization(
         [path.removeprefix("kubernetes/") for path in files]

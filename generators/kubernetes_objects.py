@@ -151,12 +151,13 @@ PYTHON_DUMPER = _dumper(yaml.SafeDumper)
 DUMPER = _dumper(getattr(yaml, "CSafeDumper", yaml.SafeDumper))
 # Documents of the shapes kubernetes_yaml writes are written by it (the emitters' bytes,
 # tests/test_kubernetes_yaml.py), others by DUMPER; None: every document by DUMPER.
-WRITER: Callable[[list[Document], type], str | None] | None = block_yaml
+WRITER: Callable[[list[Document], type, dict[str, bool] | None], str | None] | None = block_yaml
 
 
-def render(documents: list[Document], header: str) -> bytes:
-    """Documents as one YAML stream, keys in the order built, a comment header."""
-    body = WRITER(documents, _Literal) if WRITER is not None else None
+def render(documents: list[Document], header: str, plain: dict[str, bool] | None = None) -> bytes:
+    """Documents as one YAML stream, keys in the order built, a comment header;
+    ``plain``: the strings found plain so far by the caller (:func:`block_yaml`)."""
+    body = WRITER(documents, _Literal, plain) if WRITER is not None else None
     if body is None:
         body = yaml.dump_all(
             documents, Dumper=DUMPER, sort_keys=False, default_flow_style=False, width=2**16

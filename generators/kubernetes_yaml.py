@@ -37,95 +37,105 @@ _SIMPLE_KEY = 128  # PyYAML writes a longer key as a complex key ("? ...")
 _LITERAL = re.compile(r"[\x21-\x7e][\x20-\x7e\n]*(?<![ \n])\n")
 
 _RESOLVER = yaml.resolver.Resolver()
-_PLAIN: dict[str, bool] = {}
 
 
 class Unsupported(Exception):
     """A value outside the shapes written here."""
 
 
-def block_yaml(documents: list[Document], literal: type) -> str | None:
+def block_yaml(
+    documents: list[Document], literal: type, plain: dict[str, bool] | None = None
+) -> str | None:
     """The YAML stream of ``documents`` as ``yaml.dump_all`` writes it, or None when a
     document holds a value outside the shapes written here; ``literal`` is the str
-    subclass of the strings to be written as literal blocks."""
-    out: list[str] = []
+    subclass of the strings to be written as literal blocks. ``plain``: which strings are
+    written plain, as found so far by the caller's streams (a bundle's, a run's), else
+    this stream's own."""
+    writer = _BlockWriter(literal, {} if plain is None else plain)
     try:
         for index, document in enumerate(documents):
             if type(document) is not dict or not document:
                 raise Unsupported
             if index:
-                out.append("---\n")
-            _mapping(document, 0, True, out, literal)
-            out.append("\n")
+                writer.out.append("---\n")
+            writer.mapping(document, 0, True)
+            writer.out.append("\n")
     except Unsupported:
         return None
-    return "".join(out)
+    return "".join(writer.out)
 
 
-def _mapping(data: dict, indent: int, inline: bool, out: list[str], literal: type) -> None:
-    for key, value in data.items():
-        if not inline:
-            out.append("\n" + " " * indent)
-        inline = False
-        if type(key) is not str or len(key) >= _SIMPLE_KEY:
-            raise Unsupported
-        out.append(_scalar(key) + ":")
-        kind = type(value)
-        if kind is dict and value:
-            _mapping(value, indent + 2, False, out, literal)
-        elif kind is list and value:
-            _sequence(value, indent, False, out, literal)  # indentless under a key
-        elif kind is literal:
-            if not _LITERAL.fullmatch(value) or " \n" in value:
+class _BlockWriter:
+    """One stream being written: its text so far, and which strings are plain (asked of
+    PyYAML's resolver once per text: manifests repeat their label keys and names many
+    times)."""
+
+    def __init__(self, literal: type, plain: dict[str, bool]) -> None:
+        self.literal = literal
+        self.out: list[str] = []
+        self.plain = plain
+
+    def mapping(self, data: dict, indent: int, inline: bool) -> None:
+        out = self.out
+        for key, value in data.items():
+            if not inline:
+                out.append("\n" + " " * indent)
+            inline = False
+            if type(key) is not str or len(key) >= _SIMPLE_KEY:
                 raise Unsupported
-            lines = value[:-1].split("\n")
-            margin = " " * (indent + 2)
-            out.append(" |" + "".join(f"\n{margin}{line}" if line else "\n" for line in lines))
-        else:
-            out.append(" " + _value(value))
+            out.append(self.scalar(key) + ":")
+            kind = type(value)
+            if kind is dict and value:
+                self.mapping(value, indent + 2, False)
+            elif kind is list and value:
+                self.sequence(value, indent, False)  # indentless under a key
+            elif kind is self.literal:
+                if not _LITERAL.fullmatch(value) or " \n" in value:
+                    raise Unsupported
+                lines = value[:-1].split("\n")
+                margin = " " * (indent + 2)
+                out.append(" |" + "".join(f"\n{margin}{line}" if line else "\n" for line in lines))
+            else:
+                out.append(" " + self.value(value))
 
+    def sequence(self, items: list, indent: int, inline: bool) -> None:
+        out = self.out
+        for item in items:
+            if not inline:
+                out.append("\n" + " " * indent)
+            inline = False
+            out.append("- ")
+            kind = type(item)
+            if kind is dict and item:
+                self.mapping(item, indent + 2, True)
+            elif kind is list and item:
+                self.sequence(item, indent + 2, True)
+            elif kind is self.literal:
+                raise Unsupported
+            else:
+                out.append(self.value(item))
 
-def _sequence(items: list, indent: int, inline: bool, out: list[str], literal: type) -> None:
-    for item in items:
-        if not inline:
-            out.append("\n" + " " * indent)
-        inline = False
-        out.append("- ")
-        kind = type(item)
-        if kind is dict and item:
-            _mapping(item, indent + 2, True, out, literal)
-        elif kind is list and item:
-            _sequence(item, indent + 2, True, out, literal)
-        elif kind is literal:
-            raise Unsupported
-        else:
-            out.append(_value(item))
+    def value(self, value: object) -> str:
+        kind = type(value)
+        if kind is str:
+            return self.scalar(cast(str, value))
+        if kind is bool:
+            return "true" if value else "false"
+        if kind is int:
+            return str(value)
+        if value is None:
+            return "null"
+        if kind is dict:  # empty ones: written in flow style
+            return "{}"
+        if kind is list:
+            return "[]"
+        raise Unsupported
 
-
-def _value(value: object) -> str:
-    kind = type(value)
-    if kind is str:
-        return _scalar(cast(str, value))
-    if kind is bool:
-        return "true" if value else "false"
-    if kind is int:
-        return str(value)
-    if value is None:
-        return "null"
-    if kind is dict:  # empty ones: written in flow style
-        return "{}"
-    if kind is list:
-        return "[]"
-    raise Unsupported
-
-
-def _scalar(text: str) -> str:
-    plain = _PLAIN.get(text)
-    if plain is None:
-        if len(text) > _LONGEST or not _SIMPLE.fullmatch(text):
-            raise Unsupported
-        if len(_PLAIN) >= 50_000:
-            _PLAIN.clear()
-        tag = _RESOLVER.resolve(yaml.ScalarNode, text, (True, False))
-        plain = _PLAIN[text] = tag == _RESOLVER.DEFAULT_SCALAR_TAG
-    return text if plain else f"'{text}'"
+    def scalar(self, text: str) -> str:
+        plain = self.plain.get(text)
+        if plain is None:
+            if len(text) > _LONGEST or not _SIMPLE.fullmatch(text):
+                raise Unsupported
+            tag = _RESOLVER.resolve(yaml.ScalarNode, text, (True, False))
+            plain = self.plain[text] = tag == _RESOLVER.DEFAULT_SCALAR_TAG
+        return text if plain else f"'{text}'"

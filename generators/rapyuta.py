@@ -39,7 +39,7 @@ import yaml
 from spl.diagnostics import Diagnostic, ModelError, location_of
 from spl.generators.json_text import Document, indented
 from spl.generators.rapyuta_bridges import Bridges
-from spl.generators.rapyuta_rules import check_all
+from spl.generators.rapyuta_rules import CleanSets, check_all
 from spl.resolver.placement import Place, Placement
 from spl.resolver.product import ResolvedProduct
 from spl.resolver.ros_names import in_namespace
@@ -311,11 +311,13 @@ def render(document: Document) -> bytes:
     return (indented(document, sort_keys=True, allow_nan=False) + "\n").encode()
 
 
-def generate(product: ResolvedProduct) -> dict[str, bytes]:
-    """``rapyuta/<robot>.json`` for every robot container of the product."""
+def generate(product: ResolvedProduct, clean: CleanSets | None = None) -> dict[str, bytes]:
+    """``rapyuta/<robot>.json`` for every robot container of the product, checked against
+    the engine's rules (``clean``: the file sets found clean by the bundles written with
+    this one, which the check adds to)."""
     documents = configurations(product)
     names = [f"{name}.json" for name in documents]
-    problems = check_all(list(documents.values()), names)
+    problems = check_all(list(documents.values()), names, clean)
     if problems:
         raise ModelError(
             [Diagnostic(None, f"generated Rapyuta configuration refused: {p}") for p in problems]

@@ -38,31 +38,51 @@ CONNECTABLE = {
 }
 
 
-def check_all(configs: Sequence[object], names: Sequence[str]) -> list[ConfigurationProblem]:
-    """Schema and engine rules together: what a product's file set must pass."""
-    key = _content_key(configs, names)
-    if key is not None and key in _CLEAN:
-        _CLEAN.move_to_end(key)
+def check_all(
+    configs: Sequence[object], names: Sequence[str], clean: CleanSets | None = None
+) -> list[ConfigurationProblem]:
+    """Schema and engine rules together: what a product's file set must pass; a set
+    ``clean`` already holds is not checked again, and one found clean is added to it."""
+    key = _content_key(configs, names) if clean is not None else None
+    if clean is not None and key is not None and clean.holds(key):
         return []
     problems: list[ConfigurationProblem] = []
     for config, name in zip(configs, names, strict=True):
         problems.extend(schema_problems(config, name))
     problems += check_configurations(configs, names)
-    if not problems and key is not None:
-        _CLEAN[key] = None
-        if len(_CLEAN) > CLEAN_SETS:
-            _CLEAN.popitem(last=False)
+    if not problems and clean is not None and key is not None:
+        clean.add(key)
     return problems
 
 
-# File sets found clean in this process, by content. A product's files are checked when
-# they are generated and again when `spl validate` reads its bundle back, and the
-# products of a line share many robots' files; the check is a function of the content
-# alone, and that a set passes does not depend on the order of any object's keys, so a
-# set equal to one already found clean is clean. Only clean sets are kept (problems are
-# reported in full, in the order of the keys they name); the oldest go first.
 CLEAN_SETS = 512
-_CLEAN: OrderedDict[str, None] = OrderedDict()
+
+
+class CleanSets:
+    """File sets found clean, by content, kept by whoever checks many (a bundle's
+    generation and its validation, a run of ``spl validate`` over a line's products, which
+    share many robots' files) and passed to :func:`check_all`. The check is a function of
+    the content alone, and that a set passes does not depend on the order of any object's
+    keys, so a set equal to one found clean is clean. Only clean sets are kept (problems
+    are reported in full, in the order of the keys they name); past ``limit`` the oldest
+    go first."""
+
+    def __init__(self, limit: int = CLEAN_SETS) -> None:
+        self.limit = limit
+        self.keys: OrderedDict[str, None] = OrderedDict()
+
+    def holds(self, key: str) -> bool:
+        if key in self.keys:
+            self.keys.move_to_end(key)
+            return True
+        return False
+
+    def add(self, key: str) -> None:
+        self.keys[key] = None
+        if len(self.keys) > self.limit:
+            self.keys.popitem(last=False)
+
+
 _JSON_SCALARS = (str, int, float, bool, type(None))
 
 

@@ -4,11 +4,12 @@ The file is what pyecore's XMI writer writes (the format other EMF tools read ba
 byte for byte. For the models spl writes (one package, references inside the file, text
 an XML file can hold) the text is written directly, as lxml's pretty printer lays out the
 elements pyecore builds, each feature's role in the file (skipped, attribute, reference,
-containment) looked up once per file: pyecore builds an lxml element per model
-element and asks the metamodel these questions again for every element and reference
-it writes, through its descriptors (a product's model took about 1.2 ms; the text takes
-a half of that). Every other model goes through pyecore's writer itself.
-tests/test_resolved_xmi.py checks the bytes equal to pyecore's own writer's.
+containment) looked up once per file or per run (:class:`MetamodelRoles`): pyecore
+builds an lxml element per model element and asks the metamodel these questions again
+for every element and reference it writes, through its descriptors (a product's model
+took about 1.2 ms; the text takes a half of that). Every other model goes through
+pyecore's writer itself. tests/generators/test_resolved_xmi.py checks the bytes equal to
+pyecore's own writer's.
 """
 
 from __future__ import annotations
@@ -76,6 +77,17 @@ _ESCAPES = str.maketrans(
 )
 
 
+class MetamodelRoles:
+    """Each feature's role in the file and each class's ID attribute, looked up once by
+    whoever keeps this (a bundle, or a run writing many: :class:`BundleMemo
+    <spl.generators.bundle_options.BundleMemo>`); by id, as the metamodel holding them
+    outlives every file."""
+
+    def __init__(self) -> None:
+        self.roles: dict[int, Role] = {}
+        self.id_attributes: dict[int, EStructuralFeature | None] = {}
+
+
 class _Elsewhere(Exception):
     """Something the direct text does not cover: pyecore's writer writes the model."""
 
@@ -93,17 +105,16 @@ class _XMIText:
     which a referenced element stands for its path (its URI fragment,
     ``//@containers.0/@topics.5``), filled in once every path is known."""
 
-    def __init__(self, root: EObject) -> None:
+    def __init__(self, root: EObject, known: MetamodelRoles | None = None) -> None:
+        known = MetamodelRoles() if known is None else known
         self.package = root.eClass.ePackage
         self.prefix = self.package.nsPrefix
         if not self.package.nsURI or not self.prefix or self.prefix in ("xmi", "xsi"):
             raise _Elsewhere
         self.paths = {id(root): "/"}
         self.typed = False  # an xsi:type written: the root declares the xsi namespace
-        # each feature's role and each class's ID attribute, looked up once for the file
-        # (by id: the metamodel, holding them, outlives the file)
-        self.roles: dict[int, Role] = {}
-        self.id_attributes: dict[int, EStructuralFeature | None] = {}
+        self.roles = known.roles
+        self.id_attributes = known.id_attributes
         # text, or a referenced element standing for its path (None: the root's start tag)
         self.out: list[str | EObject | None] = []
 
@@ -204,12 +215,13 @@ class _XMIText:
         return target
 
 
-def resolved_xmi(system: EObject) -> bytes:
+def resolved_xmi(system: EObject, known: MetamodelRoles | None = None) -> bytes:
     """The model under ``system`` as XMI bytes (for another model than spl's, the model
-    is put in a resource for pyecore's write and taken out again)."""
+    is put in a resource for pyecore's write and taken out again); ``known``: the roles
+    looked up so far by the caller's files, else this file's own."""
     if system.eContainer() is None and system.eResource is None:
         try:
-            return _XMIText(system).document(system)
+            return _XMIText(system, known).document(system)
         except _Elsewhere:
             pass
     resource = XMIResource(URI("resolved.xmi"))

@@ -23,7 +23,7 @@ from lxml import etree
 
 from spl.generators.kubernetes_objects import with_known_tags
 from spl.generators.launch_schema import validate_ros1_launch, validate_ros2_launch
-from spl.generators.rapyuta_rules import check_all
+from spl.generators.rapyuta_rules import CleanSets, check_all
 
 # libyaml's parser when PyYAML has it (Debian's and PyPI's wheels do): the same documents,
 # ten times faster than the pure-Python one on the Kubernetes manifests of every product;
@@ -32,8 +32,10 @@ YAML_LOADER = with_known_tags(getattr(yaml, "CSafeLoader", yaml.SafeLoader))
 _YAML_PARSER = getattr(getattr(yaml, "_yaml", None), "CParser", None)
 
 
-def validate_bundle(files: dict[str, bytes]) -> list[str]:
-    """Problems found in the bundle ``files`` (bundle path -> bytes); empty when valid."""
+def validate_bundle(files: dict[str, bytes], clean: CleanSets | None = None) -> list[str]:
+    """Problems found in the bundle ``files`` (bundle path -> bytes); empty when valid.
+    ``clean``: the Rapyuta file sets found clean so far (the bundle's memo), not checked
+    again."""
     problems: list[str] = []
     configs, config_names = [], []
     digests = {path: hashlib.sha256(data).hexdigest() for path, data in files.items()}
@@ -59,7 +61,7 @@ def validate_bundle(files: dict[str, bytes]) -> list[str]:
             _CLEAN_FILES[key] = None
             if len(_CLEAN_FILES) > CLEAN_FILES:
                 _CLEAN_FILES.popitem(last=False)
-    problems += [str(p) for p in check_all(configs, config_names)] if configs else []
+    problems += [str(p) for p in check_all(configs, config_names, clean)] if configs else []
     problems += _manifest_problems(files, digests)
     return problems
 

@@ -28,7 +28,7 @@ import time
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Literal
+from typing import TYPE_CHECKING, Literal
 
 from spl import __version__
 from spl.diagnostics import ModelError, counted
@@ -36,6 +36,9 @@ from spl.dsl.cyclic_gc import without_cyclic_gc
 from spl.lifetime import checkpointed, die_with_parent, raise_if_signalled, unwind_on_signals
 from spl.pipeline import ProductWarning, load_line
 from spl.resolver.product_line import ProductLine
+
+if TYPE_CHECKING:
+    from spl.generators.bundle_options import BundleMemo
 
 Outcome = Literal["passed", "failed", "error"]
 LINE_CASE = "(product line)"  # the test case of a line whose models do not load
@@ -204,6 +207,9 @@ class CaseChecks:
 
     rehearse: Rehearsal | None = None
     diagrams: bool = False
+    # what the run's bundles share (generators/bundle_options.py): run_cases makes one
+    # per run; None: each product's bundle its own
+    memo: BundleMemo | None = None
 
 
 def run_case(
@@ -222,7 +228,7 @@ def run_case(
         else:
             selection = selection_from_list(",".join(case.features), name="_".join(case.features))
         options = BundleOptions(render_diagrams=checks.diagrams)
-        derivation = pipeline.derive(line, selection, options)
+        derivation = pipeline.derive(line, selection, options, checks.memo)
         problems = pipeline.validate(derivation)
         checked = ""
         if checks.rehearse is not None and not problems:
@@ -292,9 +298,11 @@ def run_cases(
 ) -> list[CaseResult]:
     """Every case's result, in the order of ``cases``. ``jobs > 1`` uses forked worker
     processes."""
+    from spl.generators.bundle_options import BundleMemo
+
     results: list[CaseResult] = []
     global _LINES, _CHECKS
-    _LINES, _CHECKS = lines, checks
+    _LINES, _CHECKS = lines, checks if checks.memo else replace(checks, memo=BundleMemo())
     try:
         for result in _results(cases, jobs):
             results.append(result)

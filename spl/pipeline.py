@@ -26,7 +26,7 @@ from spl.dsl.workspace import Workspace
 
 if TYPE_CHECKING:
     from spl.generators.bundle import Bundle
-    from spl.generators.bundle_options import BundleOptions
+    from spl.generators.bundle_options import BundleMemo, BundleOptions
     from spl.resolver.engine import Resolution
     from spl.resolver.product_line import ProductLine
     from spl.resolver.product_selection import ProductSelection
@@ -93,16 +93,21 @@ def resolve_product(line: ProductLine, selection: ProductSelection) -> Resolutio
 
 
 def derive(
-    line: ProductLine, selection: ProductSelection, options: BundleOptions | None = None
+    line: ProductLine,
+    selection: ProductSelection,
+    options: BundleOptions | None = None,
+    memo: BundleMemo | None = None,
 ) -> Derivation:
     """Resolve the selection and generate its bundle in memory, written as ``options``
     say (default ``spl resolve``'s): every output target or the ones named (``--target``),
     diagrams rendered to SVG unless ``render_diagrams`` is false (their Graphviz source is
-    always generated), the Kubernetes objects in the ``--namespace`` chosen, if any."""
+    always generated), the Kubernetes objects in the ``--namespace`` chosen, if any.
+    ``memo``: the one the caller's bundles share (``spl validate``'s run), else the
+    bundle's own."""
     from spl.generators.bundle import build_bundle
 
     resolution = resolve_product(line, selection)
-    bundle = build_bundle(resolution.product, options)
+    bundle = build_bundle(resolution.product, options, memo)
     warnings = (
         *(ProductWarning(str(warning)) for warning in resolution.product.warnings),
         *(
@@ -118,7 +123,7 @@ def validate(derivation: Derivation) -> list[str]:
     XSDs, Rapyuta schema and rules, Python compiled, resolved model re-parsed, ...)."""
     from spl.bundle_validation import validate_bundle
 
-    return validate_bundle(derivation.bundle.files)
+    return validate_bundle(derivation.bundle.files, derivation.bundle.memo.clean)
 
 
 def write(derivation: Derivation, out: Path) -> None:

@@ -1,6 +1,6 @@
-"""The architecture diagram's Digraph with remembered quoting writes exactly the source
-graphviz's own Digraph writes, for every product of every shipped line, and its
-quoting cache tells a plain text from the same text escaped."""
+"""The architecture diagram's Digraph, quoting without graphviz's argument checks, writes
+exactly the source graphviz's own Digraph writes, for every product of every shipped
+line, and its quoting tells a plain text from the same text escaped."""
 
 from __future__ import annotations
 
@@ -20,6 +20,13 @@ ROOT = Path(__file__).resolve().parents[2]
 LINES = sorted(p for p in (ROOT / "product_lines").iterdir() if p.is_dir())
 
 
+class _GraphvizOwn(graphviz.Digraph):
+    """graphviz's own Digraph, taking (and ignoring) the memo spl's takes."""
+
+    def __init__(self, *args, quoted=None, **kwargs):
+        super().__init__(*args, **kwargs)
+
+
 @pytest.mark.parametrize("directory", LINES, ids=lambda p: p.name)
 def test_every_product_diagram_source_is_graphviz_own(directory, monkeypatch):
     line = load_product_line(directory)
@@ -28,7 +35,7 @@ def test_every_product_diagram_source_is_graphviz_own(directory, monkeypatch):
         product = resolve(line, ProductSelection("p", sorted(features))).product
         fast = diagrams.generate(product, render=False)
         with monkeypatch.context() as patch:
-            patch.setattr(diagrams, "Digraph", graphviz.Digraph)
+            patch.setattr(diagrams, "Digraph", _GraphvizOwn)
             own = diagrams.generate(product, render=False)
         assert fast == own
         products += 1
@@ -36,7 +43,7 @@ def test_every_product_diagram_source_is_graphviz_own(directory, monkeypatch):
 
 
 @pytest.mark.parametrize("first_plain", [True, False])
-def test_the_quoting_cache_keys_on_the_type_as_well_as_the_text(first_plain):
+def test_an_escaped_text_quotes_apart_from_the_same_plain_text(first_plain):
     # '<b>x</b>' plain is an HTML-like label (unquoted); escaped, it is a literal text
     texts = ["<<b>x</b>>", graphviz.escape("<<b>x</b>>")]
     if not first_plain:
@@ -59,3 +66,18 @@ def test_ids_attributes_and_edges_quote_as_graphviz_does(identifier):
     assert graphviz_output._a_list(None, attributes=[("k", identifier)]) == quoting.a_list(
         None, attributes=[("k", identifier)]
     )
+
+
+def test_a_diagram_and_its_subgraphs_share_the_memo_they_are_given(monkeypatch):
+    line = load_product_line(ROOT / "product_lines" / "mapping3d")
+    product = resolve(
+        line, ProductSelection("p", sorted(next(enumerate_products(line.fm))))
+    ).product
+    memo: dict = {}
+    first = diagrams.architecture_graph(product.system, product, memo).source
+    quoted = []
+    monkeypatch.setattr(graphviz_output, "_quote", lambda text: quoted.append(text) or text)
+    again = diagrams.architecture_graph(product.system, product, memo).source
+    assert again == first and quoted == []  # every text, subgraphs' included, remembered
+    alone = diagrams.architecture_graph(product.system, product).source
+    assert quoted and alone != first  # without one, it quotes on its own (here: wrongly)

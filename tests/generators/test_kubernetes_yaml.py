@@ -183,8 +183,8 @@ def test_declines_what_it_does_not_write(docs):
 def test_every_shipped_manifest_is_written_directly(monkeypatch):
     declined = []
 
-    def writer(documents, literal):
-        written = block_yaml(documents, literal)
+    def writer(documents, literal, plain):
+        written = block_yaml(documents, literal, plain)
         if written is None:
             declined.append(documents)
         return written

@@ -179,34 +179,40 @@ def test_damaged_configurations_get_the_same_errors_as_from_the_schema_as_writte
     assert inlined(config) == as_written(config)
 
 
-# --- file sets found clean are not checked again -------------------------------------
+# --- file sets found clean are not checked again, by whoever keeps them -------------
 
 
 def test_a_clean_set_is_checked_once_whatever_the_order_of_its_keys(monkeypatch):
     configs = copy.deepcopy(CONFIGS)
-    assert rules.check_all(configs, NAMES) == []
+    clean = rules.CleanSets()
+    assert rules.check_all(configs, NAMES, clean) == []
     checked = []
     monkeypatch.setattr(rules, "schema_problems", lambda c, n: checked.append(n) or [])
     reordered = [dict(reversed(list(c.items()))) for c in json.loads(json.dumps(configs))]
-    assert rules.check_all(reordered, NAMES) == []
+    assert rules.check_all(reordered, NAMES, clean) == []
     assert checked == []
-    assert rules.check_all(reordered, list(reversed(NAMES))) == []  # another set: checked
+    assert rules.check_all(reordered, list(reversed(NAMES)), clean) == []  # another set: checked
     assert checked == list(reversed(NAMES))
+    assert rules.check_all(reordered, NAMES) == []  # no memo given: nothing is remembered
+    assert rules.check_all(reordered, NAMES, rules.CleanSets()) == []  # nor by another one
+    assert checked == list(reversed(NAMES)) + NAMES + NAMES
 
 
 def test_a_value_of_another_type_with_the_same_json_is_checked_again():
     configs = copy.deepcopy(CONFIGS)
-    assert rules.check_all(configs, NAMES) == []
+    clean = rules.CleanSets()
+    assert rules.check_all(configs, NAMES, clean) == []
     configs[0]["containers"] = tuple(configs[0]["containers"])  # JSON writes it as a list
-    problems = rules.check_all(configs, NAMES)
+    problems = rules.check_all(configs, NAMES, clean)
     assert ("debug.cfg", "containers", "schema") in [(p.file, p.path, p.rule) for p in problems]
     configs[0]["containers"] = list(configs[0]["containers"])
     configs[0]["nodes"][0]["cTag"] = "ghost"  # a changed value: checked, found
-    assert {p.rule for p in rules.check_all(configs, NAMES)} == {"unknown-container"}
+    assert {p.rule for p in rules.check_all(configs, NAMES, clean)} == {"unknown-container"}
 
 
 def test_the_clean_sets_kept_are_bounded():
+    clean = rules.CleanSets()
     for index in range(rules.CLEAN_SETS + 5):
         config = dict(CONFIGS[2], password=f"secret{index}")
-        assert rules.check_all([config], ["lo_server.cfg"]) == []
-    assert len(rules._CLEAN) == rules.CLEAN_SETS
+        assert rules.check_all([config], ["lo_server.cfg"], clean) == []
+    assert len(clean.keys) == rules.CLEAN_SETS
