@@ -4,13 +4,14 @@ Reading, encoding, resolving and validating build large graphs of objects that a
 alive while the work runs. The collector's passes over them free nothing and, as the
 graph grows, make the work superlinear in its size. Pausing it is the same move
 everywhere; what differs is what becomes of the objects once collection resumes, so that
-is the one choice :func:`without_cyclic_gc` asks for.
+is the one choice :func:`without_cyclic_gc` asks for. What a paused block is done with
+early can go at once by :func:`release`.
 """
 
 from __future__ import annotations
 
 import gc
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterable, Iterator
 from contextlib import contextmanager
 from typing import Literal
 
@@ -51,3 +52,16 @@ def without_cyclic_gc(
             elif afterwards == "dropped":
                 gc.collect(0)
             gc.enable()
+
+
+def release(objects: Iterable[object]) -> None:
+    """Forget the state of each of ``objects``, which nothing reads again: the cycles
+    among them (a model's containers and contents, pyecore's slots and their owners)
+    are broken, and they go as their last reference does, without waiting for the
+    collector, which a block paused for them does not run (a line check resolves dozens
+    of witness products one after the other: 700 MB of copies on a 1,000-node line,
+    kept until the check ended)."""
+    for found in objects:
+        state = getattr(found, "__dict__", None)
+        if state is not None:
+            state.clear()

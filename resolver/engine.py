@@ -11,12 +11,12 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterator
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, cast
 
 from spl.diagnostics import DiagnosticSink, Location, ModelError, location_of
 from spl.dsl import literals
-from spl.dsl.cyclic_gc import without_cyclic_gc
+from spl.dsl.cyclic_gc import release, without_cyclic_gc
 from spl.emf import copy_with_map
 from spl.metamodels import tsm
 from spl.resolver import pruning, rewiring
@@ -50,11 +50,20 @@ class Resolution:
     removed_nodes: tuple[str, ...]
     kept_nodes: tuple[str, ...]
     capability_choices: tuple[CapabilityChoice, ...] = ()
+    # the template's elements by id -> theirs in the product, for release()
+    copies: dict[int, EObject] = field(default_factory=dict, repr=False, compare=False)
+
+    def release(self) -> None:
+        """Frees the product's model now: for a caller done with it (a witness product
+        of the line checks, once its warnings are read), which must not read it again."""
+        release(self.copies.values())
+        self.copies.clear()
 
 
 def resolve(line: ProductLine, selection: ProductSelection) -> Resolution:
     # resolution builds one large graph and keeps it all: the collector rescanning it
     # while it grows made resolve time superlinear; its cycles are left for later
+    # (or broken by the caller done with it: Resolution.release)
     with without_cyclic_gc("left"):
         return _resolve(line, selection)
 
@@ -132,7 +141,7 @@ def _resolve(line: ProductLine, selection: ProductSelection) -> Resolution:
     system.name = line.tsm.name
     remaining = {id(n) for c in system.containers for n in c.nodes}
     removed = tuple(sorted(key for i, key in before.items() if i not in remaining))
-    return Resolution(product, trace, completion, removed, kept, tuple(choices))
+    return Resolution(product, trace, completion, removed, kept, tuple(choices), copies)
 
 
 def _left_out_by_container(

@@ -101,7 +101,9 @@ def _resolved(line: ProductLine, witness: Witness) -> tuple[Warnings, bool]:
         resolution = resolve(line, selection_from_list(",".join(witness)))
     except ModelError:
         return (), False
-    return resolution.product.warnings, not resolution.completion.added
+    found = resolution.product.warnings, not resolution.completion.added
+    resolution.release()  # nothing reads the product again: its model goes now
+    return found
 
 
 def _inputs(line: ProductLine, found: Declarations, witness: Witness) -> tuple[tuple, Lines]:
