@@ -56,10 +56,8 @@ PACKAGE_FILES = (
     "database.py",
     "model.py",
     "transformer.py",
-    "ingest.py",
     "access.py",
     "linked.py",
-    "subscriptions.py",
     "app.py",
 )
 RUNTIME = "spl.generators.service_runtime"  # shipped as <package>/runtime/

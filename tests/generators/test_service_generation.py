@@ -37,7 +37,7 @@ def test_one_runnable_package_per_store(files) -> None:
             "__main__",
             "app",
             "access",
-            "ingest",
+            "linked",
             "model",
             "transforms",
             "transformer",

@@ -1,4 +1,4 @@
-"""How the generated service stores posted records (ingest.py): many requests per
+"""How the generated service stores posted records (runtime/ingest.py): many requests per
 transaction (group commit) without mixing them up, each request all or nothing, a
 record answered 201 in the database also after kill -9, the token checked before
 the body, and the write endpoints documented in OpenAPI as before (bodies over the
@@ -147,11 +147,13 @@ def test_a_record_answered_201_is_stored_also_after_kill_9(tmp_path: Path) -> No
 
 @pytest.fixture
 def ingest(tmp_path: Path):  # type: ignore[no-untyped-def]
-    """The generated ``database`` and ``ingest`` modules, imported in this process."""
+    """The generated ``database`` module and its runtime's ``ingest``, imported in this
+    process from the generated service (the runtime as the service ships it)."""
     write_files(service.generate(product()), tmp_path)
     sys.path.insert(0, str(tmp_path / "services" / "PositionStore"))
     try:
-        from position_store_service import database, ingest
+        from position_store_service import database
+        from position_store_service.runtime import ingest
 
         yield database, ingest, f"sqlite:///{tmp_path}/writer.db"
     finally:
@@ -180,7 +182,9 @@ async def _with_writer(ingest, url: str, work, setup=None):  # type: ignore[no-u
     if setup is not None:
         with engine.begin() as conn:
             conn.exec_driver_sql(setup)
-    writer = module.RecordWriter(engine).start()
+    from position_store_service.model import RAW_KEY_WHERE, raw_records
+
+    writer = module.RecordWriter(engine, database.write_turns, raw_records, RAW_KEY_WHERE).start()
     try:
         result = await work(writer)
     finally:
@@ -323,12 +327,15 @@ def test_the_transformer_writes_only_in_its_turn(ingest) -> None:
     database, _, url = ingest
     from position_store_service import transformer
     from position_store_service.model import REFINEMENTS
+    from position_store_service.runtime.transformer import Transformer
 
     async def work(writer):  # type: ignore[no-untyped-def]
         await writer.store(_rows("busy", 1200))
         with database.write_turns.posts():
             run = threading.Thread(
-                target=transformer.Transformer(writer.engine).run_refinement,
+                target=Transformer(
+                    writer.engine, transformer.STORE, database.write_turns
+                ).run_refinement,
                 args=(REFINEMENTS[0],),
             )
             run.start()

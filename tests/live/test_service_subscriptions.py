@@ -217,15 +217,16 @@ SLOW_NEWEST = """
 import asyncio, os, sys
 
 sys.path.insert(0, os.getcwd())  # the service's folder, as for python -m
-from position_store_service import __main__ as entry, subscriptions
+from position_store_service import __main__ as entry
+from position_store_service.runtime import hub
 
-read = subscriptions.Hub.newest
+read = hub.Hub.newest
 
 async def slow(self, collection):
     await asyncio.sleep(0.5)
     return await read(self, collection)
 
-subscriptions.Hub.newest = slow
+hub.Hub.newest = slow
 entry.main()
 """
 

@@ -15,7 +15,7 @@ leaves checkpoints, which sync the disk, to the writer thread, once a second) no
 for the write lock (busy timeout 0, BEGIN IMMEDIATE). When another connection holds
 the lock (the transformer, another process), nothing was written and the group
 goes to the writer thread, which waits for the lock; this process's transformer
-lets it in between two of its steps (database.WriteTurns). PostgreSQL is across a
+lets it in between two of its steps (database.py's WriteTurns). PostgreSQL is across a
 socket, so there every group goes to the writer thread.
 
 A request's rows stay together in one transaction (a batch is all or nothing). In
@@ -35,7 +35,7 @@ its robot and key are stored already (by an earlier post, an earlier record of t
 group, or another replica), nothing is inserted and the stored record's id is read back
 in the same transaction, so a writer that sends a batch again after a lost answer gets
 the ids of the first time. On PostgreSQL each transaction takes the raw table's
-transaction lock before its ids (database.ordered_inserts), so ids become visible in
+transaction lock before its ids (database.py's ordered_inserts), so ids become visible in
 increasing order for the subscribers; SQLite has one writer at a time anyway. After
 each commit the subscriptions' feeds are woken (``on_commit``).
 """
@@ -49,15 +49,13 @@ import queue
 import sqlite3
 import threading
 import time
-from typing import Any
-
 from collections.abc import Callable
+from typing import Any, cast
 
-from sqlalchemy import Connection, Engine, bindparam, select
+from sqlalchemy import ColumnElement, Connection, Engine, Table, bindparam, select
 from sqlalchemy.dialects import postgresql, sqlite
 
-from . import database
-from .model import RAW_KEY_WHERE, raw_records
+from .database import ORDERED_INSERTS, WriteTurns, ordered_inserts_key
 
 log = logging.getLogger(__name__)
 # Rows per transaction in the writer thread: several full batches, yet short enough
@@ -76,33 +74,39 @@ class NotWritten(Exception):
 
 
 class RawInsert:
-    """``INSERT INTO <raw table> ... RETURNING id`` for one dialect, on a DBAPI cursor."""
+    """``INSERT INTO <raw table> ... RETURNING id`` for one dialect, on a DBAPI cursor
+    (``key_where``: the rows the idempotency key's unique index covers)."""
 
-    def __init__(self, engine: Engine) -> None:
+    def __init__(self, engine: Engine, raw_records: Table, key_where: ColumnElement[bool]) -> None:
+        self.table = raw_records.name
         dialect = engine.dialect
         insert = postgresql.insert if dialect.name == "postgresql" else sqlite.insert
         statement = insert(raw_records).on_conflict_do_nothing(
-            index_elements=[raw_records.c.robot, raw_records.c.key], index_where=RAW_KEY_WHERE)
+            index_elements=[raw_records.c.robot, raw_records.c.key], index_where=key_where
+        )
         compiled = statement.returning(raw_records.c.id).compile(
-            dialect=dialect, column_keys=list(COLUMNS))
+            dialect=dialect, column_keys=list(COLUMNS)
+        )
         self.sql = compiled.string
-        self.names = tuple(compiled.positiontup) if compiled.positional else None
+        self.names = tuple(compiled.positiontup or ()) if compiled.positional else None
         self.processors = [
-            (name, processor) for name in COLUMNS
-            if (processor := raw_records.c[name].type.dialect_impl(dialect)
-                .bind_processor(dialect)) is not None
+            (name, processor)
+            for name in COLUMNS
+            if (processor := raw_records.c[name].type.dialect_impl(dialect).bind_processor(dialect))
+            is not None
         ]
         # psycopg sends all rows in one pipeline and reads their ids back in order;
         # sqlite3's executemany returns no rows, so SQLite inserts row by row (in
         # process, no round trip).
         self.pipelined = dialect.driver == "psycopg"
         self.postgres = dialect.name == "postgresql"
-        found = (select(raw_records.c.id)
-                 .where(raw_records.c.robot == bindparam("robot"),
-                        raw_records.c.key == bindparam("key"))
-                 .compile(dialect=dialect))
+        found = (
+            select(raw_records.c.id)
+            .where(raw_records.c.robot == bindparam("robot"), raw_records.c.key == bindparam("key"))
+            .compile(dialect=dialect)
+        )
         self.lookup_sql = found.string
-        self.lookup_names = tuple(found.positiontup) if found.positional else None
+        self.lookup_names = tuple(found.positiontup or ()) if found.positional else None
 
     def parameters(self, row: dict[str, Any]) -> tuple | dict[str, Any]:
         values = {"key": None, **row}  # a row may come without a key
@@ -114,8 +118,7 @@ class RawInsert:
         """The ids of ``rows``, in their order: a row whose robot and key are stored
         already gets the stored record's id."""
         if self.postgres:
-            cursor.execute(database.ORDERED_INSERTS,
-                           (database.ordered_inserts_key(raw_records.name),))
+            cursor.execute(ORDERED_INSERTS, (ordered_inserts_key(self.table),))
         parameters = [self.parameters(row) for row in rows]
         ids: list[int | None] = []
         if self.pipelined:
@@ -137,19 +140,27 @@ class RawInsert:
 
     def stored_id(self, cursor: Any, row: dict[str, Any]) -> int:
         values = {"robot": row["robot"], "key": row["key"]}
-        parameters = (tuple(values[n] for n in self.lookup_names) if self.lookup_names
-                      else values)
+        parameters = tuple(values[n] for n in self.lookup_names) if self.lookup_names else values
         cursor.execute(self.lookup_sql, parameters)
         return cursor.fetchone()[0]
 
 
 class RecordWriter:
-    """Created and started in the event loop that serves the requests."""
+    """Created and started in the event loop that serves the requests; ``turns`` are
+    this process's turns to write (shared with its transformer)."""
 
-    def __init__(self, engine: Engine, on_commit: Callable[[], None] | None = None) -> None:
+    def __init__(
+        self,
+        engine: Engine,
+        turns: WriteTurns,
+        raw_records: Table,
+        key_where: ColumnElement[bool],
+        on_commit: Callable[[], None] | None = None,
+    ) -> None:
         self.engine = engine
+        self.turns = turns
         self.on_commit = on_commit or (lambda: None)
-        self.statement = RawInsert(engine)
+        self.statement = RawInsert(engine, raw_records, key_where)
         dbapi = engine.dialect.loaded_dbapi
         self.data_errors = (dbapi.IntegrityError, dbapi.DataError)
         self.sqlite = engine.dialect.name == "sqlite"  # written in the loop
@@ -254,7 +265,7 @@ class RecordWriter:
         """Copy SQLite's log into the database file, here and not in the event loop: a
         checkpoint syncs the disk. PASSIVE: it waits for no reader and no writer."""
         try:
-            dbapi_connection = self._connection(False).connection.dbapi_connection
+            dbapi_connection = _sqlite(self._connection(False))
             dbapi_connection.execute("PRAGMA wal_checkpoint(PASSIVE)").fetchall()
         except Exception:  # the next period tries again; the log only grows meanwhile
             log.exception("checkpoint failed")
@@ -267,7 +278,7 @@ class RecordWriter:
             connection = self.engine.connect().execution_options(sqlite_begin="immediate")
             if in_loop:  # never wait for the lock, nor for the disk, in the event loop
                 connection.detach()  # its settings stay out of the pool
-                dbapi_connection = connection.connection.dbapi_connection
+                dbapi_connection = _sqlite(connection)
                 dbapi_connection.execute("PRAGMA busy_timeout = 0")
                 dbapi_connection.execute("PRAGMA wal_autocheckpoint = 0")  # _checkpoint's
             self.connections[in_loop] = connection
@@ -280,14 +291,14 @@ class RecordWriter:
         if not self.sqlite:
             return self._transaction(False, rows)
         if not in_loop:
-            with database.write_turns.posts():
+            with self.turns.posts():
                 return self._transaction(False, rows)
-        if not database.write_turns.try_posts():
+        if not self.turns.try_posts():
             raise NotWritten("the transformer of this process is writing")
         try:
             return self._transaction(True, rows)
         finally:
-            database.write_turns.release()
+            self.turns.release()
 
     def _transaction(self, in_loop: bool, rows: list[dict[str, Any]]) -> list[int]:
         connection = self._connection(in_loop)
@@ -325,21 +336,29 @@ class RecordWriter:
             self.loop.call_soon_threadsafe(_resolve, outcomes)
 
 
+def _sqlite(connection: Connection) -> sqlite3.Connection:
+    """sqlite3's own connection under ``connection`` (written to only on SQLite)."""
+    return cast(sqlite3.Connection, connection.connection.dbapi_connection)
+
+
 def _lock_taken(exc: BaseException) -> bool:
     """SQLite's write lock is held elsewhere (SQLAlchemy wraps the driver's error)."""
     error = getattr(exc, "orig", exc)
-    return (isinstance(error, sqlite3.OperationalError)
-            and error.sqlite_errorcode & 0xFF == sqlite3.SQLITE_BUSY)
+    return (
+        isinstance(error, sqlite3.OperationalError)
+        and error.sqlite_errorcode & 0xFF == sqlite3.SQLITE_BUSY
+    )
 
 
-def _outcomes(group: list[Request], result: list[int] | BaseException
-              ) -> list[tuple[asyncio.Future, Any]]:
+def _outcomes(
+    group: list[Request], result: list[int] | BaseException
+) -> list[tuple[asyncio.Future, Any]]:
     """Each request's future with its ids (sliced from ``result``) or the exception."""
     if isinstance(result, BaseException):
         return [(future, result) for _, future in group]
     outcomes, start = [], 0
     for rows, future in group:
-        outcomes.append((future, result[start:start + len(rows)]))
+        outcomes.append((future, result[start : start + len(rows)]))
         start += len(rows)
     return outcomes
 
