@@ -17,7 +17,10 @@ Times ``--runs`` whole ``spl check FILE.tsm`` processes per size, interleaved, a
 prints the wall time and peak memory (min and median) of each and the ratio the issue
 judges: the 10k median over the 1k median, at most 10 (size ratio 10), and the 10k
 median under 5 s. ``--line`` also times ``spl check`` of the whole product-line folder
-(the .rm, .fm and .tsm parsed, then the line checks of docs/commands.md, "spl check").
+(the .rm, .fm and .tsm parsed, then the line checks of docs/commands.md, "spl check"),
+and of ``product_lines/mapping3d`` in the same rounds, and judges the line folders by
+CPU time (docs/performance.md, "Large product lines"): the 1k folder at most 6x
+mapping3d and under 300 MB, the 10k folder at most 12x the 1k one.
 """
 
 from __future__ import annotations
@@ -36,6 +39,10 @@ CLOUDS = ("Planning", "Mapping", "Archive")
 STAGE = 5  # nodes per pipeline stage: one service server, four clients and subscribers
 TARGET_RATIO = 10.0
 TARGET_SECONDS = 5.0
+LINE_TO_SHIPPED = 6.0  # 1k line folder CPU over mapping3d's
+LINE_RATIO = 12.0  # 10k line folder CPU over the 1k one's
+LINE_MB = 300.0  # peak of the 1k line folder
+SHIPPED = Path(__file__).resolve().parents[1] / "product_lines" / "mapping3d"
 
 
 def bridged_client(i: int) -> bool:
@@ -193,6 +200,9 @@ def main() -> None:
             targets["tsm", size] = folder / "synthetic.tsm"
             if options.line:
                 targets["line", size] = folder
+        if options.line:
+            targets["shipped", 0] = SHIPPED
+            lines[0] = len((SHIPPED / "mapping.tsm").read_text().splitlines())
         for _ in range(options.runs):  # interleaved, so a load change hits every size alike
             for key, target in targets.items():
                 results.setdefault(key, []).append(run([*spl_command(), "check", str(target)]))
@@ -202,20 +212,36 @@ def main() -> None:
     )
     print("| --- | ---: | ---: | ---: | ---: | ---: | ---: |")
     medians: dict[tuple[str, int], float] = {}
+    cpus: dict[tuple[str, int], float] = {}
+    peaks: dict[tuple[str, int], float] = {}
     for (kind, size), samples in results.items():
         walls = [wall for wall, _, _ in samples]
         medians[kind, size] = statistics.median(walls)
-        cpu = statistics.median(cpu for _, cpu, _ in samples)
-        memory = statistics.median(mb for _, _, mb in samples)
-        what = "synthetic.tsm" if kind == "tsm" else "line folder"
+        cpu = cpus[kind, size] = statistics.median(cpu for _, cpu, _ in samples)
+        memory = peaks[kind, size] = statistics.median(mb for _, _, mb in samples)
+        what = {"tsm": "synthetic.tsm", "line": "line folder", "shipped": "mapping3d"}[kind]
         print(
-            f"| {what} | {size} | {lines[size]} | {min(walls):.2f} "
+            f"| {what} | {size or '-'} | {lines[size]} | {min(walls):.2f} "
             f"| {medians[kind, size]:.2f} | {cpu:.2f} | {memory:.0f} |"
         )
-    if len(options.sizes) < 2:
-        return
     small, large = options.sizes[0], options.sizes[-1]
     print()
+    if options.line:
+        shipped = cpus["line", small] / cpus["shipped", 0]
+        met = shipped <= LINE_TO_SHIPPED and peaks["line", small] < LINE_MB
+        print(
+            f"line: CPU median {small}-node folder / mapping3d: {shipped:.1f}, peak "
+            f"{peaks['line', small]:.0f} MB (target <= {LINE_TO_SHIPPED:.0f} and under "
+            f"{LINE_MB:.0f} MB: {'met' if met else 'NOT met'})"
+        )
+        if large != small:
+            ratio = cpus["line", large] / cpus["line", small]
+            print(
+                f"line: CPU median {large}/{small} folder: {ratio:.1f} (target <= "
+                f"{LINE_RATIO:.0f}: {'met' if ratio <= LINE_RATIO else 'NOT met'})"
+            )
+    if len(options.sizes) < 2:
+        return
     for kind in kinds:
         ratio = medians[kind, large] / medians[kind, small]
         print(f"{kind}: median wall ratio {large}/{small}: {ratio:.1f}", end="")
