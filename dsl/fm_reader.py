@@ -13,11 +13,12 @@ or features or formulas nested deeper than ``MAX_DEPTH``) it returns None and te
 parses the text, so syntax errors, and the refusal of nesting too deep for textX, stay
 exactly textX's (``tests/test_fm_reader.py`` compares both trees).
 
-It pays (``bench/readers.py``, loaded 2-core machine): ``spl check`` of the shipped
-mapping3d line takes 0.14 s of CPU with it and 0.18 s without (textX's import and
-metamodel of fm.tx, 0.013 s and 0.021 s, are most of the difference; the shipped .fm
-files' trees are 14x faster to make, the 10,000-node synthetic line's 24x). The line's
-check target (under 0.3 s, docs/performance.md) is met with the three readers.
+It pays (``bench/readers.py``, docs/performance.md "Fast readers", CPU time on a loaded
+2-core machine): ``spl check`` of the shipped mapping3d line takes 0.27 s of CPU with it
+and 0.34 s without (textX's import and metamodel of fm.tx, 0.045 s and 0.027 s, are most
+of the difference; the shipped .fm files' trees are 21x faster to make, the 10,000-node
+synthetic line's 22x). The line's check target (under 0.3 s, docs/performance.md) is
+met with the three readers.
 
 A keyword added to ``fm.tx`` must be read here too:
 ``tests/test_grammar_keywords.py`` fails on one the reader never matches.

@@ -14,11 +14,11 @@ It never reports a problem: on anything it does not read to the end it returns N
 and textX parses the text and words the syntax error (``tests/test_rm_reader.py``
 compares both trees).
 
-It pays (``bench/readers.py``, loaded 2-core machine): ``spl check`` of the shipped
-mapping3d line takes 0.14 s of CPU with it and 0.17 s without (textX's import and
-metamodel of rm.tx, 0.013 s and 0.010 s, and a tree 14x faster to make); the .rm of the
-10,000-node synthetic line of ``bench/tsm_scale.py`` is read in 0.05 s instead of 0.64 s
-(13x).
+It pays (``bench/readers.py``, docs/performance.md "Fast readers", CPU time on a loaded
+2-core machine): ``spl check`` of the shipped mapping3d line takes 0.27 s of CPU with it
+and 0.33 s without (textX's import and metamodel of rm.tx, 0.045 s and 0.013 s, and a
+tree 12x faster to make); the .rm of the 10,000-node synthetic line of
+``bench/tsm_scale.py`` is read in 0.057 s instead of 0.80 s (14x).
 
 A keyword added to ``rm.tx`` must be read here too:
 ``tests/test_grammar_keywords.py`` fails on one the reader never matches.

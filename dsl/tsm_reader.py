@@ -17,11 +17,11 @@ refusal of expressions too deep for textX, stay exactly textX's. Where it reads 
 textX reads the same tree (``tests/test_tsm_reader.py`` compares both on every shipped
 model and mutations of them).
 
-It pays (``bench/readers.py``, loaded 2-core machine): the parse tree of the synthetic
-line of ``bench/tsm_scale.py`` in 0.036 s instead of textX's 0.88 s at 1,000 nodes (24x)
-and 0.91 s instead of 13.1 s at 10,000 (14x), of the shipped .tsm files 16x faster;
-``spl check`` of the 1,000-node .tsm takes 0.15 s of CPU with it and 0.73 s without
-(4.8x), of the shipped mapping3d line 0.14 s and 0.19 s (no textX import or metamodel).
+It pays (``bench/readers.py``, docs/performance.md "Fast readers", CPU time on a
+loaded 2-core machine): the parse tree of the synthetic line of ``bench/tsm_scale.py``
+in 0.060 s instead of textX's 1.63 s at 1,000 nodes (27x), of the shipped .tsm files
+22x faster; ``spl check`` of the 1,000-node .tsm takes 0.27 s of CPU with it and
+1.37 s without (5.1x), of the shipped mapping3d line 0.27 s and 0.36 s.
 The editor's incremental reading (``tsm_incremental``) and the excerpts textX words
 syntax errors from (``tsm_syntax_excerpt``) are built on it too. A keyword added to
 ``tsm.tx`` must be read here too: ``tests/test_grammar_keywords.py`` checks it.
