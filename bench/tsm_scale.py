@@ -170,11 +170,14 @@ def run(arguments: list[str]) -> tuple[float, float, float]:
     """Wall seconds, CPU seconds (user + system) and peak resident MB of one whole
     process (it must succeed). CPU time is given as well because on a shared, loaded
     machine the wall time also measures waiting for a core."""
-    start = time.perf_counter()
-    process = subprocess.Popen(arguments, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
-    _, status, usage = os.wait4(process.pid, 0)
-    wall = time.perf_counter() - start
-    error = process.stderr.read().decode() if process.stderr else ""
+    # stderr to a file: a large line's check warns more than a pipe nobody reads holds
+    with tempfile.TemporaryFile() as stderr:
+        start = time.perf_counter()
+        process = subprocess.Popen(arguments, stdout=subprocess.DEVNULL, stderr=stderr)
+        _, status, usage = os.wait4(process.pid, 0)
+        wall = time.perf_counter() - start
+        stderr.seek(0)
+        error = stderr.read().decode(errors="replace")
     if os.waitstatus_to_exitcode(status) != 0:
         raise SystemExit(f"{' '.join(arguments)} failed:\n{error}")
     return wall, usage.ru_utime + usage.ru_stime, usage.ru_maxrss / 1024
