@@ -27,7 +27,8 @@ from pathlib import Path
 
 from spl import __version__
 from spl.dsl.tsm_printer import print_model
-from spl.generators.bundle_options import BundleInputs, BundleMemo, BundleOptions
+from spl.generators.bundle_inputs import BundleInputs, BundleMemo
+from spl.generators.bundle_options import BundleOptions
 from spl.generators.bundle_paths import BundleFiles, BundlePathClash, Skipped, check_paths
 from spl.generators.json_text import indented
 from spl.generators.resolved_xmi import resolved_xmi

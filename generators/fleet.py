@@ -26,7 +26,7 @@ Shared instances' launch files are produced by :data:`SHARED_INSTANCE_GENERATORS
 function per target taking the deployment and one instance. A robot's bundle has no
 ``kubernetes/`` or ``zenoh/`` of its own: the fleet's (:mod:`spl.generators.kubernetes_fleet`)
 deploy every instance once, with the Zenoh bridges computed over all robots together:
-one :class:`~spl.generators.bundle_options.FleetInputs` per fleet bundle computes that
+one :class:`~spl.generators.bundle_inputs.FleetInputs` per fleet bundle computes that
 transport once for ``kubernetes/``, ``zenoh/`` and ``fleet.json``'s ``skipped``.
 """
 
@@ -44,7 +44,8 @@ from spl import __version__
 from spl.diagnostics import Diagnostic, ModelError
 from spl.generators import kubernetes_fleet, ros1, ros2_launch
 from spl.generators.bundle import TARGETS, build_bundle, manifest
-from spl.generators.bundle_options import BundleMemo, BundleOptions, FleetInputs
+from spl.generators.bundle_inputs import BundleMemo, FleetInputs
+from spl.generators.bundle_options import BundleOptions
 from spl.generators.json_text import Document
 from spl.generators.kubernetes import namespace_file
 from spl.generators.launch_xml import serialize

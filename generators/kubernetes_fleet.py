@@ -7,7 +7,7 @@ with their nodes as their reference robots resolved them, whichever robots use t
 One Deployment per instance, as for a product (:mod:`spl.generators.kubernetes`).
 
 The Zenoh configurations are computed over all the robots' architectures together
-(:attr:`FleetInputs.transport <spl.generators.bundle_options.FleetInputs.transport>`,
+(:attr:`FleetInputs.transport <spl.generators.bundle_inputs.FleetInputs.transport>`,
 computed once per fleet bundle): each robot routes under its own
 namespace, and a shared instance gets one bridge per robot it serves, so every robot
 reaches the fleet's shared instances through the one router and no robot sees another
@@ -21,7 +21,7 @@ from typing import TYPE_CHECKING, cast
 
 from spl.diagnostics import Diagnostic, ModelError
 from spl.generators import kubernetes, ros2_launch, zenoh
-from spl.generators.bundle_options import FleetInputs
+from spl.generators.bundle_inputs import FleetInputs
 from spl.generators.kubernetes_names import CONFIG_SUFFIX, ROUTER, ObjectNames
 from spl.generators.kubernetes_network_policy import zenoh_connections
 from spl.generators.kubernetes_objects import Placed, render, title

@@ -80,7 +80,7 @@ _ESCAPES = str.maketrans(
 class MetamodelRoles:
     """Each feature's role in the file and each class's ID attribute, looked up once by
     whoever keeps this (a bundle, or a run writing many: :class:`BundleMemo
-    <spl.generators.bundle_options.BundleMemo>`); by id, as the metamodel holding them
+    <spl.generators.bundle_inputs.BundleMemo>`); by id, as the metamodel holding them
     outlives every file."""
 
     def __init__(self) -> None:

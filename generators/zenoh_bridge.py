@@ -165,7 +165,7 @@ def transport(*products: ResolvedProduct) -> Transport:
     several (the robots of a fleet, each resolved on its own, sharing the instances
     their placement tags name alike), the router, or why not carried. Computed anew at
     each call: a bundle computes it once and hands it to the generators that read it
-    (:class:`spl.generators.bundle_options.BundleInputs`, ``spl.generators.fleet``)."""
+    (:class:`spl.generators.bundle_inputs.BundleInputs`, ``spl.generators.fleet``)."""
     return _transport(products)
 
 

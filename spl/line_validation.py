@@ -38,7 +38,7 @@ from spl.pipeline import ProductWarning, load_line
 from spl.resolver.product_line import ProductLine
 
 if TYPE_CHECKING:
-    from spl.generators.bundle_options import BundleMemo
+    from spl.generators.bundle_inputs import BundleMemo
 
 Outcome = Literal["passed", "failed", "error"]
 LINE_CASE = "(product line)"  # the test case of a line whose models do not load
@@ -207,7 +207,7 @@ class CaseChecks:
 
     rehearse: Rehearsal | None = None
     diagrams: bool = False
-    # what the run's bundles share (generators/bundle_options.py): run_cases makes one
+    # what the run's bundles share (generators/bundle_inputs.py): run_cases makes one
     # per run; None: each product's bundle its own
     memo: BundleMemo | None = None
 
@@ -298,7 +298,7 @@ def run_cases(
 ) -> list[CaseResult]:
     """Every case's result, in the order of ``cases``. ``jobs > 1`` uses forked worker
     processes."""
-    from spl.generators.bundle_options import BundleMemo
+    from spl.generators.bundle_inputs import BundleMemo
 
     results: list[CaseResult] = []
     global _LINES, _CHECKS

@@ -26,7 +26,8 @@ from spl.dsl.workspace import Workspace
 
 if TYPE_CHECKING:
     from spl.generators.bundle import Bundle
-    from spl.generators.bundle_options import BundleMemo, BundleOptions
+    from spl.generators.bundle_inputs import BundleMemo
+    from spl.generators.bundle_options import BundleOptions
     from spl.resolver.engine import Resolution
     from spl.resolver.product_line import ProductLine
     from spl.resolver.product_selection import ProductSelection

@@ -10,7 +10,8 @@ from pathlib import Path
 from spl import pipeline
 from spl.generators import rapyuta_rules
 from spl.generators.bundle import build_bundle
-from spl.generators.bundle_options import BundleMemo, BundleOptions
+from spl.generators.bundle_inputs import BundleMemo
+from spl.generators.bundle_options import BundleOptions
 from spl.resolver.engine import resolve
 from spl.resolver.product_line import load_product_line
 from spl.resolver.product_selection import load_selection_file

@@ -11,7 +11,8 @@ from pathlib import Path
 
 from spl.generators import bundle as bundle_module
 from spl.generators.bundle import build_bundle
-from spl.generators.bundle_options import BundleInputs, BundleOptions, FleetInputs
+from spl.generators.bundle_inputs import BundleInputs, FleetInputs
+from spl.generators.bundle_options import BundleOptions
 from spl.generators.fleet import build_fleet_bundle
 from spl.generators.zenoh_bridge import transport
 from spl.resolver.engine import resolve
