@@ -36,10 +36,10 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from spl.generators.bundle import bundle_files, write_bundle  # noqa: E402
-from spl.resolver.engine import resolve  # noqa: E402
-from spl.resolver.product_line import load_product_line  # noqa: E402
-from spl.resolver.product_selection import selection_from_list  # noqa: E402
+from spl.generators.bundle.writer import bundle_files, write_bundle  # noqa: E402
+from spl.resolver.resolution.engine import resolve  # noqa: E402
+from spl.resolver.resolution.product_line import load_product_line  # noqa: E402
+from spl.resolver.resolution.product_selection import selection_from_list  # noqa: E402
 from spl.smoke.planning import data_fields  # noqa: E402
 from spl.smoke.processes import Processes, find_ros, free_port, write_messages  # noqa: E402
 

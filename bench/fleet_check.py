@@ -22,10 +22,10 @@ import tempfile
 import time
 from pathlib import Path
 
-from spl.resolver.fleet import check_fleet
-from spl.resolver.fleet_file import load_fleet
-from spl.resolver.fleet_options import fleet_options
-from spl.resolver.product_line import load_product_line
+from spl.resolver.fleets.fleet import check_fleet
+from spl.resolver.fleets.fleet_file import load_fleet
+from spl.resolver.fleets.options import fleet_options
+from spl.resolver.resolution.product_line import load_product_line
 
 LINE = Path(__file__).resolve().parents[1] / "product_lines" / "mapping3d"
 GROUPS = 10

@@ -160,8 +160,8 @@ def whole_process(path: Path, runs: int, flamapy_python: str | None) -> dict:
 
 
 def spl_run(path: str, repeat: int, solver: str) -> dict:
-    from spl.dsl.fm_formats import load_analysable_model
-    from spl.resolver.analysis import FeatureModelFormula
+    from spl.dsl.interop.formats import load_analysable_model
+    from spl.resolver.analysis.formula import FeatureModelFormula
 
     best_load = best_analysis = float("inf")
     result: dict = {}
@@ -191,8 +191,8 @@ def spl_run(path: str, repeat: int, solver: str) -> dict:
 
 
 def spl_count(path: str, seconds: float) -> tuple[int | None, str, float]:
-    from spl.dsl.fm_formats import load_analysable_model
-    from spl.resolver.analysis import FeatureModelFormula
+    from spl.dsl.interop.formats import load_analysable_model
+    from spl.resolver.analysis.formula import FeatureModelFormula
 
     model = load_analysable_model(path)
     start = time.perf_counter()

@@ -1,6 +1,6 @@
 """Benchmark: spl's exact product count against Ganak (pyganak) on real feature models.
 
-Both count the same CNF — spl's encoding of the model (``spl.resolver.cnf``), projected
+Both count the same CNF — spl's encoding of the model (``spl.resolver.analysis.cnf``), projected
 on the feature variables (auxiliary variables of cardinality and Tseitin encodings are
 existentially quantified: Ganak's sampling set is the features) — and must agree.
 pyganak is not a dependency of spl; like flamapy in ``bench/fm_analysis.py`` it lives in
@@ -45,8 +45,8 @@ def ganak_worker(path: str) -> None:
 
 
 def spl_count(path: Path) -> tuple[int | None, float, dict]:
-    from spl.dsl.fm_formats import load_analysable_model
-    from spl.resolver.analysis import FeatureModelFormula
+    from spl.dsl.interop.formats import load_analysable_model
+    from spl.resolver.analysis.formula import FeatureModelFormula
 
     with FeatureModelFormula(load_analysable_model(path)) as formula:
         formula.backbone()

@@ -46,12 +46,12 @@ def main() -> int:
     parser.add_argument("--flamapy-python")
     args = parser.parse_args()
 
-    from spl.dsl import fm
-    from spl.dsl.featureide import parse_featureide
-    from spl.dsl.featureide_writer import write_featureide
-    from spl.dsl.fm_formats import load_feature_model
-    from spl.dsl.fm_printer import print_model
-    from spl.dsl.uvl import parse_uvl, write_uvl
+    from spl.dsl.fm import language as fm
+    from spl.dsl.fm.printer import print_model
+    from spl.dsl.interop.featureide import parse_featureide
+    from spl.dsl.interop.featureide_writer import write_featureide
+    from spl.dsl.interop.formats import load_feature_model
+    from spl.dsl.interop.uvl import parse_uvl, write_uvl
 
     models = args.models or sorted([*DATA.glob("*.uvl"), *DATA.glob("*.xml")])
     print(

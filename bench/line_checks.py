@@ -34,7 +34,7 @@ from pathlib import Path
 from spl.resolver import line_checks
 from spl.resolver.line_checks.dataflow import unfed_inputs_in_line
 from spl.resolver.line_checks.unconsumed import unconsumed_outputs_in_line
-from spl.resolver.product_line import load_product_line
+from spl.resolver.resolution.product_line import load_product_line
 
 ROOT = Path(__file__).resolve().parents[1]
 

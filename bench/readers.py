@@ -1,4 +1,4 @@
-"""Benchmark: does each fast reader (dsl/*_reader.py) pay against textX?
+"""Benchmark: does each fast reader (src/spl/dsl/*/reader.py) pay against textX?
 
     .venv/bin/python bench/readers.py [--sizes 1000 10000] [--repeat 3] [--runs 5]
         [--each] [--no-in-process] [--limit-gb 4]
@@ -36,7 +36,9 @@ from pathlib import Path
 
 from tsm_scale import synthetic_line  # the same synthetic line, run as a script
 
-from spl.dsl import fm, fm_reader, rm, rm_reader, tsm, tsm_reader
+from spl.dsl.fm import language as fm, reader as fm_reader
+from spl.dsl.rm import language as rm, reader as rm_reader
+from spl.dsl.tsm import language as tsm, reader as tsm_reader
 
 ROOT = Path(__file__).resolve().parents[1]
 LANGUAGES = {

@@ -89,9 +89,9 @@ def synthetic_line(folder: Path, nodes: int) -> list[str]:
 
 
 def measure(nodes: int) -> tuple[float, float, int]:
-    from spl.resolver.engine import resolve
-    from spl.resolver.product_line import load_product_line
-    from spl.resolver.product_selection import ProductSelection
+    from spl.resolver.resolution.engine import resolve
+    from spl.resolver.resolution.product_line import load_product_line
+    from spl.resolver.resolution.product_selection import ProductSelection
 
     with tempfile.TemporaryDirectory() as tmp:
         folder = Path(tmp)

@@ -36,8 +36,8 @@ from pathlib import Path
 import numpy as np
 from pysat.solvers import Solver
 
-from spl.dsl.fm_formats import load_analysable_model
-from spl.resolver.analysis import FeatureModelFormula
+from spl.dsl.interop.formats import load_analysable_model
+from spl.resolver.analysis.formula import FeatureModelFormula
 
 ROOT = Path(__file__).resolve().parents[1]
 MODELS = ROOT / "tests" / "data" / "feature-models"

@@ -43,9 +43,9 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tests"))
 
-from support.service_models import product  # noqa: E402
+from spl.generators.service import generator as service  # noqa: E402
 
-from spl.generators import service  # noqa: E402
+from support.service_models import product  # noqa: E402
 
 TOKEN = "bench-token"
 # docs/performance.md, "Targets": generated / bare at concurrency 8, reliably (the min of

@@ -74,8 +74,8 @@ def main() -> None:
             f"{spent / options.tasks * 1000:.2f} ms each"
         )
 
-    from spl.cluster_validation import pack
-    from spl.line_validation import load_lines
+    from spl.validation.cluster import pack
+    from spl.validation.line import load_lines
 
     for loaded in load_lines([Path(line) for line in LINES]):
         start = time.perf_counter()

@@ -115,7 +115,7 @@ def synthetic_line(folder: Path, features: int) -> Path:
 
 
 def load_seconds(line: Path) -> float:
-    from spl.line_validation import load_lines
+    from spl.validation.line import load_lines
 
     start = time.perf_counter()
     load_lines([line])

@@ -1,4 +1,4 @@
-"""Time of the Zenoh routing (``spl.generators.zenoh_routes.routes``, docs/deployment.md,
+"""Time of the Zenoh routing (``spl.generators.transport.routes.routes``, docs/deployment.md,
 "How the bridges' namespaces are chosen"): every product of each shipped line and of the
 offshore test line, mapping3d fleets of N robots (bench/fleet_check.py's, whose usual
 namespaces are exact), then offshore fleets of N teams whose usual namespaces are not.
@@ -24,18 +24,18 @@ from pathlib import Path
 
 from fleet_check import fleet_text as mapping_fleet  # run as bench/zenoh_routes.py
 
-from spl.generators.zenoh_namespaces import Choice
-from spl.generators.zenoh_routes import links, routes
-from spl.resolver.analysis import enumerate_products
-from spl.resolver.engine import resolve
-from spl.resolver.fleet import check_fleet
-from spl.resolver.fleet_deployment import deploy
-from spl.resolver.fleet_file import load_fleet
-from spl.resolver.placement import Placement
-from spl.resolver.product import ResolvedProduct
-from spl.resolver.product_line import load_product_line
-from spl.resolver.product_selection import ProductSelection
-from spl.resolver.wiring import Wiring
+from spl.generators.transport.namespaces import Choice
+from spl.generators.transport.routes import links, routes
+from spl.resolver.analysis.formula import enumerate_products
+from spl.resolver.architecture.placement import Placement
+from spl.resolver.architecture.product import ResolvedProduct
+from spl.resolver.architecture.wiring import Wiring
+from spl.resolver.fleets.deployment import deploy
+from spl.resolver.fleets.fleet import check_fleet
+from spl.resolver.fleets.fleet_file import load_fleet
+from spl.resolver.resolution.engine import resolve
+from spl.resolver.resolution.product_line import load_product_line
+from spl.resolver.resolution.product_selection import ProductSelection
 
 ROOT = Path(__file__).resolve().parents[1]
 OFFSHORE = ROOT / "tests" / "models" / "offshore"

@@ -1,10 +1,10 @@
 """Write the typed metamodel modules: one static class per metaclass of each ``.ecore``.
 
-    .venv/bin/python scripts/ecore_types.py          # (re)write metamodels/*_types.py
+    .venv/bin/python scripts/ecore_types.py          # (re)write src/spl/metamodels/*_types.py
     .venv/bin/python scripts/ecore_types.py --check  # exit 1 when one is stale
 
-spl's model classes are made from ``metamodels/{tsm,fm,rm}.ecore`` at run time, so a type
-checker cannot see them; ``metamodels/tsm_types.py``, ``fm_types.py`` and
+spl's model classes are made from ``src/spl/metamodels/{tsm,fm,rm}.ecore`` at run time, so a type
+checker cannot see them; ``src/spl/metamodels/tsm_types.py``, ``fm_types.py`` and
 ``rm_types.py`` declare them for it (imported under ``if TYPE_CHECKING:`` only, they cost
 nothing at run time). Each metaclass becomes a class with its supertypes, its features
 typed from the metamodel (an ``EString`` is ``str``, an ``EIntegerObject`` ``int | None``,
@@ -24,7 +24,7 @@ import textwrap
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-FOLDER = ROOT / "metamodels"
+FOLDER = ROOT / "src" / "spl" / "metamodels"
 NAMES = ("tsm", "fm", "rm")
 DOCUMENTATION = "http://www.eclipse.org/emf/2002/GenModel"
 DATA_TYPES = {
@@ -199,7 +199,7 @@ class _Writer:
         )
         lines += ["", "    package: EPackage"]
         if own == "tsm":
-            lines.append("    located_later: bool  # the plain twins only (spl.dsl.tsm_plain)")
+            lines.append("    located_later: bool  # the plain twins only (spl.dsl.tsm.plain)")
         for classifier in self.package.eClassifiers:
             if isinstance(classifier, EEnum):
                 lines.append(f"    {classifier.name}: {own}.{classifier.name}Enum")
@@ -220,7 +220,7 @@ class _Writer:
                 body += self.eclass(classifier)
         body += self.namespace()
         self.imported.add(own)
-        head = [f'"""The {own} metamodel (metamodels/{own}.ecore) for the type checker.']
+        head = [f'"""The {own} metamodel (src/spl/metamodels/{own}.ecore) for the type checker.']
         documentation = _documentation(self.package)
         if documentation:
             head += ["", *textwrap.wrap(documentation, WIDTH, break_on_hyphens=False)]

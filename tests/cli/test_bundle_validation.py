@@ -7,12 +7,12 @@ from pathlib import Path
 
 import pytest
 
-from spl.bundle_validation import validate_bundle
-from spl.dsl.tsm import parse_text
-from spl.generators.bundle import bundle_files
-from spl.resolver.engine import resolve
-from spl.resolver.product_line import load_product_line
-from spl.resolver.product_selection import load_selection_file
+from spl.dsl.tsm.language import parse_text
+from spl.generators.bundle.validation import validate_bundle
+from spl.generators.bundle.writer import bundle_files
+from spl.resolver.resolution.engine import resolve
+from spl.resolver.resolution.product_line import load_product_line
+from spl.resolver.resolution.product_selection import load_selection_file
 
 LINES = Path(__file__).resolve().parents[2] / "product_lines"
 PRODUCTS = sorted(LINES.glob("*/products/*.yaml"))

@@ -7,8 +7,8 @@ from __future__ import annotations
 import hashlib
 import json
 
-from spl import bundle_validation
-from spl.bundle_validation import validate_bundle
+from spl.generators.bundle import validation as bundle_validation
+from spl.generators.bundle.validation import validate_bundle
 
 
 def bundle(files: dict[str, bytes]) -> dict[str, bytes]:

@@ -5,7 +5,7 @@ manual instead (``docs/resolution.md``, step 3) and a paper by the title docs/in
 gives it.
 
 Checked: the Python modules, grammars (.tx) and metamodels (.ecore) of the package
-folders, the benchmarks and scripts, and the templates under generators/templates: what
+folders, the benchmarks and scripts, and the templates of the generators: what
 they write is read by the users of a bundle, who have the repository even less."""
 
 from __future__ import annotations
@@ -16,7 +16,7 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
-FOLDERS = ("metamodels", "dsl", "resolver", "generators", "spl", "bench", "scripts")
+FOLDERS = ("src", "bench", "scripts")
 SUFFIXES = (".py", ".tx", ".ecore", ".j2")
 CITATION = re.compile(
     r"\bSPEC\b"  # SPEC 5.2, (SPEC section 8)
@@ -31,9 +31,7 @@ def checked_files() -> list[Path]:
         path
         for folder in FOLDERS
         for path in (ROOT / folder).rglob("*")
-        if path.suffix in SUFFIXES
-        and path.is_file()
-        and "__pycache__" not in path.parts
+        if path.suffix in SUFFIXES and path.is_file() and "__pycache__" not in path.parts
     )
 
 
@@ -48,8 +46,8 @@ def citations(text: str) -> list[tuple[int, str]]:
 def test_the_checked_folders_hold_code() -> None:
     files = checked_files()
     assert len(files) > 150
-    assert ROOT / "metamodels" / "tsm.ecore" in files
-    assert ROOT / "dsl" / "fm.tx" in files
+    assert ROOT / "src" / "spl" / "metamodels" / "tsm.ecore" in files
+    assert ROOT / "src" / "spl" / "dsl" / "fm" / "fm.tx" in files
 
 
 @pytest.mark.parametrize(

@@ -21,7 +21,7 @@ HEAVY = ("textx", "pyecore", "lxml", "jinja2", "networkx", "graphviz", "jsonsche
 
 
 def imported_after(*arguments: str, planted: str = "") -> set[str]:
-    """Top-level packages and spl.commands modules imported by ``spl ARGUMENTS``
+    """Top-level packages and spl.cli.commands modules imported by ``spl ARGUMENTS``
     (``planted``: code run first, as a module of spl could run it when imported)."""
     script = (
         "import json, sys\n"
@@ -32,7 +32,7 @@ def imported_after(*arguments: str, planted: str = "") -> set[str]:
         "except SystemExit as exc:\n"
         "    assert not exc.code, exc.code\n"
         "names = {m.split('.')[0] for m in sys.modules}\n"
-        "names |= {m for m in sys.modules if m.startswith(('spl.commands.', 'importlib.'))}\n"
+        "names |= {m for m in sys.modules if m.startswith(('spl.cli.commands.', 'importlib.'))}\n"
         "print(json.dumps(sorted(names)), file=sys.stderr)\n"
     )
     done = subprocess.run(
@@ -45,7 +45,7 @@ def test_analyze_of_a_uvl_file_needs_neither_textx_nor_pyecore() -> None:
     found = imported_after("analyze", "--json", str(REAL_MODELS / "berkeleydb.uvl"))
     assert "pysat" in found
     assert not found & set(HEAVY), found & set(HEAVY)
-    assert {m for m in found if m.startswith("spl.commands.")} == {"spl.commands.analyze"}
+    assert {m for m in found if m.startswith("spl.cli.commands.")} == {"spl.cli.commands.analyze"}
 
 
 # What no check of a shipped model imports: textX (and its parser arpeggio) only parses
@@ -58,7 +58,7 @@ def test_check_of_a_line_loads_only_what_checking_uses() -> None:
     assert {"pyecore", "pysat", "yaml"} <= found
     assert not found & NOT_FOR_CHECKING, found & NOT_FOR_CHECKING
     assert "importlib.resources" not in found
-    assert {m for m in found if m.startswith("spl.commands.")} == {"spl.commands.check"}
+    assert {m for m in found if m.startswith("spl.cli.commands.")} == {"spl.cli.commands.check"}
 
 
 @pytest.mark.parametrize(
@@ -71,8 +71,8 @@ def test_check_of_one_model_needs_no_textx(model: str) -> None:
 
 def test_an_eager_import_of_textx_in_the_check_path_is_found() -> None:
     """The checks above fail when a module ``spl check`` imports imports textX itself:
-    here planted in spl.dsl.rm as an import at its top would do."""
-    planted = "import spl.dsl.rm; exec('import textx', vars(spl.dsl.rm))"
+    here planted in spl.dsl.rm.language as an import at its top would do."""
+    planted = "import spl.dsl.rm.language; exec('import textx', vars(spl.dsl.rm.language))"
     found = imported_after("check", "product_lines/mapping3d", planted=planted)
     assert "textx" in found & NOT_FOR_CHECKING
 
@@ -85,7 +85,7 @@ def test_help_still_lists_every_command() -> None:
     listed = {line.split()[0] for line in done.stdout.split("Commands:")[1].splitlines() if line}
     modules = {  # a command's module is named like it, with _ for -
         p.stem.replace("_", "-")
-        for p in (ROOT / "spl" / "commands").glob("*.py")
+        for p in (ROOT / "src" / "spl" / "cli" / "commands").glob("*.py")
         if not p.stem.startswith("_")
     }
     assert listed == modules - {"selection-options"}

@@ -1,4 +1,4 @@
-"""The configurator's architecture drawing (spl/configure/drawing.py): well-formed SVG
+"""The configurator's architecture drawing (src/spl/configure/drawing.py): well-formed SVG
 for every listed product of every shipped line, the same bytes for the same product,
 and the marks a reader needs: migrated nodes with their origin, removed nodes and
 containers (with pruning's reason), the bridges between containers."""
@@ -12,7 +12,7 @@ import pytest
 
 from spl import pipeline
 from spl.configure.drawing import architecture_svg
-from spl.resolver.product_selection import load_selection_file
+from spl.resolver.resolution.product_selection import load_selection_file
 
 ROOT = Path(__file__).resolve().parents[2]
 SVG = "{http://www.w3.org/2000/svg}"

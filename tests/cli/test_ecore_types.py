@@ -1,4 +1,4 @@
-"""The typed metamodel modules (metamodels/tsm_types.py, fm_types.py, rm_types.py) are
+"""The typed metamodel modules (src/spl/metamodels/tsm_types.py, fm_types.py, rm_types.py) are
 what scripts/ecore_types.py writes from the .ecore files: a metamodel changed without
 running the script fails here, naming the command. They are for the type checker only:
 ``spl check`` never imports them."""
@@ -26,7 +26,7 @@ def _writer():
 
 @pytest.mark.parametrize("name", ["tsm", "fm", "rm"])
 def test_the_typed_module_is_what_the_script_writes(name: str) -> None:
-    path = ROOT / "metamodels" / f"{name}_types.py"
+    path = ROOT / "src" / "spl" / "metamodels" / f"{name}_types.py"
     written = _writer().modules()[path]
     assert path.read_text(encoding="utf-8") == written, (
         f"{path.relative_to(ROOT)} is stale: run .venv/bin/python scripts/ecore_types.py"
@@ -39,7 +39,9 @@ def test_every_metaclass_and_feature_is_declared() -> None:
     from spl.metamodels import packages
 
     for name, package in packages().items():
-        text = (ROOT / "metamodels" / f"{name}_types.py").read_text(encoding="utf-8")
+        text = (ROOT / "src" / "spl" / "metamodels" / f"{name}_types.py").read_text(
+            encoding="utf-8"
+        )
         for classifier in package.eClassifiers:
             if isinstance(classifier, EClass):
                 assert f"\nclass {classifier.name}(" in text

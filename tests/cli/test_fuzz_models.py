@@ -17,8 +17,7 @@ import shutil
 import tempfile
 from pathlib import Path
 
-from hypothesis import given, settings
-from hypothesis import strategies as st
+from hypothesis import given, settings, strategies as st
 
 from support.cli_outcome import assert_clean, run
 from support.hypothesis_budget import examples

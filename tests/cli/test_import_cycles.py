@@ -10,13 +10,7 @@ from pathlib import Path
 import networkx as nx
 
 ROOT = Path(__file__).resolve().parents[2]
-FOLDERS = {
-    "metamodels": "spl.metamodels",
-    "dsl": "spl.dsl",
-    "resolver": "spl.resolver",
-    "generators": "spl.generators",
-    "spl": "spl",
-}
+FOLDERS = {"src/spl": "spl"}
 
 
 def modules() -> dict[str, Path]:

@@ -1,4 +1,4 @@
-"""How spl processes end on a signal (spl.lifetime), in a fresh interpreter each time:
+"""How spl processes end on a signal (spl.core.lifetime), in a fresh interpreter each time:
 the cases are races in real runs (a Ctrl-C landing in a finaliser or in a child between
 fork and exec), made certain here by signalling from exactly that place."""
 
@@ -13,7 +13,9 @@ import pytest
 
 
 def run(script: str) -> subprocess.CompletedProcess[str]:
-    code = "import os, signal\nfrom spl.lifetime import raise_if_signalled, unwind_on_signals\n"
+    code = (
+        "import os, signal\nfrom spl.core.lifetime import raise_if_signalled, unwind_on_signals\n"
+    )
     return subprocess.run(
         [sys.executable, "-c", code + textwrap.dedent(script)],
         capture_output=True, text=True, timeout=60,
@@ -117,7 +119,7 @@ def test_a_pool_workers_task_unwinds_a_swallowed_signal_through_its_cleanup():
     processes and temporary folder): the task's end is a checkpoint that unwinds."""
     result = run("""
         import weakref
-        from spl.lifetime import checkpointed
+        from spl.core.lifetime import checkpointed
         unwind_on_signals(pool_worker=True)
         class Model:
             pass

@@ -17,7 +17,7 @@ from spl.lsp.checking import SUFFIXES
 
 ROOT = Path(__file__).resolve().parents[2]
 EXTENSION = ROOT / "editors" / "vscode"
-GRAMMARS = {"tsm": ["tsm.tx"], "fm": ["fm.tx", "capability.tx"], "rm": ["rm.tx"]}
+GRAMMARS = {"tsm": ["tsm/tsm.tx"], "fm": ["fm/fm.tx", "fm/capability.tx"], "rm": ["rm/rm.tx"]}
 
 
 def manifest() -> dict:
@@ -48,7 +48,9 @@ def test_textmate_grammar_highlights_every_keyword_of_the_language(language: str
     assert grammar["scopeName"] == entry["scopeName"]
     keywords = grammar_keywords.keywords(language)
     assert keywords == {
-        word for file in GRAMMARS[language] for word in _string_words(ROOT / "dsl" / file)
+        word
+        for file in GRAMMARS[language]
+        for word in _string_words(ROOT / "src" / "spl" / "dsl" / file)
     }
     constants = set(_words(grammar["repository"]["constants"]["match"]))
     assert constants == set(BOOLEANS[language]())

@@ -15,8 +15,8 @@ from pathlib import Path
 
 import pytest
 
-from spl.dsl import tsm
-from spl.dsl.tsm_incremental import Trees
+from spl.dsl.tsm import language as tsm
+from spl.dsl.tsm.incremental import Trees
 from spl.dsl.workspace import Workspace
 from spl.lsp import checking
 
@@ -100,7 +100,7 @@ def test_the_line_check_follows_every_edit_and_reuses_only_unchanged_inputs(tmp_
 def test_a_refused_tsm_is_built_once_in_plain_objects(tmp_path, monkeypatch) -> None:
     """A .tsm that does not build is read once, by the plain build: loading the line,
     then its files one by one, meets the problems the plain build found."""
-    from spl.dsl import tsm_plain
+    from spl.dsl.tsm import plain as tsm_plain
 
     folder = tmp_path / "orchard"
     shutil.copytree(ROOT / "product_lines" / "orchard", folder)
@@ -126,7 +126,7 @@ def test_witness_products_are_resolved_again_only_when_what_they_read_changed(
     """The dataflow check resolves a witness product per unfed input; the editor keeps
     those resolutions while the template, the feature model and the elements the witness
     activates stay as they were, and answers as a full check does either way."""
-    from spl.resolver import engine
+    from spl.resolver.resolution import engine
 
     folder, inputs = copied(WAREHOUSE, tmp_path)
     rm, fm = str(folder / "warehouse.rm"), str(folder / "warehouse.fm")
@@ -200,8 +200,8 @@ def test_a_tsm_edit_builds_again_only_what_it_touched(tmp_path, monkeypatch) -> 
     that only moved are not touched: the warnings move with them); every answer is a
     full check's. What each model refers to is forgotten when the next is
     built: the template holds no more references after many edits than after one."""
-    from spl.dsl import rm
-    from spl.resolver import engine
+    from spl.dsl.rm import language as rm
+    from spl.resolver.resolution import engine
 
     folder, inputs = copied(WAREHOUSE, tmp_path)
     path = str(folder / "warehouse.tsm")

@@ -359,8 +359,8 @@ async def test_formatting_prints_with_spls_printer_and_keeps_comments(
             options=types.FormattingOptions(tab_size=4, insert_spaces=True),
         )
     )
-    from spl.dsl import fm as fm_language
-    from spl.dsl.fm_printer import print_model
+    from spl.dsl.fm import language as fm_language
+    from spl.dsl.fm.printer import print_model
 
     assert edit.new_text == print_model(fm_language.parse_text(text, str(fm)))
     change(client, fm, "// a comment\n" + text, 2)

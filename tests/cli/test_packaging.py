@@ -13,24 +13,19 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
-MAPPED = {
-    "metamodels": "spl.metamodels",
-    "dsl": "spl.dsl",
-    "resolver": "spl.resolver",
-    "generators": "spl.generators",
-    "spl": "spl",
-}
+SOURCE = ROOT / "src"
 
 
-def test_every_package_folder_is_listed_in_pyproject():
+def test_every_folder_of_python_modules_is_a_package():
+    """setuptools ships the packages it finds under src/ (pyproject.toml): a folder of
+    modules without an ``__init__.py`` would be left out of the wheel."""
+    folders = {p.parent for p in (SOURCE / "spl").rglob("*.py") if "__pycache__" not in p.parts}
+    missing = sorted(
+        str(f.relative_to(SOURCE)) for f in folders if not (f / "__init__.py").is_file()
+    )
+    assert not missing, missing
     config = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]
-    listed = set(config["packages"])
-    found = set()
-    for folder, package in MAPPED.items():
-        for init in (ROOT / folder).rglob("__init__.py"):
-            relative = init.parent.relative_to(ROOT / folder).parts
-            found.add(".".join((package, *relative)))
-    assert found == listed
+    assert config["packages"]["find"]["where"] == ["src"]
 
 
 @pytest.fixture(scope="module")
@@ -60,11 +55,11 @@ def test_wheel_ships_models_grammars_and_templates(wheel):
         "spl/metamodels/tsm.ecore",
         "spl/metamodels/fm.ecore",
         "spl/metamodels/rm.ecore",
-        "spl/dsl/tsm.tx",
-        "spl/dsl/rm.tx",
-        "spl/dsl/fm.tx",
-        "spl/dsl/capability.tx",
-        "spl/cli.py",
+        "spl/dsl/tsm/tsm.tx",
+        "spl/dsl/rm/rm.tx",
+        "spl/dsl/fm/fm.tx",
+        "spl/dsl/fm/capability.tx",
+        "spl/cli/__init__.py",
         "spl/smoke/standin.py",  # run by the ROS Python from the installed package
     ):
         assert required in names, required
@@ -126,6 +121,6 @@ def test_the_services_extra_is_what_the_generated_services_require():
     """`pip install 'spl-robotics[services]'` lets spl smoke run a bundle's services with
     spl's own Python: the extra lists exactly the generated requirements.txt."""
     extras = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]
-    template = ROOT / "generators" / "templates" / "service" / "requirements.txt.j2"
+    template = SOURCE / "spl" / "generators" / "service" / "templates" / "requirements.txt.j2"
     required = [line for line in template.read_text().splitlines() if line.strip()]
     assert extras["optional-dependencies"]["services"] == required

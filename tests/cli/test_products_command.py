@@ -10,7 +10,7 @@ from pathlib import Path
 from click.testing import CliRunner
 
 from spl.cli import main
-from spl.dsl.fm_formats import load_feature_model
+from spl.dsl.interop.formats import load_feature_model
 
 from support.fm_semantics import is_product
 from support.real_models import REAL_MODELS

@@ -20,12 +20,12 @@ from pathlib import Path
 
 import pytest
 
-from spl.dsl import tsm as tsm_language
-from spl.dsl.tsm_printer import print_model
-from spl.generators.bundle import bundle_files
-from spl.resolver.engine import resolve
-from spl.resolver.product_line import load_product_line
-from spl.resolver.product_selection import selection_from_list
+from spl.dsl.tsm import language as tsm_language
+from spl.dsl.tsm.printer import print_model
+from spl.generators.bundle.writer import bundle_files
+from spl.resolver.resolution.engine import resolve
+from spl.resolver.resolution.product_line import load_product_line
+from spl.resolver.resolution.product_selection import selection_from_list
 from spl.smoke.plan import endpoint_name
 from spl.smoke.planning import load_plan
 

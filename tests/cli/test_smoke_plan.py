@@ -14,7 +14,7 @@ import pytest
 from click.testing import CliRunner
 
 from spl.cli import main
-from spl.diagnostics import ModelError
+from spl.core.diagnostics import ModelError
 from spl.smoke.live import LiveGraph, Row, compare
 from spl.smoke.plan import join
 from spl.smoke.planning import load_plan

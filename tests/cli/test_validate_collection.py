@@ -9,7 +9,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-from spl.line_validation import load_lines, plan_cases, run_cases
+from spl.validation.line import load_lines, plan_cases, run_cases
 
 MAPPING = Path(__file__).resolve().parents[2] / "product_lines" / "mapping3d"
 
@@ -49,8 +49,8 @@ def test_what_every_product_imports_is_in_the_oldest_generation_before_the_first
     interpreter, so nothing is imported yet."""
     probe = (
         "import gc, sys\n"
-        "import spl.line_validation as lv\n"
-        "from spl.generators.bundle import GENERATORS\n"
+        "import spl.validation.line as lv\n"
+        "from spl.generators.bundle.writer import GENERATORS\n"
         "lv._import_product_modules()\n"
         "assert set(GENERATORS) <= set(sys.modules), 'a generator is not imported'\n"
         "young = {id(o) for g in (0, 1) for o in gc.get_objects(generation=g)}\n"

@@ -13,10 +13,10 @@ from click.testing import CliRunner
 from lxml import etree
 
 from spl.cli import main
-from spl.generators.bundle_options import BundleOptions
-from spl.junit_report import junit_xml
-from spl.line_validation import CaseResult
+from spl.generators.bundle.options import BundleOptions
 from spl.pipeline import ProductWarning
+from spl.validation.junit import junit_xml
+from spl.validation.line import CaseResult
 
 from support.smoke_runs import run_spl
 
@@ -224,7 +224,7 @@ def test_diagrams_are_rendered_only_when_asked() -> None:
     """A product's diagram source is always generated and checked; rendering it costs a
     Graphviz process per product, so `spl validate` does it with --diagrams only."""
     from spl import pipeline
-    from spl.resolver.product_selection import load_selection_file
+    from spl.resolver.resolution.product_selection import load_selection_file
 
     line = pipeline.load_line(LINES / "mapping3d")
     selection = load_selection_file(LINES / "mapping3d" / "products" / "youbot_stereo_room.yaml")

@@ -8,11 +8,10 @@ from pathlib import Path
 
 import pytest
 from click.testing import CliRunner
-from hypothesis import given
-from hypothesis import strategies as st
+from hypothesis import given, strategies as st
 
 from spl.cli import main
-from spl.line_validation import ProductCase, Shard
+from spl.validation.line import ProductCase, Shard
 
 ROOT = Path(__file__).resolve().parents[2]
 MODELS = Path(__file__).parents[1] / "models" / "validate"

@@ -16,11 +16,11 @@ from pathlib import Path
 import pytest
 from test_readme_commands import fenced_command
 
-from spl.bundle_validation import validate_bundle
-from spl.generators.bundle import bundle_files
-from spl.resolver.engine import resolve
-from spl.resolver.product_line import load_product_line
-from spl.resolver.product_selection import selection_from_list
+from spl.generators.bundle.validation import validate_bundle
+from spl.generators.bundle.writer import bundle_files
+from spl.resolver.resolution.engine import resolve
+from spl.resolver.resolution.product_line import load_product_line
+from spl.resolver.resolution.product_selection import selection_from_list
 
 ROOT = Path(__file__).resolve().parents[2]
 WARNING = "architecture.svg not written: Graphviz 'dot' not found; install graphviz to get diagrams"

@@ -1,4 +1,4 @@
-"""The one pause of the cyclic garbage collector (spl.dsl.cyclic_gc) and its three
+"""The one pause of the cyclic garbage collector (spl.core.cyclic_gc) and its three
 endings: a model read is kept in the oldest generation, a validated product's objects
 are collected once, the resolution's are left to the collector."""
 
@@ -9,7 +9,7 @@ from typing import ClassVar
 
 import pytest
 
-from spl.dsl.cyclic_gc import without_cyclic_gc
+from spl.core.cyclic_gc import without_cyclic_gc
 
 
 class Node:

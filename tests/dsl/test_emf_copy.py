@@ -9,9 +9,9 @@ from pathlib import Path
 import pytest
 from pyecore.notification import EObserver
 
-from spl.dsl.tsm import parse_file
-from spl.emf import copy_with_map
-from spl.emf_compare import differences
+from spl.core.emf import copy_with_map
+from spl.core.emf_compare import differences
+from spl.dsl.tsm.language import parse_file
 
 MODELS = sorted((Path(__file__).resolve().parents[2] / "product_lines").glob("*/*.tsm"))
 
@@ -78,7 +78,7 @@ def test_a_copied_attribute_slot_is_the_one_pyecore_builds(path):
 def test_a_copy_is_the_one_pyecore_builds_by_setting_each_feature(path, monkeypatch):
     """Slots, set features, containers and inverse relations of every copied element
     equal those of a copy whose features are all set through pyecore's descriptors."""
-    from spl import emf
+    from spl.core import emf
 
     original = parse_file(path)
     _, fast_map = copy_with_map(original)
@@ -130,10 +130,10 @@ def test_a_copy_is_the_one_pyecore_builds_by_setting_each_feature(path, monkeypa
 
 @pytest.mark.parametrize("count", [3, 12])  # the few one by one, many in one pass
 def test_removing_many_members_leaves_what_removing_each_leaves(count):
-    """A product dropping many optional nodes of one container (spl.emf.remove_all):
+    """A product dropping many optional nodes of one container (spl.core.emf.remove_all):
     the same members in the same order, the removed ones detached, the kept ones
     contained, as when pyecore removes each."""
-    from spl.emf import remove_all
+    from spl.core.emf import remove_all
     from spl.metamodels import tsm
 
     T = tsm()

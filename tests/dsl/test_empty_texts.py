@@ -10,8 +10,10 @@ from pathlib import Path
 
 import pytest
 
-from spl.diagnostics import ModelError
-from spl.dsl import fm, rm, tsm
+from spl.core.diagnostics import ModelError
+from spl.dsl.fm import language as fm
+from spl.dsl.rm import language as rm
+from spl.dsl.tsm import language as tsm
 
 ROOT = Path(__file__).resolve().parents[2]
 MAPPING = ROOT / "product_lines" / "mapping3d"

@@ -6,13 +6,13 @@ from pathlib import Path
 
 import pytest
 
-from spl.diagnostics import ModelError
-from spl.dsl import fm
-from spl.dsl.featureide import parse_featureide, read_featureide
-from spl.dsl.featureide_writer import write_featureide
-from spl.dsl.fm_interchange import original_name
-from spl.dsl.uvl import read_uvl, write_uvl
-from spl.emf_compare import differences
+from spl.core.diagnostics import ModelError
+from spl.core.emf_compare import differences
+from spl.dsl.fm import language as fm
+from spl.dsl.interop.featureide import parse_featureide, read_featureide
+from spl.dsl.interop.featureide_writer import write_featureide
+from spl.dsl.interop.interchange import original_name
+from spl.dsl.interop.uvl import read_uvl, write_uvl
 
 from support.fm_semantics import equivalent, products, relations
 from support.real_models import REAL_MODELS

@@ -6,13 +6,13 @@ from pathlib import Path
 
 import pytest
 
-from spl.diagnostics import ModelError
-from spl.dsl import fm
-from spl.dsl.featureide import parse_featureide
-from spl.dsl.featureide_writer import write_featureide
-from spl.dsl.fm_printer import format_capabilities, print_model
-from spl.dsl.uvl import parse_uvl, write_uvl
-from spl.emf_compare import differences
+from spl.core.diagnostics import ModelError
+from spl.core.emf_compare import differences
+from spl.dsl.fm import language as fm
+from spl.dsl.fm.printer import format_capabilities, print_model
+from spl.dsl.interop.featureide import parse_featureide
+from spl.dsl.interop.featureide_writer import write_featureide
+from spl.dsl.interop.uvl import parse_uvl, write_uvl
 
 ROOT = Path(__file__).resolve().parents[2]
 MODEL = (

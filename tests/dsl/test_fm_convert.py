@@ -9,8 +9,8 @@ import pytest
 from click.testing import CliRunner
 
 from spl.cli import main
-from spl.dsl.fm_formats import load_feature_model
-from spl.emf_compare import differences
+from spl.core.emf_compare import differences
+from spl.dsl.interop.formats import load_feature_model
 
 from support.fm_semantics import equivalent, relations
 from support.real_models import REAL_MODELS

@@ -6,11 +6,11 @@ from pathlib import Path
 
 import pytest
 
-from spl.diagnostics import ModelError
-from spl.dsl import fm
-from spl.dsl.fm_formats import load_feature_model, render_feature_model, save_feature_model
-from spl.dsl.fm_interchange import FeatureNames, sanitise
-from spl.emf_compare import differences
+from spl.core.diagnostics import ModelError
+from spl.core.emf_compare import differences
+from spl.dsl.fm import language as fm
+from spl.dsl.interop.formats import load_feature_model, render_feature_model, save_feature_model
+from spl.dsl.interop.interchange import FeatureNames, sanitise
 
 ROOT = Path(__file__).resolve().parents[2]
 MAPPING = ROOT / "product_lines" / "mapping3d" / "mapping.fm"

@@ -7,11 +7,11 @@ from pathlib import Path
 
 import pytest
 
-from spl.diagnostics import ModelError
-from spl.dsl import fm
-from spl.dsl.fm_printer import print_model
-from spl.dsl.fm_vocabulary import MAX_FORMULA_DEPTH
-from spl.emf_compare import differences
+from spl.core.diagnostics import ModelError
+from spl.core.emf_compare import differences
+from spl.dsl.fm import language as fm
+from spl.dsl.fm.printer import print_model
+from spl.dsl.fm.vocabulary import MAX_FORMULA_DEPTH
 
 from support.fm_semantics import products
 from support.real_models import REAL_MODELS
@@ -246,7 +246,7 @@ REAL = sorted(REAL_MODELS.glob("*.uvl"))
 
 @pytest.mark.parametrize("path", REAL, ids=lambda p: p.stem)
 def test_printer_round_trips_the_real_models(path: Path) -> None:
-    from spl.dsl.uvl import read_uvl
+    from spl.dsl.interop.uvl import read_uvl
 
     model = read_uvl(path)
     assert list(differences(model, fm.parse_text(print_model(model), "printed.fm"))) == []
@@ -289,8 +289,8 @@ def test_a_constraint_too_deep_for_the_readers_is_refused_by_every_format(
 ) -> None:
     # was: an internal error (RecursionError) from a chain of 900 operators, a flat
     # `A or B or ...` as much as nested parentheses: every reader makes chains binary
-    from spl.dsl.featureide import read_featureide
-    from spl.dsl.uvl import read_uvl
+    from spl.dsl.interop.featureide import read_featureide
+    from spl.dsl.interop.uvl import read_uvl
 
     too_deep = f"constraint nested 899 operators deep (at most {MAX_FORMULA_DEPTH})"
     chain = f" {fm_op} ".join(["A", "B"] * 450)
@@ -326,9 +326,9 @@ def test_a_constraint_too_deep_for_the_readers_is_refused_by_every_format(
 
 
 def test_the_deepest_constraint_allowed_goes_through_every_format(tmp_path: Path) -> None:
-    from spl.dsl.featureide import read_featureide
-    from spl.dsl.featureide_writer import write_featureide
-    from spl.dsl.uvl import read_uvl, write_uvl
+    from spl.dsl.interop.featureide import read_featureide
+    from spl.dsl.interop.featureide_writer import write_featureide
+    from spl.dsl.interop.uvl import read_uvl, write_uvl
 
     chain = " => ".join(["A", "B"] * (MAX_FORMULA_DEPTH // 2) + ["A"])
     model = fm.parse_text(

@@ -1,4 +1,4 @@
-"""The fast .fm reader (spl.dsl.fm_reader) reads exactly what textX reads.
+"""The fast .fm reader (spl.dsl.fm.reader) reads exactly what textX reads.
 
 Where the reader takes a text, its tree equals textX's object for object (class name,
 every attribute of the rule, ``_tx_position``); where textX refuses a text, the reader
@@ -11,12 +11,12 @@ UVL and FeatureIDE files carry them).
 from __future__ import annotations
 
 import pytest
-from hypothesis import given, settings
-from hypothesis import strategies as st
+from hypothesis import given, settings, strategies as st
 
-from spl.diagnostics import ModelError
-from spl.dsl import fm, fm_capability, fm_reader, parse_tree
-from spl.dsl.fm_printer import print_model
+from spl.core.diagnostics import ModelError
+from spl.dsl import parse_tree
+from spl.dsl.fm import capability as fm_capability, language as fm, reader as fm_reader
+from spl.dsl.fm.printer import print_model
 
 from support.hypothesis_budget import examples
 from support.model_mutations import mutate, mutations

@@ -23,12 +23,14 @@ from typing import Any
 import arpeggio
 import pytest
 
-from spl.dsl import fm, fm_capability, grammar_keywords, rm, tsm, tsm_reader
-from spl.dsl import fm_vocabulary as vocabulary
-from spl.dsl import tsm_transforms as transforms
+from spl.dsl import grammar_keywords
+from spl.dsl.fm import capability as fm_capability, language as fm, vocabulary
+from spl.dsl.rm import language as rm
+from spl.dsl.tsm import language as tsm, reader as tsm_reader, transforms
 from spl.lsp import completion, occurrences
 
 ROOT = Path(__file__).resolve().parents[2]
+DSL = ROOT / "src" / "spl" / "dsl"
 LANGUAGES = {
     "tsm": tsm._grammar,
     "fm": fm._grammar,
@@ -37,9 +39,9 @@ LANGUAGES = {
 }
 # The hand-written fast reader of each grammar (with the modules holding its rules).
 READERS = {
-    "tsm": ["tsm_reader.py", "tsm_expression_reader.py", "tsm_tree.py"],
-    "fm": ["fm_reader.py"],
-    "rm": ["rm_reader.py"],
+    "tsm": ["tsm/reader.py", "tsm/expression_reader.py", "tsm/tree.py"],
+    "fm": ["fm/reader.py"],
+    "rm": ["rm/reader.py"],
 }
 
 
@@ -196,7 +198,7 @@ def test_the_language_server_s_sets_are_the_grammars() -> None:
 
 
 def test_the_vocabularies_of_the_builders_are_the_grammars() -> None:
-    from spl.resolver import product_selection
+    from spl.resolver.resolution import product_selection
 
     reserved = vocabulary.RESERVED_WORDS
     assert reserved >= {
@@ -221,7 +223,7 @@ def test_every_keyword_is_known_to_the_fast_reader_of_its_grammar() -> None:
     """A reader follows its grammar rule by rule, writing each keyword it matches: a
     keyword added to a .tx file and not to its reader fails here."""
     for language, files in READERS.items():
-        source = "".join((ROOT / "dsl" / f).read_text(encoding="utf-8") for f in files)
+        source = "".join((DSL / f).read_text(encoding="utf-8") for f in files)
         written = set(re.findall(r'"([A-Za-z_][A-Za-z0-9_]*)"', source))
         missing = grammar_keywords.keywords(language) - written
         assert not missing, f"{language}.tx keywords the reader never matches: {missing}"
@@ -264,8 +266,9 @@ REPORT = """
 import json, sys
 from pathlib import Path
 from spl.dsl import grammar_text
-grammar_text.GRAMMARS = Path(sys.argv[1])
-from spl.dsl import fm_vocabulary, tsm_transforms
+grammar_text.GRAMMARS = {n: Path(sys.argv[1]) / f"{n}.tx" for n in grammar_text.GRAMMARS}
+from spl.dsl.fm import vocabulary as fm_vocabulary
+from spl.dsl.tsm import transforms as tsm_transforms
 from spl.lsp import completion, occurrences
 print(json.dumps({
     "TSM_STATEMENTS": sorted(occurrences.TSM_STATEMENTS),
@@ -285,7 +288,7 @@ print(json.dumps({
 
 
 def test_a_keyword_added_to_a_grammar_reaches_every_derived_set(tmp_path: Path) -> None:
-    for grammar in (ROOT / "dsl").glob("*.tx"):
+    for grammar in DSL.glob("*/*.tx"):
         text = grammar.read_text(encoding="utf-8")
         for old, new in EDITS.get(grammar.name, []):
             assert text.count(old) == 1, old
@@ -315,7 +318,7 @@ def test_reading_the_grammars_is_cheap() -> None:
         [
             sys.executable,
             "-c",
-            "import sys, spl.dsl.fm_vocabulary, spl.dsl.tsm_transforms, spl.lsp.completion;"
+            "import sys, spl.dsl.fm.vocabulary, spl.dsl.tsm.transforms, spl.lsp.completion;"
             "print(sorted(m for m in sys.modules if m.startswith(('textx', 'arpeggio'))))",
         ],
         capture_output=True,

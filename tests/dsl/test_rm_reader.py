@@ -1,4 +1,4 @@
-"""The fast .rm reader (spl.dsl.rm_reader) reads exactly what textX reads.
+"""The fast .rm reader (spl.dsl.rm.reader) reads exactly what textX reads.
 
 Where the reader takes a text, its tree equals textX's object for object (class name,
 every attribute of the rule, ``_tx_position``); where textX refuses a text, the reader
@@ -12,11 +12,11 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-from hypothesis import given, settings
-from hypothesis import strategies as st
+from hypothesis import given, settings, strategies as st
 
-from spl.diagnostics import ModelError
-from spl.dsl import parse_tree, rm, rm_reader
+from spl.core.diagnostics import ModelError
+from spl.dsl import parse_tree
+from spl.dsl.rm import language as rm, reader as rm_reader
 
 from support.hypothesis_budget import examples
 from support.model_generator import generated_lines

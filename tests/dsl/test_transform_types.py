@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import pytest
 
-from spl.diagnostics import ModelError
-from spl.dsl.transform_types import check_system, check_transform, expression_type
+from spl.core.diagnostics import ModelError
+from spl.dsl.tsm.transform_types import check_system, check_transform, expression_type
 
 from support.service_models import data_acquisition_system
 from support.transform_trees import IN, T, binary, call, data, num, ref, transform
@@ -102,7 +102,7 @@ def test_store_refinements_must_match_their_transform() -> None:
 
 
 def test_typing_problems_are_reported_by_the_tsm_checks_located() -> None:
-    from spl.dsl import tsm as tsm_language
+    from spl.dsl.tsm import language as tsm_language
 
     with pytest.raises(ModelError) as raised:
         tsm_language.parse_text(

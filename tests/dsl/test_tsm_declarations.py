@@ -1,4 +1,4 @@
-"""The editor's template built from the one before it (``spl.dsl.tsm_declarations.build``)
+"""The editor's template built from the one before it (``spl.dsl.tsm.declarations.build``)
 is the model a full copy of the checked text gives: the same declarations, values,
 places and references, through chains of edits of every shipped model and of generated
 lines. It takes over from the template before exactly the declarations an edit left
@@ -9,14 +9,13 @@ from __future__ import annotations
 import random
 from pathlib import Path
 
-from hypothesis import given, settings
-from hypothesis import strategies as st
+from hypothesis import given, settings, strategies as st
 from test_tsm_reader import SHIPPED
 
-from spl.diagnostics import ModelError
-from spl.dsl import tsm
-from spl.dsl.tsm_declarations import BuiltTemplate, build, declarations
-from spl.emf import copy_model
+from spl.core.diagnostics import ModelError
+from spl.core.emf import copy_model
+from spl.dsl.tsm import language as tsm
+from spl.dsl.tsm.declarations import BuiltTemplate, build, declarations
 
 from support.hypothesis_budget import examples
 from support.model_mutations import mutate, mutations

@@ -15,8 +15,8 @@ import pytest
 from click.testing import CliRunner
 
 from spl.cli import main
-from spl.diagnostics import ModelError
-from spl.dsl import tsm
+from spl.core.diagnostics import ModelError
+from spl.dsl.tsm import language as tsm
 
 ROBOT = """\
 system S

@@ -5,9 +5,9 @@ from __future__ import annotations
 
 import pytest
 
-from spl.diagnostics import ModelError
-from spl.dsl import tsm
-from spl.dsl.tsm_printer import print_model
+from spl.core.diagnostics import ModelError
+from spl.dsl.tsm import language as tsm
+from spl.dsl.tsm.printer import print_model
 
 TEXT = """system S
 

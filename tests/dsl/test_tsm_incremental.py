@@ -1,4 +1,4 @@
-"""Reading a changed .tsm from the reading before the change (spl.dsl.tsm_incremental)
+"""Reading a changed .tsm from the reading before the change (spl.dsl.tsm.incremental)
 gives the tree a full reading of the new text gives: after mapping the stored
 positions, equal object for object, positions included, and refused exactly where the
 full reading refuses. Checked on chains of edits of every shipped and test model, on
@@ -11,12 +11,11 @@ from __future__ import annotations
 import random
 from typing import Any
 
-from hypothesis import given, settings
-from hypothesis import strategies as st
+from hypothesis import given, settings, strategies as st
 from test_tsm_plain import mutated_texts, outcome
 from test_tsm_reader import SHIPPED
 
-from spl.dsl import tsm, tsm_incremental, tsm_reader
+from spl.dsl.tsm import incremental as tsm_incremental, language as tsm, reader as tsm_reader
 
 from support.hypothesis_budget import examples
 from support.model_mutations import mutate, mutations

@@ -11,9 +11,9 @@ import pytest
 from click.testing import CliRunner
 
 from spl.cli import main
-from spl.dsl import tsm
-from spl.dsl.tsm_printer import expression_text, print_model
-from spl.emf_compare import differences
+from spl.core.emf_compare import differences
+from spl.dsl.tsm import language as tsm
+from spl.dsl.tsm.printer import expression_text, print_model
 
 ROOT = Path(__file__).resolve().parents[2]
 MODELS = ROOT / "tests" / "models" / "tsm"
@@ -330,9 +330,9 @@ def test_canonical_endpoint_names() -> None:
 )
 def test_printer_round_trip_of_resolved_products(features: str) -> None:
     """Resolved architectures (migrated nodes, rewired endpoints) print back exactly."""
-    from spl.resolver.engine import resolve
-    from spl.resolver.product_line import load_product_line
-    from spl.resolver.product_selection import selection_from_list
+    from spl.resolver.resolution.engine import resolve
+    from spl.resolver.resolution.product_line import load_product_line
+    from spl.resolver.resolution.product_selection import selection_from_list
 
     resolution = resolve(load_product_line(MAPPING.parent), selection_from_list(features))
     system = resolution.product.system

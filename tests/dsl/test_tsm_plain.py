@@ -1,9 +1,9 @@
-"""The builder run over plain objects (``spl.dsl.tsm.check_text``, what ``spl check
+"""The builder run over plain objects (``spl.dsl.tsm.language.check_text``, what ``spl check
 FILE.tsm`` and the editor run) finds exactly what it finds run over pyecore's own
 classes: the same diagnostics, in the same order, and for a text without errors the
 same summary, printed model and places. ``parse_text`` builds over plain objects and
-copies the result into pyecore (``spl.emf.copy_model``): its model equals the one
-built through pyecore, feature by feature (``spl.emf_compare.differences``). Checked on every
+copies the result into pyecore (``spl.core.emf.copy_model``): its model equals the one
+built through pyecore, feature by feature (``spl.core.emf_compare.differences``). Checked on every
 shipped and test model, the mutation corpus of tests/dsl/test_tsm_reader.py and
 generated, mutated lines.
 """
@@ -13,15 +13,14 @@ from __future__ import annotations
 from typing import Any
 
 import pytest
-from hypothesis import given, settings
-from hypothesis import strategies as st
+from hypothesis import given, settings, strategies as st
 from test_tsm_reader import SHIPPED, SUBSTITUTES
 
-from spl.diagnostics import ModelError
-from spl.dsl import tsm, tsm_plain
-from spl.dsl.tsm_printer import print_model
+from spl.core.diagnostics import ModelError
+from spl.core.emf_compare import differences
+from spl.dsl.tsm import language as tsm, plain as tsm_plain
+from spl.dsl.tsm.printer import print_model
 from spl.dsl.workspace import Workspace
-from spl.emf_compare import differences
 from spl.metamodels import tsm as ecore_metamodel
 
 from support import textx_trees

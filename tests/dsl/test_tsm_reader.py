@@ -1,4 +1,4 @@
-"""The fast .tsm reader (spl.dsl.tsm_reader) reads exactly what textX reads.
+"""The fast .tsm reader (spl.dsl.tsm.reader) reads exactly what textX reads.
 
 Where the reader takes a text, its tree must equal textX's object for object: class
 name, every attribute of the rule, ``_tx_position``; where textX refuses a text, the
@@ -13,17 +13,16 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-from hypothesis import given, settings
-from hypothesis import strategies as st
+from hypothesis import given, settings, strategies as st
 
-from spl.diagnostics import ModelError
-from spl.dsl import (
-    parse_tree,
-    tsm,
-    tsm_expression_reader,
-    tsm_reader,
-    tsm_syntax_excerpt,
-    tsm_tree,
+from spl.core.diagnostics import ModelError
+from spl.dsl import parse_tree
+from spl.dsl.tsm import (
+    expression_reader as tsm_expression_reader,
+    language as tsm,
+    reader as tsm_reader,
+    syntax_excerpt as tsm_syntax_excerpt,
+    tree as tsm_tree,
 )
 
 from support.hypothesis_budget import examples
@@ -31,12 +30,12 @@ from support.model_mutations import mutate, mutations
 from support.random_lines import line_specs, tsm_text
 from support.textx_trees import (
     ROOT,
+    assert_reads_as_textx as reads_as_textx,
     grammar_patterns,
     mutated_texts,
     shipped,
     textx_tree,
 )
-from support.textx_trees import assert_reads_as_textx as reads_as_textx
 
 SHIPPED = shipped(".tsm")
 SUBSTITUTES = ("", "Zz", "2", '"/a b"', "optional", "-", "(", "node", "//", "/*", "é", "{", "->")
@@ -194,7 +193,7 @@ def test_a_rule_is_declared_once_for_the_type_checker_and_the_reader() -> None:
 def test_parse_text_gives_the_same_model_and_errors_through_either_parser(monkeypatch) -> None:
     """The builder cannot tell the trees apart: a file built from the reader's tree and
     from textX's prints the same and fails with the same messages."""
-    from spl.dsl.tsm_printer import print_model
+    from spl.dsl.tsm.printer import print_model
 
     broken = CORNERS["keywords as names, names starting with keywords"]
     texts = [p.read_text(encoding="utf-8") for p in SHIPPED[:6]] + [broken]
@@ -216,7 +215,7 @@ def whole_and_excerpt_errors(text: str) -> tuple[str, str] | None:
     excerpt of it; None where the reader reads the text or textX reads the excerpt."""
     from textx import TextXSyntaxError
 
-    from spl.dsl.tsm_syntax import syntax_diagnostic
+    from spl.dsl.tsm.syntax import syntax_diagnostic
 
     excerpt = tsm_syntax_excerpt.error_excerpt(text)
     if excerpt is None:

@@ -23,8 +23,8 @@ from pathlib import Path
 
 import pytest
 
-from spl.diagnostics import ModelError
-from spl.dsl.uvl import parse_uvl, read_uvl
+from spl.core.diagnostics import ModelError
+from spl.dsl.interop.uvl import parse_uvl, read_uvl
 
 from support.real_models import REAL_MODELS
 

@@ -6,11 +6,11 @@ from pathlib import Path
 
 import pytest
 
-from spl.diagnostics import ModelError
-from spl.dsl import fm
-from spl.dsl.fm_interchange import ORIGINAL_NAME, original_name
-from spl.dsl.uvl import parse_uvl, read_uvl, write_uvl
-from spl.emf_compare import differences
+from spl.core.diagnostics import ModelError
+from spl.core.emf_compare import differences
+from spl.dsl.fm import language as fm
+from spl.dsl.interop.interchange import ORIGINAL_NAME, original_name
+from spl.dsl.interop.uvl import parse_uvl, read_uvl, write_uvl
 
 from support.real_models import REAL_MODELS
 

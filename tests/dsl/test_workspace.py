@@ -12,8 +12,10 @@ from pathlib import Path
 
 import pytest
 
-from spl.diagnostics import ModelError
-from spl.dsl import fm, rm, tsm
+from spl.core.diagnostics import ModelError
+from spl.dsl.fm import language as fm
+from spl.dsl.rm import language as rm
+from spl.dsl.tsm import language as tsm
 from spl.dsl.workspace import LastModels, Workspace
 from spl.pipeline import check_line, check_models, load_line
 

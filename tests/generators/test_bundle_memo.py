@@ -8,13 +8,13 @@ from __future__ import annotations
 from pathlib import Path
 
 from spl import pipeline
-from spl.generators import rapyuta_rules
-from spl.generators.bundle import build_bundle
-from spl.generators.bundle_inputs import BundleMemo
-from spl.generators.bundle_options import BundleOptions
-from spl.resolver.engine import resolve
-from spl.resolver.product_line import load_product_line
-from spl.resolver.product_selection import load_selection_file
+from spl.generators.bundle.inputs import BundleMemo
+from spl.generators.bundle.options import BundleOptions
+from spl.generators.bundle.writer import build_bundle
+from spl.generators.rapyuta import rules as rapyuta_rules
+from spl.resolver.resolution.engine import resolve
+from spl.resolver.resolution.product_line import load_product_line
+from spl.resolver.resolution.product_selection import load_selection_file
 
 LINES = Path(__file__).resolve().parents[2] / "product_lines"
 QUICK = BundleOptions(render_diagrams=False)
@@ -52,7 +52,7 @@ def test_a_bundle_without_a_memo_has_its_own_and_its_validation_reuses_it(monkey
 
 
 def test_a_validation_run_shares_one_memo_among_its_products():
-    from spl.line_validation import CaseChecks, ProductCase, run_case
+    from spl.validation.line import CaseChecks, ProductCase, run_case
 
     line = pipeline.load_line(LINES / "mapping3d")
     memo = BundleMemo()

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import pytest
 
-from spl.generators.bundle_paths import BundlePathClash, check_paths
+from spl.generators.bundle.paths import BundlePathClash, check_paths
 
 
 @pytest.mark.parametrize(

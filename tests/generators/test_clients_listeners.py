@@ -5,8 +5,8 @@ bridge, at least one; a launch or ``rosrun`` may set another number (``subscribe
 
 from __future__ import annotations
 
-from spl.dsl import tsm as tsm_language
-from spl.generators import clients
+from spl.dsl.tsm import language as tsm_language
+from spl.generators.clients import generator as clients
 
 from support.service_models import PRODUCT_LINE, product
 

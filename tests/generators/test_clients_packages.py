@@ -10,9 +10,9 @@ from pathlib import Path
 import pytest
 from lxml import etree
 
-from spl.diagnostics import ModelError
-from spl.generators import clients
-from spl.resolver.data_clients import client_package_name
+from spl.core.diagnostics import ModelError
+from spl.generators.clients import generator as clients
+from spl.resolver.resolution.data_clients import client_package_name
 
 from support.service_models import product
 from support.service_runtime import write_files

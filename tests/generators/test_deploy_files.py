@@ -8,7 +8,8 @@ import re
 import pytest
 import yaml
 
-from spl.generators import deploy, service
+from spl.generators.deploy import generator as deploy
+from spl.generators.service import generator as service
 
 from support.service_models import product
 

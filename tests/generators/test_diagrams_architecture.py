@@ -7,8 +7,8 @@ import re
 import pytest
 from lxml import etree
 
-from spl.emf import copy_model
-from spl.generators import diagrams, graphviz_output
+from spl.core.emf import copy_model
+from spl.generators.diagrams import architecture as diagrams, graphviz_output
 from spl.metamodels import tsm
 
 from support.launch_system import mapping_product

@@ -7,9 +7,9 @@ from typing import Any
 import pytest
 from lxml import etree
 
-from spl.dsl.fm_printer import format_formula
-from spl.generators.feature_model_diagram import SELECTED_GREEN, feature_model_graph
-from spl.generators.graphviz_output import render_bytes
+from spl.dsl.fm.printer import format_formula
+from spl.generators.diagrams.feature_model import SELECTED_GREEN, feature_model_graph
+from spl.generators.diagrams.graphviz_output import render_bytes
 from spl.metamodels import fm
 
 SVG = {"s": "http://www.w3.org/2000/svg"}

@@ -16,16 +16,16 @@ from pathlib import Path
 import pytest
 import yaml
 
-from spl.diagnostics import ModelError
-from spl.generators import clients
-from spl.generators.bundle import build_bundle
-from spl.generators.bundle_options import BundleOptions
-from spl.generators.bundle_paths import BundleFiles, BundlePathClash, check_paths
-from spl.resolver.engine import resolve
-from spl.resolver.generated_names import dns_name, unique_names
-from spl.resolver.product_line import load_product_line
-from spl.resolver.product_selection import selection_from_list
-from spl.resolver.stores import store_errors, store_names, store_relations
+from spl.core.diagnostics import ModelError
+from spl.generators.bundle.options import BundleOptions
+from spl.generators.bundle.paths import BundleFiles, BundlePathClash, check_paths
+from spl.generators.bundle.writer import build_bundle
+from spl.generators.clients import generator as clients
+from spl.resolver.architecture.generated_names import dns_name, unique_names
+from spl.resolver.architecture.stores import store_errors, store_names, store_relations
+from spl.resolver.resolution.engine import resolve
+from spl.resolver.resolution.product_line import load_product_line
+from spl.resolver.resolution.product_selection import selection_from_list
 
 from support.cli_outcome import LOCATED_ERROR, run
 from support.service_runtime import (
@@ -310,7 +310,7 @@ def test_bundle_files_refuse_a_second_file_for_one_path() -> None:
     ],
 )
 def test_the_bundle_writer_refuses_paths_that_meet_on_disk(paths, tmp_path: Path) -> None:
-    from spl.generators.bundle import write_bundle
+    from spl.generators.bundle.writer import write_bundle
 
     with pytest.raises(BundlePathClash):
         write_bundle({path: b"x" for path in paths}, tmp_path / "out")
@@ -319,7 +319,8 @@ def test_the_bundle_writer_refuses_paths_that_meet_on_disk(paths, tmp_path: Path
 
 def test_a_generator_writing_a_path_twice_stops_the_bundle(monkeypatch) -> None:
     """Planted: the service generator made to name both stores alike again."""
-    from spl.generators import service, store_contract
+    from spl.generators import store_contract
+    from spl.generators.service import generator as service
 
     real = store_contract.store_context
 
@@ -332,8 +333,8 @@ def test_a_generator_writing_a_path_twice_stops_the_bundle(monkeypatch) -> None:
 
 
 def _two_clouds_product():  # type: ignore[no-untyped-def]
-    from spl.dsl import tsm as tsm_language
-    from spl.resolver.product import ResolvedProduct
+    from spl.dsl.tsm import language as tsm_language
+    from spl.resolver.architecture.product import ResolvedProduct
 
     text = (
         "system Names\n"

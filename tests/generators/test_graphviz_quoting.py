@@ -10,11 +10,11 @@ import graphviz
 import pytest
 from graphviz import quoting
 
-from spl.generators import diagrams, graphviz_output
-from spl.resolver.analysis import enumerate_products
-from spl.resolver.engine import resolve
-from spl.resolver.product_line import load_product_line
-from spl.resolver.product_selection import ProductSelection
+from spl.generators.diagrams import architecture as diagrams, graphviz_output
+from spl.resolver.analysis.formula import enumerate_products
+from spl.resolver.resolution.engine import resolve
+from spl.resolver.resolution.product_line import load_product_line
+from spl.resolver.resolution.product_selection import ProductSelection
 
 ROOT = Path(__file__).resolve().parents[2]
 LINES = sorted(p for p in (ROOT / "product_lines").iterdir() if p.is_dir())

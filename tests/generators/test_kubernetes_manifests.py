@@ -10,14 +10,15 @@ from pathlib import Path
 import pytest
 import yaml
 
-from spl.diagnostics import ModelError
-from spl.dsl import tsm as tsm_language
-from spl.generators import kubernetes, rapyuta
-from spl.generators.bundle import TARGETS, build_bundle
-from spl.resolver.engine import resolve
-from spl.resolver.product import ResolvedProduct
-from spl.resolver.product_line import load_product_line
-from spl.resolver.product_selection import selection_from_list
+from spl.core.diagnostics import ModelError
+from spl.dsl.tsm import language as tsm_language
+from spl.generators.bundle.writer import TARGETS, build_bundle
+from spl.generators.kubernetes import manifests as kubernetes
+from spl.generators.rapyuta import configurations as rapyuta
+from spl.resolver.architecture.product import ResolvedProduct
+from spl.resolver.resolution.engine import resolve
+from spl.resolver.resolution.product_line import load_product_line
+from spl.resolver.resolution.product_selection import selection_from_list
 
 from support.cli_outcome import LOCATED_ERROR, run
 

@@ -14,14 +14,14 @@ import kubernetes_validate
 import pytest
 import yaml
 
-from spl.generators import kubernetes_objects
-from spl.generators.bundle import build_bundle
-from spl.generators.bundle_options import BundleOptions
-from spl.generators.launch_schema import validate_ros2_launch
-from spl.resolver.analysis import enumerate_products
-from spl.resolver.engine import resolve
-from spl.resolver.product_line import load_product_line
-from spl.resolver.product_selection import ProductSelection
+from spl.generators.bundle.options import BundleOptions
+from spl.generators.bundle.writer import build_bundle
+from spl.generators.kubernetes import objects as kubernetes_objects
+from spl.generators.launch.launch_schema import validate_ros2_launch
+from spl.resolver.analysis.formula import enumerate_products
+from spl.resolver.resolution.engine import resolve
+from spl.resolver.resolution.product_line import load_product_line
+from spl.resolver.resolution.product_selection import ProductSelection
 
 from support.instance_chains import check_product_instances
 

@@ -7,18 +7,18 @@ from __future__ import annotations
 import pytest
 import yaml
 
-from spl.diagnostics import ModelError
-from spl.generators import deploy
-from spl.generators.bundle import build_bundle
-from spl.generators.bundle_options import BundleOptions
-from spl.generators.kubernetes_resources import resources
-from spl.generators.kubernetes_security import (
+from spl.core.diagnostics import ModelError
+from spl.generators.bundle.options import BundleOptions
+from spl.generators.bundle.writer import build_bundle
+from spl.generators.deploy import generator as deploy
+from spl.generators.workloads.resources import resources
+from spl.generators.workloads.security import (
     UID,
     WAIVERS,
     checked_namespace,
     namespace_for,
 )
-from spl.resolver.product import ResolvedProduct
+from spl.resolver.architecture.product import ResolvedProduct
 
 from support.cli_outcome import run
 from support.service_models import product as data_product

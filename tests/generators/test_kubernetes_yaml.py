@@ -6,13 +6,12 @@ from __future__ import annotations
 
 import pytest
 import yaml
-from hypothesis import example, given, settings
-from hypothesis import strategies as st
+from hypothesis import example, given, settings, strategies as st
 
-from spl.generators import kubernetes_objects
-from spl.generators.bundle import build_bundle
-from spl.generators.kubernetes_objects import _Literal
-from spl.generators.kubernetes_yaml import block_yaml
+from spl.generators.bundle.writer import build_bundle
+from spl.generators.kubernetes import objects as kubernetes_objects
+from spl.generators.kubernetes.objects import _Literal
+from spl.generators.kubernetes.yaml_text import block_yaml
 
 from support.hypothesis_budget import examples
 from support.shipped_products import shipped_products

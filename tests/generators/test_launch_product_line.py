@@ -8,12 +8,18 @@ import pytest
 import yaml
 from lxml import etree
 
-from spl.dsl.fm_printer import format_formula
-from spl.generators import diagrams, feature_model_diagram, graphviz_output, ros1, ros2
-from spl.generators.launch_schema import validate_ros1_launch, validate_ros2_launch
-from spl.resolver.engine import resolve
-from spl.resolver.product_line import load_product_line
-from spl.resolver.product_selection import selection_from_list
+from spl.dsl.fm.printer import format_formula
+from spl.generators.diagrams import (
+    architecture as diagrams,
+    feature_model as feature_model_diagram,
+    graphviz_output,
+)
+from spl.generators.launch.launch_schema import validate_ros1_launch, validate_ros2_launch
+from spl.generators.ros1 import launch_files as ros1
+from spl.generators.ros2 import launch_files as ros2
+from spl.resolver.resolution.engine import resolve
+from spl.resolver.resolution.product_line import load_product_line
+from spl.resolver.resolution.product_selection import selection_from_list
 
 FLEET = Path(__file__).parents[1] / "models" / "launch"
 FRAME_ID = 'laser <front> & "top" $(env HOME)'

@@ -8,9 +8,10 @@ import pytest
 import yaml
 from lxml import etree
 
-from spl.emf import copy_model
-from spl.generators import ros1, ros2
-from spl.generators.launch_schema import validate_ros1_launch, validate_ros2_launch
+from spl.core.emf import copy_model
+from spl.generators.launch.launch_schema import validate_ros1_launch, validate_ros2_launch
+from spl.generators.ros1 import launch_files as ros1
+from spl.generators.ros2 import launch_files as ros2
 
 from support.launch_system import mapping_product
 

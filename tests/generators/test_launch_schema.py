@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from spl.generators.launch_schema import validate_ros1_launch, validate_ros2_launch
+from spl.generators.launch.launch_schema import validate_ros1_launch, validate_ros2_launch
 
 ROS1_FULL = b"""<?xml version="1.0"?>
 <launch>

@@ -3,7 +3,7 @@ architecture (docs/kubernetes.md, "What the policies allow").
 
 The expected connections are derived here from the model, without the policy emitter:
 the crossings of the flow table as each robot's deployment places them
-(:class:`spl.resolver.wiring.Wiring`), the writers and readers of the stores, and the
+(:class:`spl.resolver.architecture.wiring.Wiring`), the writers and readers of the stores, and the
 product's database. A crossing with a robot at one end means a robot dials the Zenoh
 router (from outside the cluster); each cloud instance at an end of a crossing is
 dialled by the router on its bridges' ports; a writer or reader on a robot calls its
@@ -21,18 +21,18 @@ from pathlib import Path
 import pytest
 import yaml
 
-from spl.generators.bundle import build_bundle
-from spl.generators.fleet import fleet_files
-from spl.generators.zenoh_bridge import transport
+from spl.generators.bundle.writer import build_bundle
+from spl.generators.fleet.bundle import fleet_files
+from spl.generators.transport.bridge import transport
 from spl.metamodels import tsm
-from spl.resolver.fleet import check_fleet
-from spl.resolver.fleet_deployment import deploy
-from spl.resolver.fleet_file import load_fleet
-from spl.resolver.generated_names import kubernetes_label
-from spl.resolver.placement import Placement
-from spl.resolver.product import ResolvedProduct
-from spl.resolver.stores import cloud_stores, database_kind, store_names
-from spl.resolver.wiring import Wiring
+from spl.resolver.architecture.generated_names import kubernetes_label
+from spl.resolver.architecture.placement import Placement
+from spl.resolver.architecture.product import ResolvedProduct
+from spl.resolver.architecture.stores import cloud_stores, database_kind, store_names
+from spl.resolver.architecture.wiring import Wiring
+from spl.resolver.fleets.deployment import deploy
+from spl.resolver.fleets.fleet import check_fleet
+from spl.resolver.fleets.fleet_file import load_fleet
 
 from support.shipped_products import shipped_products
 

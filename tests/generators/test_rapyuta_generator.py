@@ -9,12 +9,12 @@ import json
 
 import pytest
 
-from spl.diagnostics import ModelError
-from spl.generators.rapyuta import generate, parameter_value
-from spl.generators.rapyuta_rules import check_all
+from spl.core.diagnostics import ModelError
+from spl.generators.rapyuta.configurations import generate, parameter_value
+from spl.generators.rapyuta.rules import check_all
 from spl.metamodels import tsm
-from spl.resolver import endpoints
-from spl.resolver.product import ResolvedProduct
+from spl.resolver.architecture import endpoints
+from spl.resolver.architecture.product import ResolvedProduct
 
 from support.mapping_system import (
     calls,

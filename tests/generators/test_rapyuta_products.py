@@ -9,13 +9,13 @@ from pathlib import Path
 
 import pytest
 
-from spl.dsl import tsm as tsm_language
-from spl.generators.rapyuta import generate
-from spl.generators.rapyuta_rules import check_all
-from spl.resolver.engine import resolve
-from spl.resolver.product import ResolvedProduct
-from spl.resolver.product_line import load_product_line
-from spl.resolver.product_selection import load_selection_file, selection_from_list
+from spl.dsl.tsm import language as tsm_language
+from spl.generators.rapyuta.configurations import generate
+from spl.generators.rapyuta.rules import check_all
+from spl.resolver.architecture.product import ResolvedProduct
+from spl.resolver.resolution.engine import resolve
+from spl.resolver.resolution.product_line import load_product_line
+from spl.resolver.resolution.product_selection import load_selection_file, selection_from_list
 
 ROOT = Path(__file__).parents[2]
 MAPPING = ROOT / "product_lines" / "mapping3d"

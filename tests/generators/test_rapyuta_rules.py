@@ -9,8 +9,8 @@ from pathlib import Path
 
 import pytest
 
-from spl.generators.rapyuta_rules import check_all, check_configurations
-from spl.generators.rapyuta_schema import schema_problems
+from spl.generators.rapyuta.rules import check_all, check_configurations
+from spl.generators.rapyuta.schema import schema_problems
 
 # The three configuration files of the engine's own test folder, unchanged.
 EXAMPLES = Path(__file__).parents[1] / "models" / "rapyuta" / "rce-examples"

@@ -10,11 +10,10 @@ import json
 from pathlib import Path
 
 import jsonschema
-from hypothesis import given
-from hypothesis import strategies as st
+from hypothesis import given, strategies as st
 
-from spl.generators import rapyuta_rules as rules
-from spl.generators.rapyuta_schema import inline_references, schema, validator
+from spl.generators.rapyuta import rules
+from spl.generators.rapyuta.schema import inline_references, schema, validator
 
 EXAMPLES = Path(__file__).parents[1] / "models" / "rapyuta" / "rce-examples"
 NAMES = ["debug.cfg", "lo_client.cfg", "lo_server.cfg"]

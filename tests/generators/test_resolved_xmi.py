@@ -9,17 +9,16 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-from hypothesis import given, settings
-from hypothesis import strategies as st
+from hypothesis import given, settings, strategies as st
 from pyecore.ecore import EAttribute, EClass, EPackage, EReference, EString
 from pyecore.resources import URI
 from pyecore.resources.xmi import XMIResource
 
-from spl.generators import resolved_xmi
-from spl.resolver.analysis import enumerate_products
-from spl.resolver.engine import resolve
-from spl.resolver.product_line import load_product_line
-from spl.resolver.product_selection import ProductSelection
+from spl.generators.bundle import resolved_xmi
+from spl.resolver.analysis.formula import enumerate_products
+from spl.resolver.resolution.engine import resolve
+from spl.resolver.resolution.product_line import load_product_line
+from spl.resolver.resolution.product_selection import ProductSelection
 
 ROOT = Path(__file__).resolve().parents[2]
 LINES = sorted(p for p in (ROOT / "product_lines").iterdir() if p.is_dir())

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import pytest
 
-from spl.generators.ros2_launch import escape_substitutions
+from spl.generators.launch.ros2_launch import escape_substitutions
 
 
 @pytest.mark.parametrize(

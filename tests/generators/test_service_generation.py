@@ -9,8 +9,8 @@ from pathlib import Path
 
 import pytest
 
-from spl.diagnostics import ModelError
-from spl.generators import service, service_runtime
+from spl.core.diagnostics import ModelError
+from spl.generators.service import generator as service, runtime as service_runtime
 from spl.metamodels import tsm
 
 from support.service_models import product

@@ -8,11 +8,13 @@ import shutil
 import pytest
 import yaml
 
-from spl.generators import clients, deploy, service
-from spl.resolver.data_clients import client_package_name
-from spl.resolver.engine import resolve
-from spl.resolver.product_line import load_product_line
-from spl.resolver.product_selection import selection_from_list
+from spl.generators.clients import generator as clients
+from spl.generators.deploy import generator as deploy
+from spl.generators.service import generator as service
+from spl.resolver.resolution.data_clients import client_package_name
+from spl.resolver.resolution.engine import resolve
+from spl.resolver.resolution.product_line import load_product_line
+from spl.resolver.resolution.product_selection import selection_from_list
 
 from support.service_models import PRODUCT_LINE
 

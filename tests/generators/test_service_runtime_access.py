@@ -16,7 +16,7 @@ from fastapi import Depends, FastAPI, Request
 from fastapi.responses import JSONResponse
 from pydantic import BaseModel
 
-from spl.generators.service_runtime.access import BodyLimit, Guard, Message, write_route
+from spl.generators.service.runtime.access import BodyLimit, Guard, Message, write_route
 
 LIMIT = 10
 

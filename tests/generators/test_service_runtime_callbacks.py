@@ -10,7 +10,7 @@ import ipaddress
 
 import pytest
 
-from spl.generators.service_runtime.callback_targets import (
+from spl.generators.service.runtime.callback_targets import (
     AllowList,
     CallbackRefused,
     allow_list,

@@ -12,9 +12,9 @@ import pytest
 from fastapi import FastAPI
 from sqlalchemy import Column, Integer, MetaData, Table
 
-from spl.generators.service_runtime import contract
-from spl.generators.service_runtime.records import FieldSpec, Refinement
-from spl.generators.service_runtime.settings import EnvironmentNames, load
+from spl.generators.service.runtime import contract
+from spl.generators.service.runtime.records import FieldSpec, Refinement
+from spl.generators.service.runtime.settings import EnvironmentNames, load
 
 RAW = (FieldSpec("price", "double"), FieldSpec("label", "string"))
 REFINED = Refinement(

@@ -12,7 +12,7 @@ import math
 import pytest
 import rdflib
 
-from spl.generators.service_runtime.turtle import (
+from spl.generators.service.runtime.turtle import (
     Links,
     Negotiation,
     NotAcceptable,

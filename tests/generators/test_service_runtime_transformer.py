@@ -28,9 +28,9 @@ from sqlalchemy import (
     select,
 )
 
-from spl.generators.service_runtime.database import WriteTurns, create
-from spl.generators.service_runtime.records import FieldSpec, RecordId, Refinement
-from spl.generators.service_runtime.transformer import TransformedStore, Transformer
+from spl.generators.service.runtime.database import WriteTurns, create
+from spl.generators.service.runtime.records import FieldSpec, RecordId, Refinement
+from spl.generators.service.runtime.transformer import TransformedStore, Transformer
 
 
 class RecordError(Exception):

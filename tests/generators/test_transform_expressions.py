@@ -10,8 +10,8 @@ from types import ModuleType
 
 import pytest
 
-from spl.diagnostics import ModelError
-from spl.generators.expressions import compile_transform, transforms_module
+from spl.core.diagnostics import ModelError
+from spl.generators.service.expressions import compile_transform, transforms_module
 
 from support.service_runtime import load_module
 from support.transform_trees import T, binary, call, num, ref, transform

@@ -9,18 +9,18 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from spl.generators import bundle as bundle_module
-from spl.generators.bundle import build_bundle
-from spl.generators.bundle_inputs import BundleInputs, FleetInputs
-from spl.generators.bundle_options import BundleOptions
-from spl.generators.fleet import build_fleet_bundle
-from spl.generators.zenoh_bridge import transport
-from spl.resolver.engine import resolve
-from spl.resolver.fleet import check_fleet
-from spl.resolver.fleet_deployment import deploy
-from spl.resolver.fleet_file import load_fleet
-from spl.resolver.product_line import load_product_line
-from spl.resolver.product_selection import load_selection_file
+from spl.generators.bundle import writer as bundle_module
+from spl.generators.bundle.inputs import BundleInputs, FleetInputs
+from spl.generators.bundle.options import BundleOptions
+from spl.generators.bundle.writer import build_bundle
+from spl.generators.fleet.bundle import build_fleet_bundle
+from spl.generators.transport.bridge import transport
+from spl.resolver.fleets.deployment import deploy
+from spl.resolver.fleets.fleet import check_fleet
+from spl.resolver.fleets.fleet_file import load_fleet
+from spl.resolver.resolution.engine import resolve
+from spl.resolver.resolution.product_line import load_product_line
+from spl.resolver.resolution.product_selection import load_selection_file
 
 LINES = Path(__file__).resolve().parents[2] / "product_lines"
 QUICK = BundleOptions(render_diagrams=False)
@@ -52,8 +52,8 @@ def test_kubernetes_and_zenoh_are_given_the_same_transport():
     """What build_bundle hands the two generators is one object, the inputs' own."""
     first, _ = products()
     inputs = BundleInputs(first, BundleOptions(namespace="lab"))
-    kubernetes = bundle_module.READS["spl.generators.kubernetes"](inputs)
-    zenoh = bundle_module.READS["spl.generators.zenoh"](inputs)
+    kubernetes = bundle_module.READS["spl.generators.kubernetes.manifests"](inputs)
+    zenoh = bundle_module.READS["spl.generators.zenoh.configurations"](inputs)
     assert kubernetes["wiring"] is zenoh["wiring"] is inputs.transport
     assert kubernetes["options"] is inputs.options
 

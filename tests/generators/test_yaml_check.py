@@ -6,12 +6,11 @@ from __future__ import annotations
 
 import pytest
 import yaml
-from hypothesis import given, settings
-from hypothesis import strategies as st
+from hypothesis import given, settings, strategies as st
 
-from spl import bundle_validation
-from spl.bundle_validation import YAML_LOADER, _loads_plainly, _yaml
-from spl.generators.bundle import bundle_files
+from spl.generators.bundle import validation as bundle_validation
+from spl.generators.bundle.validation import YAML_LOADER, _loads_plainly, _yaml
+from spl.generators.bundle.writer import bundle_files
 
 from support.hypothesis_budget import examples
 from support.shipped_products import shipped_products

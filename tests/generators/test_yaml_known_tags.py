@@ -7,7 +7,7 @@ from __future__ import annotations
 import pytest
 import yaml
 
-from spl.generators.kubernetes_objects import with_known_tags
+from spl.generators.kubernetes.objects import with_known_tags
 
 # Plain scalars that resolve to each of YAML 1.1's implicit types, and look-alikes.
 SCALARS = [
@@ -92,7 +92,7 @@ def test_loading_and_dumping_match_pyyaml_scalar_by_scalar():
 def test_document_nodes_write_what_pyyaml_representer_writes():
     """kubernetes_objects' own node building against PyYAML's representer, on both
     emitters, for every kind of value (and one it leaves to the representer)."""
-    from spl.generators.kubernetes_objects import _dumper, _Literal
+    from spl.generators.kubernetes.objects import _dumper, _Literal
 
     shared = {"a": "b"}  # met twice: written twice, never as an anchor
     document = {

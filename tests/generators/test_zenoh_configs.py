@@ -10,16 +10,17 @@ import json5
 import pytest
 import yaml
 
-from spl.diagnostics import ModelError
-from spl.dsl import tsm as tsm_language
-from spl.generators import kubernetes, zenoh
-from spl.generators.bundle_paths import Skipped
+from spl.core.diagnostics import ModelError
+from spl.dsl.tsm import language as tsm_language
+from spl.generators.bundle.paths import Skipped
+from spl.generators.kubernetes import manifests as kubernetes
+from spl.generators.zenoh import configurations as zenoh
 from spl.metamodels import tsm
-from spl.resolver.analysis import enumerate_products
-from spl.resolver.engine import resolve
-from spl.resolver.product import ResolvedProduct, topic_ros_name
-from spl.resolver.product_line import load_product_line
-from spl.resolver.product_selection import ProductSelection, selection_from_list
+from spl.resolver.analysis.formula import enumerate_products
+from spl.resolver.architecture.product import ResolvedProduct, topic_ros_name
+from spl.resolver.resolution.engine import resolve
+from spl.resolver.resolution.product_line import load_product_line
+from spl.resolver.resolution.product_selection import ProductSelection, selection_from_list
 
 ROOT = Path(__file__).resolve().parents[2]
 LINES = sorted(p for p in (ROOT / "product_lines").iterdir() if p.is_dir())

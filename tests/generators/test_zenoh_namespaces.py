@@ -21,24 +21,24 @@ from pathlib import Path
 import networkx as nx
 import pytest
 import yaml
-from hypothesis import event, given, settings
-from hypothesis import strategies as st
+from hypothesis import event, given, settings, strategies as st
 
-from spl.dsl import tsm as tsm_language
-from spl.generators import kubernetes, zenoh
-from spl.generators.bundle_paths import Skipped
-from spl.generators.zenoh_bridge import transport
-from spl.generators.zenoh_namespaces import Choice
-from spl.generators.zenoh_routes import links, routes
-from spl.resolver.engine import resolve
-from spl.resolver.fleet import check_fleet
-from spl.resolver.fleet_deployment import deploy
-from spl.resolver.fleet_file import load_fleet
-from spl.resolver.placement import Placement
-from spl.resolver.product import ResolvedProduct
-from spl.resolver.product_line import load_product_line
-from spl.resolver.product_selection import load_selection_file, selection_from_list
-from spl.resolver.wiring import Wiring
+from spl.dsl.tsm import language as tsm_language
+from spl.generators.bundle.paths import Skipped
+from spl.generators.kubernetes import manifests as kubernetes
+from spl.generators.transport.bridge import transport
+from spl.generators.transport.namespaces import Choice
+from spl.generators.transport.routes import links, routes
+from spl.generators.zenoh import configurations as zenoh
+from spl.resolver.architecture.placement import Placement
+from spl.resolver.architecture.product import ResolvedProduct
+from spl.resolver.architecture.wiring import Wiring
+from spl.resolver.fleets.deployment import deploy
+from spl.resolver.fleets.fleet import check_fleet
+from spl.resolver.fleets.fleet_file import load_fleet
+from spl.resolver.resolution.engine import resolve
+from spl.resolver.resolution.product_line import load_product_line
+from spl.resolver.resolution.product_selection import load_selection_file, selection_from_list
 
 from support.cli_outcome import run
 from support.hypothesis_budget import examples
@@ -178,9 +178,9 @@ def test_the_test_lines_fleets_of_two_teams_are_carried(tmp_path, path):
 # zenoh/ of the product of a .tsm file, as a digest (run in a process of its own)
 DIGEST = """
 import hashlib, sys
-from spl.dsl import tsm
-from spl.generators import zenoh
-from spl.resolver.product import ResolvedProduct
+from spl.dsl.tsm import language as tsm
+from spl.generators.zenoh import configurations as zenoh
+from spl.resolver.architecture.product import ResolvedProduct
 files = zenoh.generate(ResolvedProduct("p", tsm.parse_file(sys.argv[1]), ()))
 print(hashlib.sha256(repr(sorted(files.items())).encode()).hexdigest())
 """

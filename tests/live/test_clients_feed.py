@@ -12,7 +12,8 @@ from pathlib import Path
 
 import pytest
 
-from spl.generators import clients, service
+from spl.generators.clients import generator as clients
+from spl.generators.service import generator as service
 
 from support.service_models import product
 from support.service_runtime import TOKEN, RunningService, load_module, wait_for, write_files

@@ -13,10 +13,11 @@ from pathlib import Path
 import pytest
 import yaml
 
-from spl.generators import clients, ros1
-from spl.resolver.engine import resolve
-from spl.resolver.product_line import load_product_line
-from spl.resolver.product_selection import selection_from_list
+from spl.generators.clients import generator as clients
+from spl.generators.ros1 import launch_files as ros1
+from spl.resolver.resolution.engine import resolve
+from spl.resolver.resolution.product_line import load_product_line
+from spl.resolver.resolution.product_selection import selection_from_list
 from spl.smoke.processes import find_ros
 
 from support.service_runtime import write_files

@@ -16,7 +16,7 @@ from pathlib import Path
 import pytest
 import websockets
 
-from spl.generators import service
+from spl.generators.service import generator as service
 
 from support.oversized_bodies import announced, chunked
 from support.service_models import product

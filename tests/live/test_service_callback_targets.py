@@ -18,7 +18,7 @@ from pathlib import Path
 
 import pytest
 
-from spl.generators import service
+from spl.generators.service import generator as service
 
 from support.callback_listeners import Listener
 from support.service_models import product

@@ -6,7 +6,7 @@ from __future__ import annotations
 import sqlite3
 from pathlib import Path
 
-from spl.generators import service
+from spl.generators.service import generator as service
 
 from support.service_models import product
 from support.service_runtime import (

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from spl.generators import service
+from spl.generators.service import generator as service
 from spl.metamodels import tsm
 
 from support.service_models import product

@@ -18,7 +18,7 @@ from typing import Any
 import pytest
 from sqlalchemy import event
 
-from spl.generators import service
+from spl.generators.service import generator as service
 
 from support.service_models import product
 from support.service_runtime import (

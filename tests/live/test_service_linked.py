@@ -15,14 +15,13 @@ import urllib.request
 from pathlib import Path
 
 import pytest
-from hypothesis import given, settings
-from hypothesis import strategies as st
+from hypothesis import given, settings, strategies as st
 from pyshacl import validate
 from rdflib import RDF, Graph, Literal, Namespace, URIRef, namespace
 
-from spl.dsl import tsm as tsm_language
-from spl.generators import service
-from spl.resolver.product import ResolvedProduct
+from spl.dsl.tsm import language as tsm_language
+from spl.generators.service import generator as service
+from spl.resolver.architecture.product import ResolvedProduct
 
 from support.hypothesis_budget import examples
 from support.service_models import product

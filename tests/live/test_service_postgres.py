@@ -15,9 +15,10 @@ from pathlib import Path
 import psycopg
 import pytest
 
-from spl.dsl import tsm as tsm_language
-from spl.generators import clients, service
-from spl.resolver.product import ResolvedProduct
+from spl.dsl.tsm import language as tsm_language
+from spl.generators.clients import generator as clients
+from spl.generators.service import generator as service
+from spl.resolver.architecture.product import ResolvedProduct
 
 from support.service_models import PRODUCT_LINE, product
 from support.service_runtime import (

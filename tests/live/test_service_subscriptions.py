@@ -24,7 +24,7 @@ import websockets
 from pyshacl import validate
 from rdflib import RDF, Graph, Namespace, URIRef
 
-from spl.generators import service
+from spl.generators.service import generator as service
 
 from support.service_models import product
 from support.service_runtime import TOKEN, RunningService, request, wait_for, write_files

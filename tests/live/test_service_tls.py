@@ -13,7 +13,7 @@ from pathlib import Path
 
 import pytest
 
-from spl.generators import service
+from spl.generators.service import generator as service
 
 from support.service_models import product
 from support.service_runtime import TOKEN, RunningService, write_files

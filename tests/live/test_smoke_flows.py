@@ -11,9 +11,9 @@ from pathlib import Path
 
 from hypothesis import HealthCheck, Phase, assume, given, settings
 
-from spl.resolver.engine import resolve
-from spl.resolver.product_line import load_product_line
-from spl.resolver.product_selection import selection_from_list
+from spl.resolver.resolution.engine import resolve
+from spl.resolver.resolution.product_line import load_product_line
+from spl.resolver.resolution.product_selection import selection_from_list
 
 from support.random_lines import fleet_specs, write_line
 from support.smoke_runs import rows_by_interface, smoke_json, write_product

@@ -8,8 +8,9 @@ from __future__ import annotations
 
 import pytest
 
-from spl.dsl.fm_printer import format_formula
-from spl.resolver.analysis import (
+from spl.dsl.fm.printer import format_formula
+from spl.resolver.analysis.cnf import encode
+from spl.resolver.analysis.formula import (
     FeatureModelFormula,
     core_features,
     count_products,
@@ -18,7 +19,6 @@ from spl.resolver.analysis import (
     false_optional_features,
     is_satisfiable,
 )
-from spl.resolver.cnf import encode
 
 from support.analysis_models import (
     binary,
@@ -210,7 +210,7 @@ def test_two_literal_constraints_on_one_feature() -> None:
 
 
 def test_duplicate_names_and_dangling_references_are_located_errors() -> None:
-    from spl.diagnostics import ModelError
+    from spl.core.diagnostics import ModelError
 
     twice = model(feature("R", group("optional", feature("A", line=2), feature("A", line=3))))
     with pytest.raises(ModelError) as caught:

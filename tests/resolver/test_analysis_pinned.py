@@ -21,8 +21,8 @@ import pytest
 from click.testing import CliRunner
 
 from spl.cli import main
-from spl.dsl.fm_formats import load_feature_model
-from spl.resolver.analysis import FeatureModelFormula
+from spl.dsl.interop.formats import load_feature_model
+from spl.resolver.analysis.formula import FeatureModelFormula
 
 from support.real_models import REAL_MODELS
 

@@ -11,8 +11,8 @@ import random
 
 import pytest
 
-from spl.resolver.analysis import FeatureModelFormula
-from spl.resolver.selection import check_selection
+from spl.resolver.analysis.formula import FeatureModelFormula
+from spl.resolver.resolution.selection import check_selection
 
 from support.analysis_models import (
     all_features,

@@ -17,9 +17,9 @@ from pathlib import Path
 import pytest
 from pysat.solvers import Solver
 
-from spl.dsl.fm_formats import load_feature_model
-from spl.resolver.analysis import FeatureModelFormula
-from spl.resolver.selection import check_selection
+from spl.dsl.interop.formats import load_feature_model
+from spl.resolver.analysis.formula import FeatureModelFormula
+from spl.resolver.resolution.selection import check_selection
 
 from support.real_models import REAL_MODELS
 

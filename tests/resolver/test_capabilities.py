@@ -9,11 +9,11 @@ import pytest
 from click.testing import CliRunner
 
 from spl.cli import main
-from spl.diagnostics import ModelError
-from spl.resolver.capabilities import choose_features, load_capabilities
-from spl.resolver.engine import resolve
-from spl.resolver.product_line import load_product_line
-from spl.resolver.product_selection import ProductSelection, load_selection_file
+from spl.core.diagnostics import ModelError
+from spl.resolver.resolution.capabilities import choose_features, load_capabilities
+from spl.resolver.resolution.engine import resolve
+from spl.resolver.resolution.product_line import load_product_line
+from spl.resolver.resolution.product_selection import ProductSelection, load_selection_file
 
 ROOT = Path(__file__).resolve().parents[2]
 MAPPING = ROOT / "product_lines" / "mapping3d"

@@ -11,11 +11,11 @@ from pathlib import Path
 import pytest
 from pysat.solvers import Solver
 
-from spl.dsl import fm
-from spl.dsl.fm_formats import load_analysable_model
-from spl.resolver.analysis import FeatureModelFormula
-from spl.resolver.configuration import Impossible, Propagator
-from spl.resolver.operations.product_count import count_with_fixed
+from spl.dsl.fm import language as fm
+from spl.dsl.interop.formats import load_analysable_model
+from spl.resolver.analysis.configuration import Impossible, Propagator
+from spl.resolver.analysis.formula import FeatureModelFormula
+from spl.resolver.analysis.operations.product_count import count_with_fixed
 
 from support.fm_semantics import products as brute_force_products
 
@@ -106,9 +106,7 @@ def test_berkeleydb_states_and_counts_agree_with_a_fresh_solver() -> None:
     rng = random.Random(31)
     decisions: dict[str, bool] = {}
     with Solver(name="minisat22", bootstrap_with=list(cnf.clauses)) as fresh:
-        assert count_with_fixed(formula, propagator.propagate({}).fixed, None).value == (
-            4080389785
-        )
+        assert count_with_fixed(formula, propagator.propagate({}).fixed, None).value == (4080389785)
         while True:
             propagation = propagator.propagate(decisions)
             states = propagator.states(decisions, propagation)

@@ -10,7 +10,7 @@ from pathlib import Path
 
 from spl.resolver.line_checks import ActivationSolver
 from spl.resolver.line_checks.dataflow import Feeds, unfed_inputs_in_line
-from spl.resolver.product_line import load_product_line
+from spl.resolver.resolution.product_line import load_product_line
 
 BENCH = Path(__file__).resolve().parents[2] / "bench" / "line_checks.py"
 

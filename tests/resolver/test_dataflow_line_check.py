@@ -17,16 +17,16 @@ from pathlib import Path
 import pytest
 from hypothesis import assume, given, settings
 
-from spl.diagnostics import ModelError
-from spl.dsl import fm_formats, tsm
-from spl.resolver.engine import resolve
-from spl.resolver.explanation import explanation
+from spl.core.diagnostics import ModelError
+from spl.dsl.interop import formats as fm_formats
+from spl.dsl.tsm import language as tsm
 from spl.resolver.line_checks import check_product_line
-from spl.resolver.product_line import load_product_line
-from spl.resolver.product_selection import selection_from_list
+from spl.resolver.resolution.engine import resolve
+from spl.resolver.resolution.explanation import explanation
+from spl.resolver.resolution.product_line import load_product_line
+from spl.resolver.resolution.product_selection import selection_from_list
 
-from support.farm_statements import MODELS as FARM
-from support.farm_statements import resolution_model
+from support.farm_statements import MODELS as FARM, resolution_model
 from support.hypothesis_budget import examples
 from support.random_lines import LineSpec, line_specs, write_line
 from support.unfed_products import assert_check_agrees, gaps, unfed_somewhere, witness_of

@@ -15,12 +15,12 @@ from pathlib import Path
 
 import pytest
 
-from spl.diagnostics import ModelError
-from spl.dsl import tsm
-from spl.dsl.tsm_declarations import declarations
-from spl.resolver.engine import resolve
-from spl.resolver.product_line import ProductLine, load_product_line
-from spl.resolver.product_selection import selection_from_list
+from spl.core.diagnostics import ModelError
+from spl.dsl.tsm import language as tsm
+from spl.dsl.tsm.declarations import declarations
+from spl.resolver.resolution.engine import resolve
+from spl.resolver.resolution.product_line import ProductLine, load_product_line
+from spl.resolver.resolution.product_selection import selection_from_list
 
 ROOT = Path(__file__).resolve().parents[2]
 LINES = [*sorted((ROOT / "product_lines").iterdir()), ROOT / "tests/models/line_checks/warehouse"]

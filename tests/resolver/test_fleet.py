@@ -13,8 +13,8 @@ import pytest
 from click.testing import CliRunner
 
 from spl.cli import main
-from spl.generators.launch_schema import validate_ros1_launch, validate_ros2_launch
-from spl.generators.rapyuta_rules import check_all
+from spl.generators.launch.launch_schema import validate_ros1_launch, validate_ros2_launch
+from spl.generators.rapyuta.rules import check_all
 
 from support.one_feature_line import MAP_SERVER_BRIDGE, MAP_SERVER_TSM, one_feature_line
 

@@ -9,12 +9,12 @@ from pathlib import Path
 
 import pytest
 
-from spl.dsl.fm import all_features
-from spl.resolver.analysis import enumerate_products
-from spl.resolver.effects import LineEffects, Settings, active_in, observed, origin_of
-from spl.resolver.engine import resolve
-from spl.resolver.product_line import load_product_line
-from spl.resolver.product_selection import ProductSelection
+from spl.dsl.fm.language import all_features
+from spl.resolver.analysis.formula import enumerate_products
+from spl.resolver.resolution.effects import LineEffects, Settings, active_in, observed, origin_of
+from spl.resolver.resolution.engine import resolve
+from spl.resolver.resolution.product_line import load_product_line
+from spl.resolver.resolution.product_selection import ProductSelection
 
 ROOT = Path(__file__).resolve().parents[2]
 LINES = sorted((ROOT / "product_lines").iterdir())

@@ -8,13 +8,13 @@ from pathlib import Path
 
 import pytest
 
-from spl.diagnostics import ModelError
-from spl.dsl.fm import all_features
-from spl.resolver.analysis import enumerate_products
-from spl.resolver.effects import Settings
-from spl.resolver.fleet import check_fleet
-from spl.resolver.fleet_file import load_fleet
-from spl.resolver.fleet_options import _build, fleet_options
+from spl.core.diagnostics import ModelError
+from spl.dsl.fm.language import all_features
+from spl.resolver.analysis.formula import enumerate_products
+from spl.resolver.fleets.fleet import check_fleet
+from spl.resolver.fleets.fleet_file import load_fleet
+from spl.resolver.fleets.options import _build, fleet_options
+from spl.resolver.resolution.effects import Settings
 
 ROOT = Path(__file__).resolve().parents[2]
 TSM = """system S

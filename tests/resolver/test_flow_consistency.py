@@ -24,18 +24,17 @@ from pathlib import Path
 from typing import Any
 
 import json5
-from hypothesis import event, given, settings, target
-from hypothesis import strategies as st
+from hypothesis import event, given, settings, strategies as st, target
 
-from spl.generators.bundle import build_bundle, write_bundle
-from spl.generators.bundle_options import BundleOptions
-from spl.resolver.engine import resolve
-from spl.resolver.flows import SERVICE, TOPIC, FlowTable
-from spl.resolver.placement import Placement
-from spl.resolver.product import ResolvedProduct
-from spl.resolver.product_line import load_product_line
-from spl.resolver.product_selection import selection_from_list
-from spl.resolver.ros_names import resolved_service_name, resolved_topic_name
+from spl.generators.bundle.options import BundleOptions
+from spl.generators.bundle.writer import build_bundle, write_bundle
+from spl.resolver.architecture.flows import SERVICE, TOPIC, FlowTable
+from spl.resolver.architecture.placement import Placement
+from spl.resolver.architecture.product import ResolvedProduct
+from spl.resolver.architecture.ros_names import resolved_service_name, resolved_topic_name
+from spl.resolver.resolution.engine import resolve
+from spl.resolver.resolution.product_line import load_product_line
+from spl.resolver.resolution.product_selection import selection_from_list
 from spl.smoke.planning import load_plan
 
 from support.hypothesis_budget import examples

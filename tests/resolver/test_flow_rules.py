@@ -12,11 +12,11 @@ from pathlib import Path
 from click.testing import CliRunner
 
 from spl.cli import main
-from spl.generators.bundle import build_bundle, write_bundle
-from spl.generators.bundle_options import BundleOptions
-from spl.resolver.engine import resolve
-from spl.resolver.product_line import load_product_line
-from spl.resolver.product_selection import selection_from_list
+from spl.generators.bundle.options import BundleOptions
+from spl.generators.bundle.writer import build_bundle, write_bundle
+from spl.resolver.resolution.engine import resolve
+from spl.resolver.resolution.product_line import load_product_line
+from spl.resolver.resolution.product_selection import selection_from_list
 from spl.smoke.planning import load_plan
 
 ROOT = Path(__file__).resolve().parents[2]

@@ -15,11 +15,11 @@ from pathlib import Path
 
 import pytest
 
-from spl.generators.bundle import build_bundle
-from spl.generators.bundle_options import BundleOptions
-from spl.resolver.engine import resolve
-from spl.resolver.product_line import load_product_line
-from spl.resolver.product_selection import load_selection_file, selection_from_list
+from spl.generators.bundle.options import BundleOptions
+from spl.generators.bundle.writer import build_bundle
+from spl.resolver.resolution.engine import resolve
+from spl.resolver.resolution.product_line import load_product_line
+from spl.resolver.resolution.product_selection import load_selection_file, selection_from_list
 
 from support.cli_outcome import run
 

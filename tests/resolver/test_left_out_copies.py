@@ -1,6 +1,6 @@
 """A product's copy of its template leaves out what the product drops before anything
 reads it (an optional node or store nothing else in the template refers into, which no
-active resolution element names: spl.resolver.pruning), and the product is the same as
+active resolution element names: spl.resolver.resolution.pruning), and the product is the same as
 the one resolved from a whole copy: the same resolved model (printed), warnings or
 errors, trace, nodes kept and removed, migrations and flows. Compared on every product
 (up to a bound) of the shipped lines and the test lines, on random lines
@@ -17,13 +17,13 @@ from pathlib import Path
 import pytest
 from hypothesis import given, settings
 
-from spl.diagnostics import ModelError
-from spl.dsl.tsm_printer import print_model
-from spl.resolver.context import qualified
-from spl.resolver.engine import resolve
-from spl.resolver.product_line import ProductLine, load_product_line
-from spl.resolver.product_selection import selection_from_list
-from spl.resolver.pruning import left_out
+from spl.core.diagnostics import ModelError
+from spl.dsl.tsm.printer import print_model
+from spl.resolver.resolution.context import qualified
+from spl.resolver.resolution.engine import resolve
+from spl.resolver.resolution.product_line import ProductLine, load_product_line
+from spl.resolver.resolution.product_selection import selection_from_list
+from spl.resolver.resolution.pruning import left_out
 
 from support.hypothesis_budget import examples
 from support.random_lines import line_specs, write_line

@@ -10,12 +10,12 @@ from pathlib import Path
 
 import pytest
 
-from spl.diagnostics import ModelError
-from spl.resolver.engine import resolve
+from spl.core.diagnostics import ModelError
 from spl.resolver.line_checks import ActivationSolver, check_product_line
 from spl.resolver.line_checks.conflicts import reachable_conflicts
-from spl.resolver.product_line import load_product_line
-from spl.resolver.product_selection import selection_from_list
+from spl.resolver.resolution.engine import resolve
+from spl.resolver.resolution.product_line import load_product_line
+from spl.resolver.resolution.product_selection import selection_from_list
 
 ROOT = Path(__file__).resolve().parents[2]
 BROKEN = Path(__file__).parents[1] / "models" / "line_checks" / "broken"

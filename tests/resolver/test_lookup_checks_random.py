@@ -13,12 +13,13 @@ import random
 import shutil
 from functools import cache
 
-from spl.diagnostics import ModelError
-from spl.dsl import fm_formats, tsm
-from spl.resolver.engine import resolve
+from spl.core.diagnostics import ModelError
+from spl.dsl.interop import formats as fm_formats
+from spl.dsl.tsm import language as tsm
 from spl.resolver.line_checks import check_product_line
-from spl.resolver.product_line import load_product_line
-from spl.resolver.product_selection import selection_from_list
+from spl.resolver.resolution.engine import resolve
+from spl.resolver.resolution.product_line import load_product_line
+from spl.resolver.resolution.product_selection import selection_from_list
 
 from support.farm_statements import FEATURES, MODELS, resolution_model
 

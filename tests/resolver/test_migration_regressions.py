@@ -6,10 +6,10 @@ from __future__ import annotations
 import shutil
 from pathlib import Path
 
-from spl.dsl.tsm_printer import print_model
-from spl.resolver.engine import resolve
-from spl.resolver.product_line import load_product_line
-from spl.resolver.product_selection import selection_from_list
+from spl.dsl.tsm.printer import print_model
+from spl.resolver.resolution.engine import resolve
+from spl.resolver.resolution.product_line import load_product_line
+from spl.resolver.resolution.product_selection import selection_from_list
 
 from support.architecture_view import view
 from support.cli_outcome import assert_clean, run

@@ -6,10 +6,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from spl.resolver.engine import resolve
-from spl.resolver.placement import Placement
-from spl.resolver.product_line import load_product_line
-from spl.resolver.product_selection import selection_from_list
+from spl.resolver.architecture.placement import Placement
+from spl.resolver.resolution.engine import resolve
+from spl.resolver.resolution.product_line import load_product_line
+from spl.resolver.resolution.product_selection import selection_from_list
 
 ROBOTS = """system Rules
 robot container Alpha {

@@ -15,16 +15,16 @@ import pytest
 from click.testing import CliRunner
 
 from spl.cli import main
-from spl.generators.bundle import build_bundle, write_bundle
-from spl.generators.bundle_options import BundleOptions
-from spl.generators.fleet import fleet_files
-from spl.resolver.engine import resolve
-from spl.resolver.fleet import check_fleet
-from spl.resolver.fleet_deployment import deploy
-from spl.resolver.fleet_file import load_fleet
-from spl.resolver.placement import Placement
-from spl.resolver.product_line import load_product_line
-from spl.resolver.product_selection import load_selection_file, selection_from_list
+from spl.generators.bundle.options import BundleOptions
+from spl.generators.bundle.writer import build_bundle, write_bundle
+from spl.generators.fleet.bundle import fleet_files
+from spl.resolver.architecture.placement import Placement
+from spl.resolver.fleets.deployment import deploy
+from spl.resolver.fleets.fleet import check_fleet
+from spl.resolver.fleets.fleet_file import load_fleet
+from spl.resolver.resolution.engine import resolve
+from spl.resolver.resolution.product_line import load_product_line
+from spl.resolver.resolution.product_selection import load_selection_file, selection_from_list
 from spl.smoke.planning import load_plan
 
 from support.instance_chains import (

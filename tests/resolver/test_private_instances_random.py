@@ -11,18 +11,17 @@ from __future__ import annotations
 import tempfile
 from pathlib import Path
 
-from hypothesis import event, given, settings, target
-from hypothesis import strategies as st
+from hypothesis import event, given, settings, strategies as st, target
 
-from spl.generators.bundle import build_bundle
-from spl.generators.bundle_options import BundleOptions
-from spl.generators.fleet import fleet_files
-from spl.resolver.engine import resolve
-from spl.resolver.fleet import check_fleet
-from spl.resolver.fleet_deployment import deploy
-from spl.resolver.fleet_file import load_fleet
-from spl.resolver.product_line import load_product_line
-from spl.resolver.product_selection import selection_from_list
+from spl.generators.bundle.options import BundleOptions
+from spl.generators.bundle.writer import build_bundle
+from spl.generators.fleet.bundle import fleet_files
+from spl.resolver.fleets.deployment import deploy
+from spl.resolver.fleets.fleet import check_fleet
+from spl.resolver.fleets.fleet_file import load_fleet
+from spl.resolver.resolution.engine import resolve
+from spl.resolver.resolution.product_line import load_product_line
+from spl.resolver.resolution.product_selection import selection_from_list
 
 from support.hypothesis_budget import examples
 from support.instance_chains import (

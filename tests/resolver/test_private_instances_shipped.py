@@ -12,12 +12,12 @@ from __future__ import annotations
 
 import pytest
 
-from spl.generators.bundle import build_bundle
-from spl.generators.bundle_options import BundleOptions
-from spl.generators.fleet import fleet_files
-from spl.resolver.fleet import check_fleet
-from spl.resolver.fleet_deployment import deploy
-from spl.resolver.fleet_file import load_fleet
+from spl.generators.bundle.options import BundleOptions
+from spl.generators.bundle.writer import build_bundle
+from spl.generators.fleet.bundle import fleet_files
+from spl.resolver.fleets.deployment import deploy
+from spl.resolver.fleets.fleet import check_fleet
+from spl.resolver.fleets.fleet_file import load_fleet
 
 from support.instance_chains import (
     as_vertices,

@@ -10,10 +10,10 @@ from typing import Any
 import pytest
 from lxml import etree
 
-from spl.generators import ros1
-from spl.resolver.engine import resolve
-from spl.resolver.product_line import load_product_line
-from spl.resolver.product_selection import load_selection_file
+from spl.generators.ros1 import launch_files as ros1
+from spl.resolver.resolution.engine import resolve
+from spl.resolver.resolution.product_line import load_product_line
+from spl.resolver.resolution.product_selection import load_selection_file
 
 LINE = Path(__file__).resolve().parents[2] / "product_lines" / "orchard"
 HARVESTER = {"Camera", "Driver", "Navigator", "ArmController", "Gripper"}
@@ -165,7 +165,7 @@ def test_reports_keep_both_robots_nodes_of_one_name(line):
     # "Camera": "Scout" and listed no removed Camera before)
     import json
 
-    from spl.generators.bundle import bundle_files
+    from spl.generators.bundle.writer import bundle_files
 
     scouting = product(line, "scout_yield_public")
     manifest = json.loads(bundle_files(scouting)["manifest.json"])

@@ -15,9 +15,9 @@ from typing import Any
 
 import pytest
 
-from spl.resolver.engine import resolve
-from spl.resolver.product_line import load_product_line
-from spl.resolver.product_selection import load_selection_file
+from spl.resolver.resolution.engine import resolve
+from spl.resolver.resolution.product_line import load_product_line
+from spl.resolver.resolution.product_selection import load_selection_file
 
 LINE = Path(__file__).resolve().parents[2] / "product_lines" / "pharmacy"
 

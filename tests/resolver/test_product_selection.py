@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import pytest
 
-from spl.diagnostics import ModelError
-from spl.resolver.product_selection import (
+from spl.core.diagnostics import ModelError
+from spl.resolver.resolution.product_selection import (
     apply_overrides,
     load_selection_file,
     selection_from_list,

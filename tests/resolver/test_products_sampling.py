@@ -15,13 +15,12 @@ from pathlib import Path
 import pytest
 from pysat.solvers import Solver
 
-from spl.dsl.fm import parse_file
-from spl.dsl.fm_formats import load_feature_model
-from spl.resolver.analysis import FeatureModelFormula
-from spl.resolver.sampling import covering_array, product_key, random_products
+from spl.dsl.fm.language import parse_file
+from spl.dsl.interop.formats import load_feature_model
+from spl.resolver.analysis.formula import FeatureModelFormula
+from spl.resolver.analysis.sampling import covering_array, product_key, random_products
 
-from support.fm_semantics import is_product
-from support.fm_semantics import products as brute_force_products
+from support.fm_semantics import is_product, products as brute_force_products
 from support.real_models import REAL_MODELS
 from support.sample_checks import interactions
 

@@ -1,5 +1,5 @@
 """A product nobody reads again goes at once, without the cyclic collector: the line
-checks resolve dozens of witness products with the collector paused (spl.dsl.cyclic_gc),
+checks resolve dozens of witness products with the collector paused (spl.core.cyclic_gc),
 and a 1,000-node line's copies took 700 MB until the check ended. A released resolution
 (``Resolution.release``, as the witness products are) leaves a small part of its model
 for the collector (what the rewiring created), not the copy of the template."""
@@ -10,9 +10,9 @@ import gc
 from collections.abc import Callable
 from pathlib import Path
 
-from spl.resolver.engine import resolve
-from spl.resolver.product_line import load_product_line
-from spl.resolver.product_selection import selection_from_list
+from spl.resolver.resolution.engine import resolve
+from spl.resolver.resolution.product_line import load_product_line
+from spl.resolver.resolution.product_selection import selection_from_list
 
 ROOT = Path(__file__).resolve().parents[2]
 

@@ -13,10 +13,10 @@ import yaml
 from click.testing import CliRunner
 
 from spl.cli import main
-from spl.diagnostics import ModelError
-from spl.resolver.engine import resolve
-from spl.resolver.product_line import load_product_line
-from spl.resolver.product_selection import apply_overrides, selection_from_list
+from spl.core.diagnostics import ModelError
+from spl.resolver.resolution.engine import resolve
+from spl.resolver.resolution.product_line import load_product_line
+from spl.resolver.resolution.product_selection import apply_overrides, selection_from_list
 
 from support.one_feature_line import MAP_SERVER_BRIDGE, MAP_SERVER_TSM, one_feature_line
 

@@ -16,12 +16,12 @@ from click.testing import CliRunner
 from lxml import etree
 
 from spl.cli import main
-from spl.diagnostics import ModelError
-from spl.dsl import rm
-from spl.resolver.engine import resolve
+from spl.core.diagnostics import ModelError
+from spl.dsl.rm import language as rm
 from spl.resolver.line_checks import check_product_line
-from spl.resolver.product_line import load_product_line
-from spl.resolver.product_selection import selection_from_list
+from spl.resolver.resolution.engine import resolve
+from spl.resolver.resolution.product_line import load_product_line
+from spl.resolver.resolution.product_selection import selection_from_list
 
 from support.architecture_view import view
 

@@ -13,9 +13,9 @@ import random
 
 from pysat.solvers import Solver
 
-from spl.dsl.fm_formats import load_feature_model
-from spl.resolver.analysis import FeatureModelFormula
-from spl.resolver.sampling import covering_array
+from spl.dsl.interop.formats import load_feature_model
+from spl.resolver.analysis.formula import FeatureModelFormula
+from spl.resolver.analysis.sampling import covering_array
 
 from support.fm_semantics import is_product
 from support.real_models import REAL_MODELS

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import pytest
 
-from spl.diagnostics import Location, ModelError
-from spl.resolver.analysis import FeatureModelFormula
-from spl.resolver.selection import check_selection
+from spl.core.diagnostics import Location, ModelError
+from spl.resolver.analysis.formula import FeatureModelFormula
+from spl.resolver.resolution.selection import check_selection
 
 from support.analysis_models import binary, constraint, mapping3d, ref
 
@@ -128,7 +128,7 @@ def test_unknown_and_contradictory_names_are_located_errors(mapping) -> None:
 
 
 def test_every_unknown_name_is_reported_and_the_first_ones_get_a_suggestion(mapping) -> None:
-    from spl.resolver.selection import SUGGESTED
+    from spl.resolver.resolution.selection import SUGGESTED
 
     names = [f"Rooomba{i}" for i in range(SUGGESTED + 5)]
     with pytest.raises(ModelError) as caught:

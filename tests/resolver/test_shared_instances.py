@@ -13,12 +13,12 @@ from pathlib import Path
 
 from hypothesis import given, settings
 
-from spl.diagnostics import ModelError
-from spl.resolver.architecture_checks import _shared_instances, shared_across_users
-from spl.resolver.engine import resolve
-from spl.resolver.placement import Instance, Placement
-from spl.resolver.product_line import ProductLine, load_product_line
-from spl.resolver.product_selection import selection_from_list
+from spl.core.diagnostics import ModelError
+from spl.resolver.architecture.checks import _shared_instances, shared_across_users
+from spl.resolver.architecture.placement import Instance, Placement
+from spl.resolver.resolution.engine import resolve
+from spl.resolver.resolution.product_line import ProductLine, load_product_line
+from spl.resolver.resolution.product_selection import selection_from_list
 
 from support.hypothesis_budget import examples
 from support.random_lines import fleet_specs, write_line

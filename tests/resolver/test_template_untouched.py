@@ -13,10 +13,10 @@ from pathlib import Path
 
 import pytest
 
-from spl.dsl import tsm
+from spl.core.emf import copy_model
+from spl.core.emf_compare import differences
+from spl.dsl.tsm import language as tsm
 from spl.dsl.workspace import LastModels, Workspace
-from spl.emf import copy_model
-from spl.emf_compare import differences
 from spl.pipeline import check_line, load_line
 
 ROOT = Path(__file__).resolve().parents[2]

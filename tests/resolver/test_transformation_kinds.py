@@ -1,4 +1,5 @@
-"""One class per transformation kind behind one interface (resolver/transformations/):
+"""One class per transformation kind behind one interface
+(src/spl/resolver/resolution/transformations/):
 every kind of statement the .rm metamodel has is registered once, acts on products, and
 the rest of the resolver asks it instead of comparing kind names."""
 
@@ -10,8 +11,8 @@ from pathlib import Path
 from pyecore.ecore import EClass
 
 from spl.metamodels import rm
-from spl.resolver.transformations import KINDS, kind_of
-from spl.resolver.transformations.kind import TransformationKind
+from spl.resolver.resolution.transformations import KINDS, kind_of
+from spl.resolver.resolution.transformations.kind import TransformationKind
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -44,7 +45,7 @@ def test_no_module_of_the_resolver_compares_kind_names():
     """The kinds' names appear in resolver/ only as their classes' ``metaclass``."""
     names = concrete_transformations()
     found = []
-    for path in sorted((ROOT / "resolver").rglob("*.py")):
+    for path in sorted((ROOT / "src" / "spl" / "resolver").rglob("*.py")):
         tree = ast.parse(path.read_text(encoding="utf-8"))
         allowed = {
             id(node.value)

@@ -5,12 +5,12 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from spl.resolver.engine import resolve
-from spl.resolver.flows import FlowTable
-from spl.resolver.placement import Placement
-from spl.resolver.product_line import load_product_line
-from spl.resolver.product_selection import load_selection_file
-from spl.resolver.wiring import Wiring
+from spl.resolver.architecture.flows import FlowTable
+from spl.resolver.architecture.placement import Placement
+from spl.resolver.architecture.wiring import Wiring
+from spl.resolver.resolution.engine import resolve
+from spl.resolver.resolution.product_line import load_product_line
+from spl.resolver.resolution.product_selection import load_selection_file
 
 from support.mapping_system import mapping_system
 

@@ -6,7 +6,7 @@ cites a place in the template."""
 
 from __future__ import annotations
 
-from spl.diagnostics import Diagnostic, Location
+from spl.core.diagnostics import Diagnostic, Location
 from spl.resolver.line_checks.witnesses import _moved, _Remembered
 
 FILE = "line/line.tsm"

@@ -7,11 +7,10 @@ importers and exporters can be checked to keep the product set, not only the sha
 
 from __future__ import annotations
 
-from itertools import combinations, product
-from itertools import product as assignments
+from itertools import combinations, product, product as assignments
 from typing import Any
 
-from spl.dsl import fm
+from spl.dsl.fm import language as fm
 
 
 def products(model: Any) -> set[frozenset[str]]:

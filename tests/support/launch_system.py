@@ -10,7 +10,7 @@ from __future__ import annotations
 from typing import Any
 
 from spl.metamodels import tsm
-from spl.resolver.product import NodeMigration, ResolvedProduct
+from spl.resolver.architecture.product import NodeMigration, ResolvedProduct
 
 
 def _node(container: Any, name: str, impl: str | None, **features: Any) -> Any:

@@ -5,7 +5,7 @@ one or several robots, bridges made by the resolver's canonical endpoint helpers
 from __future__ import annotations
 
 from spl.metamodels import tsm
-from spl.resolver import endpoints
+from spl.resolver.architecture import endpoints
 
 T = tsm()
 

@@ -16,7 +16,7 @@ from pathlib import Path
 from hypothesis import strategies as st
 
 ROOT = Path(__file__).resolve().parents[2]
-GRAMMARS = ROOT / "dsl"
+GRAMMARS = ROOT / "src" / "spl" / "dsl"
 
 TOKEN = re.compile(r'[A-Za-z_]\w*|\d+(?:\.\d+)?|"(?:\\.|[^"\\\n])*"|\s+|.', re.S)
 IDENT = re.compile(r"[A-Za-z_]\w*")
@@ -66,7 +66,7 @@ PUNCTUATION = (*"{}()[]<>-.:,;=\"'/\\*+!?#@%&|~^`", "->", "<-", "..", "=>", "<=>
 def keywords() -> tuple[str, ...]:
     """Every keyword of the three grammars (the quoted words of the .tx files)."""
     found: set[str] = set()
-    for grammar in sorted(GRAMMARS.glob("*.tx")):
+    for grammar in sorted(GRAMMARS.glob("*/*.tx")):
         found.update(re.findall(r"'([A-Za-z_]+)'", grammar.read_text(encoding="utf-8")))
     return tuple(sorted(found))
 

@@ -7,8 +7,8 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-from spl.dsl import tsm as tsm_language
-from spl.resolver.product import ResolvedProduct
+from spl.dsl.tsm import language as tsm_language
+from spl.resolver.architecture.product import ResolvedProduct
 
 PRODUCT_LINE = Path(__file__).resolve().parents[2] / "product_lines" / "data_acquisition"
 

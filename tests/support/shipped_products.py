@@ -6,10 +6,10 @@ from __future__ import annotations
 from collections.abc import Iterator
 from pathlib import Path
 
-from spl.resolver.engine import resolve
-from spl.resolver.product import ResolvedProduct
-from spl.resolver.product_line import load_product_line
-from spl.resolver.product_selection import load_selection_file
+from spl.resolver.architecture.product import ResolvedProduct
+from spl.resolver.resolution.engine import resolve
+from spl.resolver.resolution.product_line import load_product_line
+from spl.resolver.resolution.product_selection import load_selection_file
 
 LINES = Path(__file__).resolve().parents[2] / "product_lines"
 

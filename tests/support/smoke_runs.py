@@ -19,10 +19,10 @@ import uuid
 from pathlib import Path
 from typing import Any
 
-from spl.generators.bundle import bundle_files, write_bundle
-from spl.resolver.engine import resolve
-from spl.resolver.product_line import load_product_line
-from spl.resolver.product_selection import load_selection_file, selection_from_list
+from spl.generators.bundle.writer import bundle_files, write_bundle
+from spl.resolver.resolution.engine import resolve
+from spl.resolver.resolution.product_line import load_product_line
+from spl.resolver.resolution.product_selection import load_selection_file, selection_from_list
 
 ROOT = Path(__file__).resolve().parents[2]
 TAG = "SPL_TEST_SMOKE_TAG"

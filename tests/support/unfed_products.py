@@ -7,12 +7,12 @@ from __future__ import annotations
 
 import re
 
-from spl.diagnostics import Diagnostic, Location, ModelError, location_of
-from spl.resolver.engine import resolve
-from spl.resolver.flows import TOPIC
+from spl.core.diagnostics import Diagnostic, Location, ModelError, location_of
+from spl.resolver.architecture.flows import TOPIC
 from spl.resolver.line_checks import check_product_line
-from spl.resolver.product_line import ProductLine
-from spl.resolver.product_selection import selection_from_list
+from spl.resolver.resolution.engine import resolve
+from spl.resolver.resolution.product_line import ProductLine
+from spl.resolver.resolution.product_selection import selection_from_list
 
 CODES = ("SPL045", "SPL046")
 Where = tuple[str, int, int, str]  # file, line, column, code

@@ -26,9 +26,9 @@ from dataclasses import dataclass
 
 import json5
 
-from spl.resolver.placement import Placement
-from spl.resolver.product import ResolvedProduct
-from spl.resolver.wiring import Wiring
+from spl.resolver.architecture.placement import Placement
+from spl.resolver.architecture.product import ResolvedProduct
+from spl.resolver.architecture.wiring import Wiring
 
 OUT = {"topic": "publishers", "service": "service_clients"}
 IN = {"topic": "subscribers", "service": "service_servers"}

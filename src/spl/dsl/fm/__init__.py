@@ -1,0 +1,1 @@
+"""The extended Feature Model language (.fm): its grammar, reader, model and printer."""

@@ -1,0 +1,1 @@
+"""The feature-model formats of the community: UVL and FeatureIDE XML, read and written."""

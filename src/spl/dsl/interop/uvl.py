@@ -1,0 +1,183 @@
+"""UVL (Universal Variability Language) import and export, as flamapy/uvlparser write it.
+
+Reading is :mod:`spl.dsl.interop.uvl_reader` (the reference grammar, into plain objects);
+:func:`read_uvl` and :func:`parse_uvl` turn the result into an ``fm.FeatureModel``
+(pyecore) for the rest of the toolchain, :func:`read_uvl_plain` keeps it plain for
+analysis. Names that are not .fm identifiers are renamed as :mod:`spl.dsl.interop.formats`
+describes and written back unchanged on export.
+"""
+
+from __future__ import annotations
+
+import re
+from decimal import Decimal
+from pathlib import Path
+from typing import Any
+
+from spl.core.diagnostics import Diagnostic, Location, ModelError, model_text
+from spl.dsl.fm.plain import FeatureModel, to_ecore
+from spl.dsl.fm.printer import format_capabilities, format_formula
+from spl.dsl.fm.vocabulary import too_deep
+from spl.dsl.interop.interchange import CAPABILITY, exported_attributes, original_name
+from spl.dsl.interop.uvl_lexer import KEYWORDS
+from spl.dsl.interop.uvl_reader import parse_uvl_plain
+from spl.dsl.workspace import Workspace, text_of
+
+# Names spelled like a UVL keyword are quoted on export ("abstract" too: older readers
+# took it for one, and a quoted name reads the same).
+_UVL_KEYWORDS = KEYWORDS | {"abstract"}
+# What the UVL grammar (uvl-parser) accepts unquoted; quoted names exclude . " CR LF.
+_UVL_PLAIN_NAME = re.compile(r"[A-Za-z][A-Za-z0-9_]*\Z")
+
+
+def read_uvl_plain(path: str | Path) -> FeatureModel:
+    """Import a UVL file as a plain :class:`fm_plain.FeatureModel` (what analysis needs,
+    without building pyecore objects); raise ModelError with every problem."""
+    path = Path(path)
+    return parse_uvl_plain(model_text(path), str(path), default_name=path.stem)
+
+
+def read_uvl(path: str | Path, workspace: Workspace | None = None) -> Any:
+    """Import a UVL file as an ``fm.FeatureModel``; raise ModelError with every problem.
+    Read as the editor's ``workspace`` has it, when given."""
+    path = Path(path)
+    return parse_uvl(text_of(path, workspace), str(path), default_name=path.stem)
+
+
+def parse_uvl(text: str, filename: str = "<string>", default_name: str = "FeatureModel") -> Any:
+    """Import UVL text; ``default_name`` names the model when it has no namespace."""
+    plain = parse_uvl_plain(text, filename, default_name)
+    try:
+        return to_ecore(plain)
+    except RecursionError:
+        raise ModelError([too_deep(filename)]) from None
+
+
+# -- export ---------------------------------------------------------------------------
+_UVL_SYMBOLS = {
+    "iff": "<=>",
+    "implies": "=>",
+    "or": "|",
+    "and": "&",
+    "not": "!",
+}
+
+
+def write_uvl(model: Any) -> str:
+    """The model as UVL text (tab-indented, as flamapy writes it).
+
+    ``requires`` becomes ``=>`` and ``A excludes B`` becomes ``A => !B``: UVL has no
+    such operators, and the formulas mean the same.
+    """
+    problems: list[Diagnostic] = []
+    lines = [f"namespace {_uvl_id(model.name)}", "", "features"]
+    _write_feature(model.root, 1, lines, problems)
+    if model.constraints:
+        lines.append("")
+        lines.append("constraints")
+        for constraint in model.constraints:
+            formula = _without_requires_excludes(constraint.formula)
+            lines.append(
+                "\t"
+                + format_formula(
+                    formula,
+                    name_of=lambda f: _uvl_name(f, problems),
+                    symbols=_UVL_SYMBOLS,
+                    right_assoc_implication=False,
+                )
+            )
+    if problems:
+        raise ModelError(problems)
+    return "\n".join(lines) + "\n"
+
+
+def _uvl_name(feature: Any, problems: list[Diagnostic]) -> str:
+    name = original_name(feature)
+    if _UVL_PLAIN_NAME.match(name) and name not in _UVL_KEYWORDS:
+        return name
+    if any(c in name for c in '."\r\n'):
+        problems.append(
+            Diagnostic(
+                _where(feature),
+                f"feature name {name!r} cannot be written in UVL (a quoted UVL name holds "
+                "no '.', '\"' or line break): rename the feature",
+            )
+        )
+    return f'"{name}"'
+
+
+def _uvl_id(identifier: str) -> str:
+    """An identifier (model or attribute name) as a UVL id, quoted when UVL needs it."""
+    if _UVL_PLAIN_NAME.match(identifier) and identifier not in _UVL_KEYWORDS:
+        return identifier
+    return f'"{identifier}"'
+
+
+def _where(element: Any) -> Location | None:
+    if not getattr(element, "srcFile", None):
+        return None
+    return Location(element.srcFile, element.srcLine or 0, element.srcCol or 0)
+
+
+def _write_feature(feature: Any, depth: int, lines: list[str], problems: list[Diagnostic]) -> None:
+    entries = []
+    if feature.abstract:
+        entries.append("abstract")
+    for attribute in exported_attributes(feature):
+        value = attribute.value or ""
+        if attribute.type.name == "string":
+            if "'" in value or "\n" in value or "\r" in value:
+                problems.append(
+                    Diagnostic(
+                        _where(attribute),
+                        f"attribute {attribute.name} of {feature.name}: "
+                        f"{value!r} cannot be written as a UVL string",
+                    )
+                )
+            value = f"'{value}'"
+        elif attribute.type.name == "double":
+            value = _uvl_float(value)
+        entries.append(f"{_uvl_id(attribute.name)} {value}")
+    if feature.sharing is not None:
+        entries.append(f"sharing '{feature.sharing.mode.name}'")
+    if feature.capabilities:
+        entries.append(f"{CAPABILITY} '{format_capabilities(feature)}'")
+    text = _uvl_name(feature, problems)
+    if entries:
+        text += " {" + ", ".join(entries) + "}"
+    lines.append("\t" * depth + text)
+    for group in feature.groups:
+        kind = group.kind.name
+        if kind == "cardinality":
+            upper = "*" if group.upper == -1 else str(group.upper)
+            keyword = f"[{group.lower}..{upper}]"
+        else:
+            keyword = kind
+        lines.append("\t" * (depth + 1) + keyword)
+        for child in group.features:
+            _write_feature(child, depth + 2, lines, problems)
+
+
+def _uvl_float(canonical: str) -> str:
+    """A double as UVL's FLOAT token (digits, a dot, digits: no exponent)."""
+    text = format(Decimal(canonical), "f")
+    return text if "." in text else text + ".0"
+
+
+def _without_requires_excludes(formula: Any) -> Any:
+    """A copy of the formula using only and/or/not/implies/iff."""
+    from spl.metamodels import fm as fm_metamodel
+
+    F = fm_metamodel()
+    kind = formula.eClass.name
+    if kind == "FeatureRef":
+        return F.FeatureRef(feature=formula.feature)
+    if kind == "Not":
+        return F.Not(operand=_without_requires_excludes(formula.operand))
+    left = _without_requires_excludes(formula.left)
+    right = _without_requires_excludes(formula.right)
+    if formula.operator == "requires":
+        return F.BinaryFormula(operator="implies", left=left, right=right)
+    if formula.operator == "excludes":
+        return F.BinaryFormula(operator="implies", left=left, right=F.Not(operand=right))
+    return F.BinaryFormula(operator=formula.operator, left=left, right=right)

@@ -1,0 +1,1 @@
+"""The Resolution Model language (.rm): its grammar, reader, names and model."""

@@ -1,0 +1,1 @@
+"""The Template System Model language (.tsm): its grammar, reader, model and printer."""

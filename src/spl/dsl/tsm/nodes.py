@@ -1,0 +1,247 @@
+"""ROS nodes of the .tsm language: implementation, parameters and interfaces.
+
+Every value a node carries ends up in a launch file or a Rapyuta configuration, so
+each is checked here against ROS's own rules (``rosnames``) and the parameter's
+declared type, and reported at its column. An interface names its topic (or, for a
+client, the server it calls) in its own container; those references are resolved
+once every node and topic of the file is declared.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any, cast
+
+from spl.dsl import literals, rosnames
+from spl.dsl.tsm.names import Names, find_interface
+from spl.dsl.tsm.syntax import decode, kind
+
+if TYPE_CHECKING:
+    from spl.dsl.tsm import tree as tsm_tree
+
+_INTERFACE_CLASSES = {
+    "Publishes": "Publisher",
+    "Subscribes": "Subscriber",
+    "Provides": "ServiceServer",
+    "Calls": "ServiceClient",
+}
+
+
+def node_common(
+    names: Names, node: Any, tree: tsm_tree.Node | tsm_tree.Writer | tsm_tree.Reader
+) -> Any:
+    """What every kind of node declares: where it is, whether optional, a valid name."""
+    names.locate(node, tree.name)
+    node.optional = bool(tree.optional)
+    names.check(tree.name, rosnames.problem_base_name(node.name, "node name"))
+    return node
+
+
+def node(names: Names, tree: tsm_tree.Node) -> Any:
+    """The Node of a ``node`` block with its parameters and interfaces."""
+    T = names.T
+    node = node_common(names, T.Node(name=tree.name.name), tree)
+    node.sharing = names.literal("SharingMode", tree.sharing or "private")
+    implementation(names, node, tree)
+    parameters(
+        names, node, [cast("tsm_tree.Parameter", m) for m in tree.members if kind(m) == "Parameter"]
+    )
+    interfaces: dict[str, Any] = {}
+    where = f" in node {node.name}"
+    for member in tree.members:
+        rule = kind(member)
+        if rule == "Parameter":
+            continue
+        interface = _interface(names, cast("tsm_tree.Publishes", member))  # or another one
+        names.declare(interfaces, interface, member.name, "interface", where)
+        node.interfaces.append(interface)
+        resolve = _RESOLVE.get(rule)
+        if resolve is not None:
+            names.later(resolve, interface, member)
+    return node
+
+
+def parameters(names: Names, node: Any, parameter_trees: list[tsm_tree.Parameter]) -> None:
+    """Declare ``parameter_trees`` as the parameters of ``node``."""
+    declared: dict[str, Any] = {}
+    where = f" in node {node.name}"
+    for parameter_tree in parameter_trees:
+        parameter = _parameter(names, parameter_tree)
+        names.declare(declared, parameter, parameter_tree.name, "parameter", where)
+        node.parameters.append(parameter)
+
+
+def implementation(
+    names: Names, node: Any, tree: tsm_tree.Node | tsm_tree.Writer | tsm_tree.Reader
+) -> None:
+    """The ``implementation package/executable args "..."`` of a node, when given."""
+    if tree.implementation is None:
+        return
+    text = tree.implementation.value
+    if names.check(tree.implementation, rosnames.problem_implementation(text)):
+        node.package, node.executable = text.split("/", 1)
+    if tree.args is not None:
+        args = decode(tree.args.value)
+        if names.check(tree.args, rosnames.problem_args(args)):
+            node.args = args
+
+
+def ros_type(names: Names, tree: Any) -> str:
+    """A message or service type ``package/Type``, checked."""
+    names.check(tree, rosnames.problem_type(tree.value))
+    return tree.value
+
+
+def _parameter(names: Names, tree: tsm_tree.Parameter) -> Any:
+    T = names.T
+    name = tree.name.name
+    parameter = names.locate(
+        T.Parameter(name=name, type=names.literal("ParameterType", tree.type)), tree.name
+    )
+    names.check(tree.name, rosnames.problem_base_name(name, "parameter name"))
+    if tree.value is not None:
+        text, problem = _parameter_value(tree.value, tree.type)
+        if problem:
+            names.error(tree.value, f"parameter {name} is {tree.type}: {problem}")
+        else:
+            parameter.value = text
+    return parameter
+
+
+def _a(word: str) -> str:
+    return f"an {word}" if word[0] in "aeiou" else f"a {word}"
+
+
+def _parameter_value(tree: Any, ptype: str) -> tuple[str | None, str | None]:
+    """(canonical text, None) or (None, what is wrong) for a literal of type ``ptype``."""
+    rule = kind(tree)
+    if rule == "StringValue":
+        text = decode(tree.value.value)
+        if ptype not in ("string", "yaml"):
+            return None, f"expected {_a(ptype)} value, got a string"
+        if ptype == "yaml":
+            problem = literals.problem_yaml(text)
+            if problem:
+                return None, problem
+        return text, None
+    text = tree.value
+    if rule == "BoolValue":
+        return (
+            (text, None) if ptype == "bool" else (None, f"expected {_a(ptype)} value, got {text}")
+        )
+    if ptype == "int":
+        if re.fullmatch(r"[-+]?\d+", text):
+            value = literals.int_literal(text, literals.ROS_INT_MAX)
+            if value is not None:
+                return str(value), None
+            return None, f"{text} is out of range: {literals.ROS_INT_RANGE}"
+        return None, f"expected an int value, got {text}"
+    if ptype == "double":
+        number = float(text)
+        if not math.isfinite(number):
+            return None, f"{text} is out of range"
+        return repr(number), None
+    return None, f"expected {_a(ptype)} value, got {text}"
+
+
+# -- interfaces ---------------------------------------------------------------------------
+def _interface(
+    names: Names,
+    tree: tsm_tree.Publishes | tsm_tree.Subscribes | tsm_tree.Provides | tsm_tree.Calls,
+) -> Any:
+    interface_class = _INTERFACE_CLASSES[kind(tree)]
+    name = tree.name.name
+    interface = names.locate(getattr(names.T, interface_class)(name=name), tree.name)
+    names.check(tree.name, rosnames.problem_base_name(name, "interface name"))
+    if tree.type is not None:
+        interface.type = ros_type(names, tree.type)
+    external: tsm_tree.Str | None = getattr(tree, "external", None)
+    if external is not None:  # an input fed from outside the architecture (docs/tsm.md)
+        reason = decode(external.value).strip()
+        missing = "external needs a reason: what outside the architecture feeds this input"
+        if names.check(external, None if reason else missing):
+            interface.external = reason
+    if interface_class == "ServiceServer":
+        written = cast("tsm_tree.Provides", tree).rosName
+        if written is not None:
+            ros_name = decode(written.value)
+            names.check(written, rosnames.problem_graph_name(ros_name, "service name"))
+        else:
+            ros_name = f"/{name}"
+        interface.rosName = ros_name
+    return interface
+
+
+def _container_of(interface: Any) -> Any:
+    return interface.eContainer().eContainer()
+
+
+def _connect_topic(
+    names: Names, interface: Any, tree: tsm_tree.Publishes | tsm_tree.Subscribes
+) -> None:
+    """A publisher's or subscriber's topic, of its own container; the types must agree."""
+    if tree.topic is None:
+        return
+    topic = names.topic(_container_of(interface), tree.topic)
+    if topic is not None:
+        _bind(names, interface, "topic", topic, tree.topic, f"topic {topic.name}")
+
+
+def _bind(names: Names, interface: Any, role: str, target: Any, ref: Any, named: str) -> None:
+    """``interface.ROLE = target`` (its topic, or the server a client calls) when their
+    types agree; the interface takes the target's type."""
+    if interface.type and target.type and interface.type != target.type:
+        names.error(
+            ref, f"type mismatch: {interface.name} is {interface.type}, {named} is {target.type}"
+        )
+        return
+    setattr(interface, role, target)
+    if interface.type != target.type:  # unless declared so already
+        interface.type = target.type
+
+
+def _connect_server(names: Names, client: Any, tree: tsm_tree.Calls) -> None:
+    """The server a client calls: NODE.SERVER in the client's own container."""
+    if tree.server is None:
+        return
+    parts = tree.server.parts
+    container = _container_of(client)
+    if len(parts) != 2:
+        names.error(tree.server, "expected NODE.SERVER (a server in the same container)")
+        return
+    node_ref, server_ref = parts
+    node = names.find_node(container, node_ref.name)
+    if node is None:
+        elsewhere = [c.name for c in names.system.containers if node_ref.name in names.nodes[id(c)]]
+        if elsewhere:
+            names.error(
+                node_ref,
+                f"node {node_ref.name} is in container {elsewhere[0]}, not in "
+                f"{container.name}: use a bridge (declare 'calls {client.name} : TYPE' "
+                f"and write 'bridge {container.name}.{client.eContainer().name}."
+                f"{client.name} -> {elsewhere[0]}.{node_ref.name}.{server_ref.name}')",
+            )
+        else:
+            names.error(node_ref, f"unknown node {node_ref.name} in container {container.name}")
+        return
+    server = find_interface(node, server_ref.name)
+    if server is None:
+        names.error(server_ref, f"unknown server {server_ref.name} of node {node.name}")
+        return
+    if server.eClass.name != "ServiceServer":
+        names.error(
+            server_ref,
+            f"{node.name}.{server.name} is a {server.eClass.name}, not a service server",
+        )
+        return
+    _bind(names, client, "server", server, server_ref, f"{node.name}.{server.name}")
+
+
+# the references each kind of interface makes (a server refers to nothing)
+_RESOLVE: dict[str, Callable[[Names, Any, Any], None]] = {
+    "Publishes": _connect_topic,
+    "Subscribes": _connect_topic,
+    "Calls": _connect_server,
+}

@@ -1,0 +1,1 @@
+"""The robot-side writer and reader nodes of the stores (docs/services.md)."""

@@ -1,0 +1,1 @@
+"""The cloud-side deployment files of the data-acquisition services."""

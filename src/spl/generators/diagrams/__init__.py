@@ -1,0 +1,1 @@
+"""Diagrams of architectures and feature models, drawn with Graphviz."""

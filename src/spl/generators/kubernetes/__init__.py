@@ -1,0 +1,1 @@
+"""The kubernetes target: least-privilege manifests (docs/kubernetes.md)."""

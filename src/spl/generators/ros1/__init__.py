@@ -1,0 +1,1 @@
+"""The ros1 target: roslaunch XML files (docs/outputs.md)."""

@@ -1,0 +1,1 @@
+"""The data-acquisition services: one web service per store (docs/services.md)."""

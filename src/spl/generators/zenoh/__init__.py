@@ -1,0 +1,1 @@
+"""The zenoh target: zenoh-bridge-ros2dds configurations (docs/deployment.md)."""

@@ -1,0 +1,1 @@
+"""Fleets: robots of one line sharing cloud instances (docs/fleets.md)."""

@@ -1,0 +1,2 @@
+"""The Resolution Engine: one product from the line, with its transformation kinds, pruning,
+rewiring and trace (docs/resolution.md)."""

@@ -1,0 +1,123 @@
+"""A product line on disk: one folder with a .rm (naming its .tsm and .fm) and
+``products/*.yaml``. Parsed once and reused for every product derived from it."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cached_property
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from spl.core.cyclic_gc import without_cyclic_gc
+from spl.core.diagnostics import Diagnostic, Location, ModelError
+from spl.dsl.rm import language as rm
+
+if TYPE_CHECKING:
+    from spl.dsl.workspace import Workspace
+    from spl.metamodels import fm_types, rm_types, tsm_types
+    from spl.resolver.analysis.formula import FeatureModelFormula
+    from spl.resolver.architecture.flows import FlowTable
+
+
+@dataclass(eq=False)
+class ProductLine:
+    directory: Path
+    models: rm.ResolutionModelFiles
+
+    @property
+    def tsm(self) -> tsm_types.System:
+        return self.models.tsm
+
+    @property
+    def fm(self) -> fm_types.FeatureModel:
+        return self.models.fm
+
+    @property
+    def rm(self) -> rm_types.ResolutionModel:
+        return self.models.rm
+
+    @cached_property
+    def formula(self) -> FeatureModelFormula:
+        """The feature model's CNF in an incremental solver, built once for every product."""
+        from spl.resolver.analysis.formula import formula_of
+
+        return formula_of(self.fm)
+
+    @cached_property
+    def template_flows(self) -> FlowTable:
+        """Who talks to whom in the template (before any resolution), built once for the
+        line checks that follow data through it."""
+        from spl.resolver.architecture.flows import FlowTable
+
+        return FlowTable.of(self.tsm)
+
+    @cached_property
+    def node_keepers(self) -> dict[int, list[rm_types.ResolutionElement]]:
+        """The resolution elements that keep each node they require or transform, by
+        the node's id, in file order
+        (:func:`spl.resolver.resolution.transformations.touched_elements`,
+        what the engine keeps), built once for the line checks."""
+        from spl.resolver.resolution.transformations import touched_elements
+
+        keeping: dict[int, list[rm_types.ResolutionElement]] = {}
+        for element in self.rm.elements:
+            for node in touched_elements(element):
+                kept_by = keeping.setdefault(id(node), [])
+                if not kept_by or kept_by[-1] is not element:  # required and transformed
+                    kept_by.append(element)
+        return keeping
+
+    @cached_property
+    def template_reach(self) -> dict[int, list[tsm_types.Topic]]:
+        """The topics data put on each topic of the template reaches, by its bridges
+        (:func:`spl.resolver.architecture.flows.reached_topics`), built once for the line checks."""
+        from spl.resolver.architecture.flows import reached_topics
+
+        return reached_topics(self.tsm)
+
+    @cached_property
+    def unreferred_optionals(self) -> dict[int, int]:
+        """The template's optional nodes and stores nothing else in it refers into, and
+        what they hold (:func:`spl.resolver.resolution.pruning.unreferred_optionals`), found once:
+        a product whose elements name none of one leaves it out of its copy."""
+        from spl.resolver.resolution.pruning import unreferred_optionals
+
+        return unreferred_optionals(self.tsm)
+
+    @property
+    def name(self) -> str:
+        return self.directory.resolve().name
+
+    def product_files(self) -> list[Path]:
+        """The products the line's authors listed (``products/*.yaml``), by name."""
+        return sorted((self.directory / "products").glob("*.yaml"))
+
+
+def find_resolution_model(directory: Path) -> Path:
+    """The line's one .rm; a ModelError when there is none, or one error at each .rm
+    after the first (by name), so an editor shows it on the file to remove or move."""
+    found = sorted(directory.glob("*.rm"))
+    if not found:
+        raise ModelError(
+            [Diagnostic(Location(str(directory), 0, 0), "a product line holds one .rm; found none")]
+        )
+    if len(found) > 1:
+        raise ModelError(
+            [
+                Diagnostic(
+                    Location(str(extra), 1, 1),
+                    f"a product line holds one .rm, and {found[0].name} is this folder's first: "
+                    f"move or remove {extra.name}",
+                )
+                for extra in found[1:]
+            ]
+        )
+    return found[0]
+
+
+def load_product_line(directory: str | Path, workspace: Workspace | None = None) -> ProductLine:
+    """The line in ``directory``; its models read as the editor's ``workspace`` has them,
+    when given (:mod:`spl.dsl.workspace`)."""
+    directory = Path(directory)
+    with without_cyclic_gc():  # the models live on: the collector need not walk them
+        return ProductLine(directory, rm.load(find_resolution_model(directory), workspace))
