@@ -108,8 +108,9 @@ def test_the_service_does_not_start_without_its_token(directory: Path) -> None:
         [
             sys.executable,
             "-c",
+            # the application's own lifespan (runtime/service.py), as uvicorn enters it
             "import ratio_store_service.app as a, asyncio;"
-            "asyncio.run(a.lifespan(a.app).__aenter__())",
+            "asyncio.run(a.app.router.lifespan_context(a.app).__aenter__())",
         ],
         cwd=directory,
         capture_output=True,

@@ -1,7 +1,7 @@
 """The OpenAPI document of a store's service: FastAPI's paths and request
 schemas, and for every operation exactly the answers it can give: each route names its
 statuses (``STATUSES``) and the schema of its representation (``BODY``) when it is
-added (the service's app.py); 400 (not FastAPI's 422) for invalid input, with the
+added (routes.py); 400 (not FastAPI's 422) for invalid input, with the
 reasons; the bearer token as a security scheme where it is needed.
 """
 
