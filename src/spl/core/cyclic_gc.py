@@ -65,3 +65,14 @@ def release(objects: Iterable[object]) -> None:
         state = getattr(found, "__dict__", None)
         if state is not None:
             state.clear()
+
+
+def collect_young() -> None:
+    """Collect the cycles among what was allocated since the last collection (one pass
+    over the youngest generation only, even while collection is paused). For a caller
+    that dropped a block of work whose remains still hold cycles past :func:`release`
+    (a networkx graph and its cached views, a recursive closure): a line check resolving
+    hundreds of witness products one after the other would otherwise keep every one's
+    remains until it ends (3.8 GB on a 10,000-node line). Objects that survive move to
+    an older generation, so the next pass reads only what came after."""
+    gc.collect(0)

@@ -62,6 +62,9 @@ class _Option(NamedTuple):
     inactive: tuple[rm_types.ResolutionElement, ...]
 
 
+_Place = tuple[str | None, Location | None]  # a warning's code and place
+
+
 class Feeds:
     """What the questions about every input share: the solver, presence clauses, the
     statements rebinding each interface, the publishers statements put on each topic,
@@ -138,7 +141,10 @@ class Feeds:
         self.variables = sorted({abs(solver.literal(e)) for e in line.rm.elements})
         # each witness's warnings by code and place: a line with many unfed inputs asks
         # one product about each of them
-        self.resolved: dict[Witness, dict[tuple[str | None, Location | None], Diagnostic]] = {}
+        self.resolved: dict[Witness, dict[_Place, Diagnostic]] = {}
+        # the witness products of a line share most of their warnings (on a 10,000-node
+        # line some 5,000 each, and hundreds of products): each is kept once
+        self.known: dict[Diagnostic, tuple[_Place, Diagnostic]] = {}
 
     def rebinders(self, interface: tsm_types.Interface) -> list[rm_types.ResolutionElement]:
         return [element for element, _, _ in self.rebinding.get(id(interface), ())]
@@ -150,7 +156,10 @@ class Feeds:
         if witness not in self.resolved:
             found = self.resolved[witness] = {}
             for warning in witness_warnings(self.line, witness, self.workspace):
-                found.setdefault((warning.code, warning.location), warning)
+                place, kept = self.known.setdefault(
+                    warning, ((warning.code, warning.location), warning)
+                )
+                found.setdefault(place, kept)
         return self.resolved[witness].get((code, where))
 
     def ruled_out(self, witness: Witness) -> list[int]:

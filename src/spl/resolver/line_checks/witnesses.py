@@ -30,6 +30,7 @@ import bisect
 import dataclasses
 from typing import Any
 
+from spl.core.cyclic_gc import collect_young
 from spl.core.diagnostics import Diagnostic, ModelError
 from spl.core.emf import fingerprint
 from spl.dsl.tsm.declarations import BuiltTemplate, Declarations, Key, path_of
@@ -103,6 +104,8 @@ def _resolved(line: ProductLine, witness: Witness) -> tuple[Warnings, bool]:
         return (), False
     found = resolution.product.warnings, not resolution.completion.added
     resolution.release()  # nothing reads the product again: its model goes now
+    del resolution
+    collect_young()  # and what it built around the model, with the next product's room
     return found
 
 
