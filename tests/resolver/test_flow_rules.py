@@ -45,7 +45,7 @@ def codes(product_, code: str) -> list[str]:
 
 def flows(product_) -> set[tuple[str, str, str]]:
     return {
-        (f.kind, f"{f.source.eContainer().name}.{f.source.name}", f.target.eContainer().name)
+        (str(f.kind), f"{f.source.eContainer().name}.{f.source.name}", f.target.eContainer().name)
         for f in product_.flows
     }
 

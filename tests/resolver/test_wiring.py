@@ -24,7 +24,7 @@ def crossings(system):
     wiring = Wiring(FlowTable.of(system), placement, errors)
     seen = {
         robot.name: [
-            (c.kind, c.source.tag, c.source_name, c.target.tag, c.target_name)
+            (str(c.kind), c.source.tag, c.source_name, c.target.tag, c.target_name)
             for c in wiring.crossings(robot)
         ]
         for robot in placement.robots

@@ -118,7 +118,7 @@ def robot_views(product: Any) -> dict[str, RobotView]:
                 continue  # a private instance serves its own robot alone
             giver, taker = (source, source_node.name), (target, target_node.name)
             view.edges.append((giver, taker, True))
-            if flow.kind == "service":
+            if str(flow.kind) == "service":
                 view.edges.append((taker, giver, False))  # the answers
         views[me] = view
     return views

@@ -117,8 +117,8 @@ def crossings(products: list[ResolvedProduct]) -> tuple[list[Crossing], list[str
             for c in wiring.crossings(robot):
                 s = c.source.owner if c.source.is_robot else None
                 t = c.target.owner if c.target.is_robot else None
-                crossing = Crossing(
-                    c.kind, c.source.tag, c.source_name, c.target.tag, c.target_name, s, t
+                crossing = Crossing(  # the oracle's own words for the kind
+                    str(c.kind), c.source.tag, c.source_name, c.target.tag, c.target_name, s, t
                 )
                 found.setdefault(crossing.delivery, crossing)
     return list(found.values()), list(dict.fromkeys(robots))

@@ -76,7 +76,7 @@ def _end(
 
 def _ends(crossing: Crossing) -> tuple[End, End]:
     """The two interfaces of the bridge carrying ``crossing``."""
-    if crossing.kind == "topic":
+    if crossing.kind.on_topic:
         source_topic = cast("tsm_types.Topic", crossing.source_element)
         target_topic = cast("tsm_types.Topic", crossing.target_element)
         return (

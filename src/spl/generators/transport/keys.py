@@ -26,13 +26,14 @@ import re
 from collections import defaultdict
 from dataclasses import dataclass, field
 
+from spl.metamodels.interface_kinds import Family
 from spl.resolver.architecture.flows import Flow
 from spl.resolver.architecture.placement import Place
 
 NAMESPACE = re.compile(r"(/[A-Za-z][A-Za-z0-9_]*)+")
-Delivery = tuple[str, str, str, str, str]  # kind, source place, its name, target place, its name
-Entry = tuple[str, str, str, str, str]  # kind, "out" | "in", place, namespace, ROS name
-Token = tuple[str, str]  # kind, last segment of a ROS name: entries of other tokens never meet
+Delivery = tuple[Family, str, str, str, str]  # kind, source place, its name, target place, its name
+Entry = tuple[Family, str, str, str, str]  # kind, "out" | "in", place, namespace, ROS name
+Token = tuple[Family, str]  # kind, last segment of a ROS name: entries of other tokens never meet
 
 
 def prefix(key: str, name: str) -> str | None:
@@ -48,7 +49,7 @@ def robot_namespace(robot_id: str) -> str:
     return "/" + re.sub(r"[^A-Za-z0-9_]", "_", robot_id)
 
 
-def token(kind: str, name: str) -> Token:
+def token(kind: Family, name: str) -> Token:
     return kind, name.rsplit("/", 1)[-1]
 
 
@@ -57,7 +58,7 @@ class Link:
     """The flows of the table from one ROS name of a place to one of another (or the same
     place under another name): what one pair of bridges carries under one key."""
 
-    kind: str
+    kind: Family
     source: Place
     target: Place
     source_name: str
@@ -114,8 +115,8 @@ class KeySpace:
     def __init__(self, wanted: set[Delivery]) -> None:
         self.wanted = wanted
         self.count: dict[Entry, int] = defaultdict(int)
-        self.by_key: dict[tuple[str, str, str], set[Entry]] = defaultdict(set)
-        self.by_name: dict[tuple[str, str, str, str], set[str]] = defaultdict(set)
+        self.by_key: dict[tuple[Family, str, str], set[Entry]] = defaultdict(set)
+        self.by_name: dict[tuple[Family, str, str, str], set[str]] = defaultdict(set)
         self.pairs: dict[Delivery, set[tuple[Entry, Entry]]] = defaultdict(set)
         self.bad = 0
 
@@ -134,7 +135,7 @@ class KeySpace:
                 if more > 0:
                     servers = sorted(self.by_key[(entry[0], "in", entry[3] + entry[4])])
                     one, other, *_ = {server[2]: server for server in servers}.values()
-                    callers = self.by_key[("service", "out", entry[3] + entry[4])]
+                    callers = self.by_key[(entry[0], "out", entry[3] + entry[4])]
                     involved = (*servers, *callers)
                     found += [Conflict("served", one, other, involved=involved)] * more
         self.bad += len(found)
@@ -153,9 +154,9 @@ class KeySpace:
     def _served(self, entry: Entry) -> int:
         """How many places too many serve the service key of ``entry``, if it is called."""
         key = entry[3] + entry[4]
-        if entry[0] != "service" or not self.by_key[("service", "out", key)]:
+        if entry[0].on_topic or not self.by_key[(entry[0], "out", key)]:
             return 0
-        return max(0, len({server[2] for server in self.by_key[("service", "in", key)]}) - 1)
+        return max(0, len({server[2] for server in self.by_key[(entry[0], "in", key)]}) - 1)
 
     def _meet(self, entry: Entry, leaving: bool = False) -> list[Conflict]:
         """The wrongs ``entry`` makes with the others (it is not among them yet, or not any

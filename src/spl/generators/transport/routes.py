@@ -35,6 +35,7 @@ from dataclasses import dataclass, field
 
 from spl.generators.transport.keys import Conflict, Entry, Link, prefix
 from spl.generators.transport.namespaces import TRIES, Choice
+from spl.metamodels.interface_kinds import Family
 from spl.resolver.architecture.wiring import Wiring
 
 KINDS = (
@@ -45,8 +46,6 @@ KINDS = (
     "action_servers",
     "action_clients",
 )
-# per crossing kind: the allow list at the source, and at the target
-_LISTS = {"topic": ("publishers", "subscribers"), "service": ("service_clients", "service_servers")}
 
 
 @dataclass(frozen=True, order=True)
@@ -65,14 +64,14 @@ class Routes:
         default_factory=lambda: defaultdict(lambda: {kind: set() for kind in KINDS})
     )
     robot_namespaces: dict[str, str] = field(default_factory=dict)  # robotID -> namespace
-    flows: set[tuple[str, str, Bridge, Bridge]] = field(default_factory=set)  # kind, key, ...
+    flows: set[tuple[Family, str, Bridge, Bridge]] = field(default_factory=set)  # kind, key, ...
     problems: list[str] = field(default_factory=list)
 
 
 def links(wirings: list[Wiring]) -> tuple[list[Link], list[str]]:
     """The crossings of the wirings (one product's, or each robot's of a fleet) by places
     and ROS names, with the flows each carries, and every robotID, in model order."""
-    found: dict[tuple[str, str, str, str, str], Link] = {}
+    found: dict[tuple[Family, str, str, str, str], Link] = {}
     robot_ids: list[str] = []
     for wiring in wirings:
         for robot in wiring.placement.robots:
@@ -110,7 +109,7 @@ def routes(wirings: list[Wiring], limit: int = TRIES) -> Routes:
     found.robot_namespaces = dict(choice.namespaces)
     for index, key in sorted(choice.keys.items()):
         link = table[index]
-        out_list, in_list = _LISTS[link.kind]
+        out_list, in_list = link.kind.zenoh_lists
         source_ns, target_ns = prefix(key, link.source_name), prefix(key, link.target_name)
         assert source_ns is not None and target_ns is not None  # the choice's keys fit
         source, target = Bridge(link.source.tag, source_ns), Bridge(link.target.tag, target_ns)
@@ -166,7 +165,9 @@ class _Words:
             return _apart(conflict.link)
         kind, key = first[0], first[3] + first[4]
         if conflict.what == "served":
-            callers = [e for e in self.at if e[:2] == ("service", "out") and e[3] + e[4] == key]
+            callers = [
+                e for e in self.at if not e[0].on_topic and e[1] == "out" and e[3] + e[4] == key
+            ]
             reach = "; ".join(self.effect(c, s) for c in callers[:1] for s in (first, second))
             return f"the service key {key} is served by {first[2]} and {second[2]}: {reach}"
         if conflict.what == "echo":
@@ -194,7 +195,7 @@ class _Words:
             for after in self.at.get(destination, ()):
                 source, target = before.source, after.target
                 again = (id(source), id(target)) in self.delivered
-                if before.kind == "service":
+                if not before.kind.on_topic:
                     phrases.append(
                         f"the calls of {_end(source)} could reach {_end(target)}"
                         + ("" if again else ", which the architecture does not connect")

@@ -33,6 +33,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, NamedTuple, cast
 
 from spl.metamodels import tsm
+from spl.metamodels.interface_kinds import SERVICE, TOPIC, Family
 
 if TYPE_CHECKING:
     from spl.metamodels import tsm_types
@@ -67,8 +68,6 @@ class NodeInterfaces(NamedTuple):
         return cls(tuple(publishers), tuple(subscribers), tuple(clients))
 
 
-TOPIC = "topic"
-SERVICE = "service"
 # id(topic) -> (endpoint connection, the topic it puts the data on), for each connection
 # whose endpoint subscriber is on the topic
 Edges = dict[int, list[tuple["tsm_types.EndpointConnection", "tsm_types.Topic"]]]
@@ -99,7 +98,7 @@ class Flow:
     ``routes`` counts the distinct routes that deliver it, up to 2: a topic flow with 2
     reaches its subscriber twice (two chains of bridges carry the same message)."""
 
-    kind: str  # TOPIC or SERVICE
+    kind: Family  # TOPIC or SERVICE
     source: tsm_types.Publisher | tsm_types.ServiceClient
     target: tsm_types.Subscriber | tsm_types.ServiceServer
     route: Route  # the EndpointConnections crossed, in travel order

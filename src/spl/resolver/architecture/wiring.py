@@ -28,6 +28,7 @@ from typing import TYPE_CHECKING, cast
 
 from spl.core.diagnostics import Diagnostic, location_of
 from spl.metamodels import tsm
+from spl.metamodels.interface_kinds import SERVICE, Family
 from spl.resolver.architecture.flows import TOPIC, Flow, FlowTable, container_of, node_of
 from spl.resolver.architecture.placement import Place, Placement, sharing_mode
 from spl.resolver.architecture.private_instances import Delivery, placed_flows
@@ -42,10 +43,10 @@ if TYPE_CHECKING:
 @dataclass(frozen=True)
 class Crossing:
     """One flow between two places: data published at ``source`` is consumed at
-    ``target`` (``kind`` "topic"), or a client at ``source`` calls a server at
-    ``target`` (``kind`` "service")."""
+    ``target`` (``kind`` TOPIC), or a client at ``source`` calls a server at
+    ``target`` (``kind`` SERVICE)."""
 
-    kind: str
+    kind: Family
     source: Place
     target: Place
     # topic: the Topic published on; service: the calling ServiceClient
@@ -116,14 +117,14 @@ class Wiring:
                     )
                     continue
                 yield Crossing(
-                    "topic", producer, consumer, source_topic, target_topic,
+                    TOPIC, producer, consumer, source_topic, target_topic,
                     source_name, target_name, flow,
                 )  # fmt: skip
             elif producer != consumer:
                 client = cast("tsm_types.ServiceClient", flow.source)
                 server = cast("tsm_types.ServiceServer", flow.target)
                 yield Crossing(
-                    "service",
+                    SERVICE,
                     producer,
                     consumer,
                     client,

@@ -73,15 +73,15 @@ def cross_robot_flows_in_line(
     template = line.template_flows
     for cut in cut_off(template, can_be_private):
         node = node_of(cut.giver)
-        feeder = cut.feeders[0][1].source if cut.feeders[0][1].kind == "topic" else None
+        feeder = cut.feeders[0][1].source if cut.feeders[0][1].kind.on_topic else None
         ends = [node, node_of(cut.taker)] + ([node_of(feeder)] if feeder else [])
         clauses: list[list[int]] | None = private(node)
         for end in ends:
             keep = presence.present(end)
             clauses = None if keep is None or clauses is None else clauses + keep
         for flow in template.flows:  # none of the taker's robot may feed the node itself
-            giver = flow.source if flow.kind == "topic" else flow.target
-            taker = flow.target if flow.kind == "topic" else flow.source
+            giver = flow.source if flow.kind.flows_from_provider else flow.target
+            taker = flow.target if flow.kind.flows_from_provider else flow.source
             mine = taker.eContainer() is node and giver.eContainer().eContainer() is cut.robot
             if clauses is not None and mine:
                 drop = presence.absent(node_of(giver))

@@ -1,0 +1,155 @@
+"""The kinds of interface a .tsm node has, each declared once (docs/architecture.md,
+"Interface kinds").
+
+A node publishes and subscribes topics, provides and calls services. Every part of spl
+asks the same few questions about an interface: what it binds to (a topic of its
+container, or the server it calls), which side of its family it is (the side data or
+answers come from, or the side that takes them and may be left unfed), how the .tsm
+writes it, and how each output target names its role. They are answered here, by the
+interface's kind (:func:`kind_of`), and nowhere else: a module that reads an interface
+asks its kind, never its class, so a new kind is a new entry in :data:`KINDS` plus what
+only it does (its grammar rule, and its ROS names where they differ).
+
+A kind belongs to a :class:`Family`, the way its two sides meet: on a topic, many to
+many (publishers and subscribers bound to the same topic of a container), or by call,
+a consumer bound to the one provider it calls (service clients to servers). The
+family says what a flow between the two sides is (docs/semantics.md, F1 and F2): a
+topic flow runs from publisher to subscriber, a call from client to server.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from spl.metamodels import tsm_types
+
+
+@dataclass(frozen=True, order=True)
+class Family:
+    """How the two sides of a ROS interface meet, and what a flow between them is."""
+
+    name: str  # as messages and flow tables name it: "topic", "service"
+    on_topic: bool  # both sides bind to a topic (many to many); else a consumer calls one provider
+    # what a flow is, said at the interface where it starts, and where it ends
+    flow_verbs: tuple[str, str]
+    # the zenoh-bridge-ros2dds allow list where the flow starts, and where it ends
+    zenoh_lists: tuple[str, str]
+
+    @property
+    def flows_from_provider(self) -> bool:
+        """Whether a flow starts at the providing side (a topic's publisher) or at the
+        consumer (a service's client, which sends the request)."""
+        return self.on_topic
+
+    def __str__(self) -> str:
+        return self.name
+
+
+TOPIC = Family("topic", True, ("delivers to", "fed by"), ("publishers", "subscribers"))
+SERVICE = Family(
+    "service", False, ("answered by", "called by"), ("service_clients", "service_servers")
+)
+
+
+@dataclass(frozen=True)
+class InterfaceKind:
+    """One kind of interface: which side of which family, and how every part names it."""
+
+    eclass: str  # its class in tsm.ecore
+    rule: str  # its statement's rule in tsm.tx
+    keyword: str  # the .tsm keyword of the statement
+    family: Family
+    provides: bool  # the side data or answers come from (a publisher, a server)
+    title: str  # as a reader is told: "topic publisher", "service client"
+    rapyuta_role: str  # the Rapyuta interface type (iType) of a bridge's end of this kind
+    smoke_role: str  # what the rehearsal's stand-in plays
+    colour: str  # the architecture diagram's colour
+    # an input's warning when a product leaves it unfed, and how `spl explain` says it
+    unfed_code: str | None = None
+    unfed_words: str | None = None
+
+    @property
+    def on_topic(self) -> bool:
+        return self.family.on_topic
+
+    @property
+    def publishes(self) -> bool:
+        """Puts data on a topic."""
+        return self.family.on_topic and self.provides
+
+    @property
+    def subscribes(self) -> bool:
+        """Takes data from a topic."""
+        return self.family.on_topic and not self.provides
+
+    @property
+    def serves(self) -> bool:
+        """Answers the calls of the consumers bound to it."""
+        return not self.family.on_topic and self.provides
+
+    @property
+    def calls(self) -> bool:
+        """Calls the one provider it is bound to."""
+        return not self.family.on_topic and not self.provides
+
+    @property
+    def binds(self) -> str | None:
+        """The feature of the interface naming what it is bound to: "topic", "server",
+        or None (a server is bound to nothing: its clients are bound to it)."""
+        if self.family.on_topic:
+            return "topic"
+        return None if self.provides else "server"
+
+    @property
+    def zenoh_list(self) -> str:
+        """The zenoh-bridge-ros2dds allow list that names an interface of this kind."""
+        first, last = self.family.zenoh_lists
+        return first if self.provides == self.family.flows_from_provider else last
+
+    def bound_to(self, interface: tsm_types.Interface) -> Any:
+        """The topic or server ``interface`` (of this kind) is bound to, or None."""
+        return getattr(interface, self.binds) if self.binds is not None else None
+
+
+KINDS = (
+    InterfaceKind(
+        "Publisher", "Publishes", "publishes", TOPIC, True, "topic publisher",
+        "Publisher", "publisher", "#ffe135",
+    ),
+    InterfaceKind(
+        "Subscriber", "Subscribes", "subscribes", TOPIC, False, "topic subscriber",
+        "Subscriber", "subscriber", "#3fe0f0", "SPL045", "fed by no flow of this product",
+    ),
+    InterfaceKind(
+        "ServiceServer", "Provides", "provides", SERVICE, True, "service server",
+        "ServiceProvider", "server", "#2ca02c",
+    ),
+    InterfaceKind(
+        "ServiceClient", "Calls", "calls", SERVICE, False, "service client",
+        "ServiceClient", "client", "#e03131", "SPL046", "answered by no server of this product",
+    ),
+)  # fmt: skip
+FAMILIES = (TOPIC, SERVICE)
+_BY_ECLASS = {kind.eclass: kind for kind in KINDS}
+
+
+def kind_of(interface: tsm_types.Interface) -> InterfaceKind:
+    """The kind of ``interface`` (a node's or an endpoint's)."""
+    return _BY_ECLASS[interface.eClass.name]
+
+
+def kind_named(eclass: str) -> InterfaceKind:
+    """The kind whose tsm.ecore class is ``eclass``."""
+    return _BY_ECLASS[eclass]
+
+
+def is_interface(element: Any) -> bool:
+    """Whether a model element is an interface (of any kind)."""
+    return getattr(element, "eClass", None) is not None and element.eClass.name in _BY_ECLASS
+
+
+def side(family: Family, provides: bool) -> InterfaceKind:
+    """The kind of ``family`` on the providing side, or on the other."""
+    return next(k for k in KINDS if k.family is family and k.provides == provides)
