@@ -56,9 +56,7 @@ class Resolution:
     def release(self) -> None:
         """Frees the product's model now: for a caller done with it (a witness product
         of the line checks, once its warnings are read), which must not read it again."""
-        system = self.product.system
-        # the copies, pruned or not, and what the resolution made (topics, connections)
-        release([system, *system.eAllContents(), *self.copies.values()])
+        release(self.copies.values())
         self.copies.clear()
 
 
