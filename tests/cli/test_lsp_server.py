@@ -318,6 +318,13 @@ async def test_hover_describes_features_nodes_and_topics(client: LanguageClient,
     node = await hover("require FruitDetector", 10)
     assert "in cloud container `OrchardCloud`" in node
     assert "implementation `" in node and "publishes `detections`" in node
+    # each interface as its .tsm statement says it: keyword, type, and what it is bound to
+    assert "- subscribes `image` : `sensor_msgs/Image` <- topic `HarvesterImage`" in node
+    assert "- publishes `detections` : `vision_msgs/Detection2DArray` -> topic `Fruits`" in node
+    arm = await hover("connect ArmController", 10)
+    assert "- calls `grasp` : `std_srvs/Trigger` -> `Gripper.grasp`" in arm
+    planner = await hover("OrchardCloud.PathPlanner.plan", 15)
+    assert "- provides `plan` : `nav_msgs/GetPlan`\n" in planner
     topic = await hover("topic Harvester.Image", 17)
     assert "type `sensor_msgs/Image`" in topic and "ROS name `/camera/image_raw`" in topic
     close(client, rm)

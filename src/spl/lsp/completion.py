@@ -21,10 +21,12 @@ from spl.dsl import grammar_keywords as grammar
 from spl.lsp.occurrences import (
     FM_KEYWORDS,
     RM_STATEMENTS,
+    TSM_CALL_STATEMENTS,
     TSM_MEMBER_HEADS,
     TSM_NODE_HEADS,
     TSM_STATEMENTS,
     TSM_TOP_HEADS,
+    TSM_TOPIC_STATEMENTS,
 )
 from spl.lsp.symbols import Decl, SymbolIndex
 from spl.lsp.tokens import Token, Tokens
@@ -222,9 +224,9 @@ def _tsm(
     statement = _statement(before, TSM_STATEMENTS)
     if last is not None and last.text in ("->", "<-") and statement is not None:
         container = _container_at(before)
-        if statement.text in ("publishes", "subscribes", "writer", "reader"):
+        if statement.text in TSM_TOPIC_STATEMENTS:
             return [d for (c, _), d in index.topics.items() if c == container], []
-        if statement.text == "calls":
+        if statement.text in TSM_CALL_STATEMENTS:
             return [d for (c, _), d in index.members.items() if c == container], []
         if statement.text == "bridge":
             return [*index.containers.values(), *_nodes(index)], []

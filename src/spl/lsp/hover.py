@@ -7,6 +7,7 @@ from __future__ import annotations
 from typing import Any
 
 from spl.lsp.symbols import Decl, SymbolIndex
+from spl.metamodels.interface_kinds import kind_of
 
 GROUPS = {
     "mandatory": "mandatory",
@@ -115,21 +116,17 @@ def _value(parameter: Any) -> str:
 
 
 def _interface_line(interface: Any) -> str:
-    kind = {
-        "Publisher": "publishes",
-        "Subscriber": "subscribes",
-        "ServiceServer": "provides",
-        "ServiceClient": "calls",
-    }.get(interface.eClass.name, interface.eClass.name)
-    line = f"{kind} `{interface.name}`"
+    """The interface as its .tsm statement says it (docs/tsm.md): keyword, name, type,
+    and what it is bound to, a topic or the server it calls."""
+    kind = kind_of(interface)
+    line = f"{kind.keyword} `{interface.name}`"
     if interface.type:
         line += f" : `{interface.type}`"
-    topic = getattr(interface, "topic", None)
-    if topic is not None:
-        line += f" {'<-' if kind == 'subscribes' else '->'} topic `{topic.name}`"
-    server = getattr(interface, "server", None)
-    if server is not None:
-        line += f" -> `{server.eContainer().name}.{server.name}`"
+    bound = kind.bound_to(interface)
+    if bound is not None and kind.on_topic:
+        line += f" {kind.arrow} topic `{bound.name}`"
+    elif bound is not None:
+        line += f" {kind.arrow} `{bound.eContainer().name}.{bound.name}`"
     return line
 
 

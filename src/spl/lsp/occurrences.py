@@ -17,6 +17,7 @@ from dataclasses import dataclass
 from spl.dsl import grammar_keywords as grammar
 from spl.lsp.symbols import Decl, NewTopics, SymbolIndex
 from spl.lsp.tokens import Token, Tokens
+from spl.metamodels.interface_kinds import KINDS
 
 # The keyword runs that open an item of a .tsm, at the top level (``system``, ``robot
 # container``, ``bridge``, ...), in a container (``optional node``, ``topic``, ...) and in
@@ -32,6 +33,10 @@ TSM_STATEMENTS = frozenset(run[-1] for run in _TSM_HEADS) - {"system", "namespac
 # A .rm statement is opened by the first word of its run (``connect bridge``), as is an
 # element (``when``): rm.tx's.
 RM_STATEMENTS = frozenset(run[0] for run in grammar.heads("rm", "Element", "Statement"))
+# The .tsm statements whose arrow names a topic of their container (an interface bound to a
+# topic, a writer's or reader's records), and those whose arrow names the server called.
+TSM_TOPIC_STATEMENTS = frozenset({k.keyword for k in KINDS if k.on_topic} | {"writer", "reader"})
+TSM_CALL_STATEMENTS = frozenset(k.keyword for k in KINDS if k.calls)
 # Every keyword of fm.tx and capability.tx, and the literals true and false.
 FM_KEYWORDS = grammar.keywords("fm") | set(grammar.literal_words("fm", "BoolWord"))
 
@@ -121,9 +126,9 @@ class _TsmWalk(_Walk):
         follows = before.text if before is not None else ""
         here = [self.container] if self.container else []
         statement = self.statement
-        if follows in ("->", "<-") and statement in ("publishes", "subscribes", "writer", "reader"):
+        if follows in ("->", "<-") and statement in TSM_TOPIC_STATEMENTS:
             self.emit(token, index.topic(parts, here))
-        elif follows == "->" and statement == "calls":
+        elif follows == "->" and statement in TSM_CALL_STATEMENTS:
             if len(parts) == 2 and self.container:
                 self.emit(token, index.node_items([self.container, *parts], "interface")[1:])
             else:

@@ -17,6 +17,7 @@ from lsprotocol import types
 from spl.lsp.occurrences import RM_STATEMENTS, TSM_STATEMENTS
 from spl.lsp.project import Project
 from spl.lsp.tokens import Tokens
+from spl.metamodels.interface_kinds import kind_of
 
 Kind = types.SymbolKind
 
@@ -113,7 +114,9 @@ class _Outline:
         )
 
     def _node(self, node: Any) -> types.DocumentSymbol | None:
-        children = [self.symbol(i, Kind.Interface, detail=i.eClass.name) for i in node.interfaces]
+        children = [
+            self.symbol(i, Kind.Interface, detail=kind_of(i).eclass) for i in node.interfaces
+        ]
         children += [self.symbol(p, Kind.Property, detail="param") for p in node.parameters]
         return self.symbol(node, Kind.Class, children, node.eClass.name.lower())
 

@@ -108,6 +108,16 @@ class InterfaceKind:
         first, last = self.family.zenoh_lists
         return first if self.provides == self.family.flows_from_provider else last
 
+    @property
+    def arrow(self) -> str | None:
+        """The .tsm arrow before what an interface of this kind is bound to, pointing the
+        way its flow runs (the statements of docs/tsm.md, the editor's hover): "->" where
+        the flow starts (a publisher to its topic, a client to its server), "<-" where it
+        ends (a subscriber from its topic); None for a kind bound to nothing."""
+        if self.binds is None:
+            return None
+        return "->" if self.provides == self.family.flows_from_provider else "<-"
+
     def bound_to(self, interface: tsm_types.Interface) -> Any:
         """The topic or server ``interface`` (of this kind) is bound to, or None."""
         return getattr(interface, self.binds) if self.binds is not None else None

@@ -37,6 +37,7 @@ from spl.dsl.textx_text import model_from_text
 from spl.dsl.tsm.data import PERIOD_RANGE, period_fits
 from spl.dsl.workspace import Workspace, text_of
 from spl.metamodels import rm as rm_metamodel, tsm as tsm_metamodel
+from spl.metamodels.interface_kinds import KINDS, kind_of, side
 
 if TYPE_CHECKING:
     from spl.metamodels import fm_types, rm_types, tsm_types
@@ -209,15 +210,12 @@ class _Builder:
                 self.names.apply(transformation)
         return element if feature is not None else None
 
-    def _typed(self, stmt, interface, kinds: tuple[str, ...], role: str) -> bool:
-        if interface.eClass.name not in kinds:
-            owner = interface.eContainer().name
-            self.error(
-                stmt,
-                f"{owner}.{interface.name} is a {interface.eClass.name}, not a {role}",
-            )
-            return False
-        return True
+    def _typed(self, stmt, interface, fits: bool, role: str) -> bool:
+        """``fits``, else an error: the interface is not a ``role``."""
+        if not fits:
+            named = f"{interface.eContainer().name}.{interface.name}"
+            self.error(stmt, f"{named} is a {kind_of(interface).eclass}, not a {role}")
+        return fits
 
     def _topic_reference(self, container: Any, name: str, stmt: Any) -> Any:
         reference = self.R.TopicReference(container=container, name=name)
@@ -235,7 +233,7 @@ class _Builder:
 
     def _ConnectTopicStmt(self, stmt):
         interface = self.names.interface(stmt.interface)
-        if not self._typed(stmt, interface, ("Publisher", "Subscriber"), "publisher or subscriber"):
+        if not self._typed(stmt, interface, kind_of(interface).on_topic, "publisher or subscriber"):
             return None
         container, topics = self.names.topic_reference(stmt.topic, _node(interface))
         if not any(agree(interface, topic) for topic in topics):
@@ -246,7 +244,7 @@ class _Builder:
 
     def _ConnectNewTopicStmt(self, stmt):
         interface = self.names.interface(stmt.interface)
-        if not self._typed(stmt, interface, ("Publisher", "Subscriber"), "publisher or subscriber"):
+        if not self._typed(stmt, interface, kind_of(interface).on_topic, "publisher or subscriber"):
             return None
         ros_name = stmt.rosName or f"/{stmt.name}"
         problem = rosnames.problem_graph_name(ros_name)
@@ -282,11 +280,13 @@ class _Builder:
         self, stmt: Any, client: tsm_types.Interface, server: tsm_types.Interface
     ) -> tuple[tsm_types.ServiceClient, tsm_types.ServiceServer] | None:
         """The client and server of a statement when their kinds and types agree, else None."""
-        if not (
-            self._typed(stmt, client, ("ServiceClient",), "service client")
-            and self._typed(stmt, server, ("ServiceServer",), "service server")
-            and self._same_type(stmt, client, server)
-        ):
+        callers = " or ".join(k.title for k in KINDS if k.calls)
+        if not self._typed(stmt, client, kind_of(client).calls, callers):
+            return None
+        provider = side(kind_of(client).family, True)
+        if not self._typed(stmt, server, kind_of(server) is provider, provider.title):
+            return None
+        if not self._same_type(stmt, client, server):
             return None
         return cast("tsm_types.ServiceClient", client), cast("tsm_types.ServiceServer", server)
 

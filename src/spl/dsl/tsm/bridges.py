@@ -13,6 +13,7 @@ from itertools import count
 from typing import TYPE_CHECKING, Any
 
 from spl.dsl.tsm.names import Names, find_interface
+from spl.metamodels.interface_kinds import KINDS, TOPIC, InterfaceKind, kind_of, side
 
 if TYPE_CHECKING:
     from spl.metamodels import tsm_types
@@ -60,11 +61,12 @@ def endpoint_name_choices(name: str, target: Any) -> Iterator[str]:
 
 
 def bridged_clients(stand_in: Any) -> Iterator[tuple[Any, Any]]:
-    """Node service clients bound to the endpoint server ``stand_in``, in model order."""
+    """Node clients bound to the endpoint server ``stand_in``, in model order."""
     container = stand_in.eContainer().eContainer()
     for node in container.nodes:
         for interface in node.interfaces:
-            if interface.eClass.name == "ServiceClient" and interface.server is stand_in:
+            kind = kind_of(interface)
+            if kind.calls and kind.bound_to(interface) is stand_in:
                 yield node, interface
 
 
@@ -128,10 +130,10 @@ class Bridges:
             )
             return
         subscriber = self._endpoint_interface(
-            tree, containers[0], "Subscriber", endpoint_subscriber_name(source), "topic", source
+            tree, containers[0], side(TOPIC, False), endpoint_subscriber_name(source), source
         )
         publisher = self._endpoint_interface(
-            tree, containers[1], "Publisher", endpoint_publisher_name(target), "topic", target
+            tree, containers[1], side(TOPIC, True), endpoint_publisher_name(target), target
         )
         if subscriber is not None and publisher is not None:
             self._connect(tree, subscriber, publisher)
@@ -151,16 +153,19 @@ class Bridges:
         server = self._member(containers[1], *target)
         if client is None or server is None:
             return
-        if client.eClass.name != "ServiceClient":
+        client_kind, server_kind = kind_of(client), kind_of(server)
+        if not client_kind.calls:
+            callers = " or ".join(k.title for k in KINDS if k.calls)
             names.error(
                 source[1],
-                f"{source[0].name}.{client.name} is a {client.eClass.name}, not a service client",
+                f"{source[0].name}.{client.name} is a {client_kind.eclass}, not a {callers}",
             )
             return
-        if server.eClass.name != "ServiceServer":
+        provider = side(client_kind.family, True)
+        if server_kind is not provider:
             names.error(
                 target[1],
-                f"{target[0].name}.{server.name} is a {server.eClass.name}, not a service server",
+                f"{target[0].name}.{server.name} is a {server_kind.eclass}, not a {provider.title}",
             )
             return
         if client.server is not None:
@@ -187,12 +192,12 @@ class Bridges:
             )
             return
         stand_in = self._endpoint_interface(
-            tree, containers[0], "ServiceServer", endpoint_server_name(server), "server", server
+            tree, containers[0], provider, endpoint_server_name(server), server
         )
         if stand_in is None:
             return
         caller = self._endpoint_interface(
-            tree, containers[1], "ServiceClient", endpoint_client_name(server), "server", server
+            tree, containers[1], client_kind, endpoint_client_name(server), server
         )
         if caller is None:
             return
@@ -200,9 +205,10 @@ class Bridges:
         self._connect(tree, stand_in, caller)
 
     def _endpoint_interface(
-        self, tree: Any, container: Any, kind: str, name: str, role: str, target: Any
+        self, tree: Any, container: Any, kind: InterfaceKind, name: str, target: Any
     ) -> Any:
-        """The endpoint interface for ``target``: reused when it exists, else made under
+        """The endpoint interface of ``kind`` for ``target`` (the topic it is bound to, or
+        the node server it stands in for or calls): reused when it exists, else made under
         the first of its names (:func:`endpoint_name_choices`) no other one has."""
         names = self.names
         endpoint = container.endpoint
@@ -212,25 +218,23 @@ class Bridges:
                 name = choice
                 break
             # An endpoint server is linked to the server it stands in for by its connection.
-            if existing.eClass.name == kind and self._serves(existing, role, target):
+            if kind_of(existing) is kind and self._serves(existing, kind, target):
                 return existing
-        T = names.T
-        interface: tsm_types.Interface
-        if kind == "ServiceServer":
-            interface = T.ServiceServer(name=name, type=target.type, rosName=target.rosName)
-        elif kind == "ServiceClient":
-            interface = T.ServiceClient(name=name, type=target.type, server=target)
-        else:
-            interface = getattr(T, kind)(name=name, type=target.type, topic=target)
+        # a stand-in server is bound to nothing and answers under the ROS name of the
+        # server it stands in for; every other kind is bound to its target
+        bound = {kind.binds: target} if kind.binds else {"rosName": target.rosName}
+        interface: tsm_types.Interface = getattr(names.T, kind.eclass)(
+            name=name, type=target.type, **bound
+        )
         endpoint.interfaces.append(names.locate(interface, tree))
         self._interfaces[id(endpoint), name] = interface
         return interface
 
-    def _serves(self, interface: Any, role: str, target: Any) -> bool:
-        if role == "topic":
-            return interface.topic is target
-        if interface.eClass.name == "ServiceClient":
-            return interface.server is target
+    def _serves(self, interface: Any, kind: InterfaceKind, target: Any) -> bool:
+        """Whether endpoint ``interface`` (of ``kind``) is the one for ``target``: bound
+        to it, or (a stand-in server) connected to a caller of it."""
+        if kind.binds is not None:
+            return kind.bound_to(interface) is target
         return any(c.target.server is target for c in self._from.get(id(interface), ()))
 
     def _connect(self, tree: Any, source: Any, target: Any) -> None:

@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING, Any
 from spl.dsl import rosnames
 from spl.dsl.tsm.names import Names
 from spl.dsl.tsm.nodes import implementation, node_common, parameters
+from spl.metamodels.interface_kinds import TOPIC, InterfaceKind, side
 
 if TYPE_CHECKING:
     from spl.dsl.tsm import tree as tsm_tree
@@ -93,24 +94,26 @@ def _period(names: Names, tree: tsm_tree.Period) -> float | None:
 # -- writers and readers ------------------------------------------------------------------
 def writer(names: Names, tree: tsm_tree.Writer) -> Any:
     """The Writer of a ``writer`` statement: records from a topic into a store."""
-    return _data_node(names, names.T.Writer(name=tree.name.name), tree, "Subscriber")
+    return _data_node(names, names.T.Writer(name=tree.name.name), tree, side(TOPIC, False))
 
 
 def reader(names: Names, tree: tsm_tree.Reader) -> Any:
     """The Reader of a ``reader`` statement: what a store keeps, published as it is
     pushed (``subscribe``) or polled every ``period``."""
-    reader = _data_node(names, names.T.Reader(name=tree.name.name), tree, "Publisher")
+    reader = _data_node(names, names.T.Reader(name=tree.name.name), tree, side(TOPIC, True))
     reader.period = _period(names, tree.period)
     reader.subscribe = bool(tree.subscribe)
     return reader
 
 
 def _data_node(
-    names: Names, node: Any, tree: tsm_tree.Writer | tsm_tree.Reader, interface_class: str
+    names: Names, node: Any, tree: tsm_tree.Writer | tsm_tree.Reader, records_kind: InterfaceKind
 ) -> Any:
+    """``node`` with its one interface, ``records``: the topic side a writer takes its
+    records from, or a reader puts them on."""
     node_common(names, node, tree)
     node.sharing = names.T.SharingMode.private
-    records = names.locate(getattr(names.T, interface_class)(name="records"), tree.topic)
+    records = names.locate(getattr(names.T, records_kind.eclass)(name="records"), tree.topic)
     node.interfaces.append(records)
     implementation(names, node, tree)
     parameters(names, node, tree.parameters)

@@ -52,6 +52,7 @@ from spl.dsl.tsm.bridges import (
 from spl.dsl.tsm.names import Names
 from spl.dsl.tsm.syntax import kind, syntax_diagnostic
 from spl.dsl.workspace import Workspace, last_built, text_of
+from spl.metamodels.interface_kinds import kind_of
 
 __all__ = [
     "check_file",
@@ -278,7 +279,7 @@ def normalize_endpoints(system: Any) -> None:
 
     for connection in system.connections:
         source, target = connection.source, connection.target
-        if source.eClass.name == "ServiceServer":
+        if kind_of(source).serves:  # a stand-in server: printed only while a client calls it
             if any(True for _ in bridged_clients(source)):
                 see(source)
                 see(target)

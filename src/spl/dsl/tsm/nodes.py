@@ -17,16 +17,10 @@ from typing import TYPE_CHECKING, Any, cast
 from spl.dsl import literals, rosnames
 from spl.dsl.tsm.names import Names, find_interface
 from spl.dsl.tsm.syntax import decode, kind
+from spl.metamodels.interface_kinds import KINDS, InterfaceKind, kind_of, side
 
 if TYPE_CHECKING:
     from spl.dsl.tsm import tree as tsm_tree
-
-_INTERFACE_CLASSES = {
-    "Publishes": "Publisher",
-    "Subscribes": "Subscriber",
-    "Provides": "ServiceServer",
-    "Calls": "ServiceClient",
-}
 
 
 def node_common(
@@ -54,10 +48,11 @@ def node(names: Names, tree: tsm_tree.Node) -> Any:
         rule = kind(member)
         if rule == "Parameter":
             continue
-        interface = _interface(names, cast("tsm_tree.Publishes", member))  # or another one
+        interface_kind = next(k for k in KINDS if k.rule == rule)
+        interface = _interface(names, interface_kind, cast("tsm_tree.Publishes", member))
         names.declare(interfaces, interface, member.name, "interface", where)
         node.interfaces.append(interface)
-        resolve = _RESOLVE.get(rule)
+        resolve = _resolver(interface_kind)
         if resolve is not None:
             names.later(resolve, interface, member)
     return node
@@ -149,11 +144,12 @@ def _parameter_value(tree: Any, ptype: str) -> tuple[str | None, str | None]:
 # -- interfaces ---------------------------------------------------------------------------
 def _interface(
     names: Names,
+    interface_kind: InterfaceKind,
     tree: tsm_tree.Publishes | tsm_tree.Subscribes | tsm_tree.Provides | tsm_tree.Calls,
 ) -> Any:
-    interface_class = _INTERFACE_CLASSES[kind(tree)]
+    """The interface of a node's statement ``tree`` (its rule is ``interface_kind``'s)."""
     name = tree.name.name
-    interface = names.locate(getattr(names.T, interface_class)(name=name), tree.name)
+    interface = names.locate(getattr(names.T, interface_kind.eclass)(name=name), tree.name)
     names.check(tree.name, rosnames.problem_base_name(name, "interface name"))
     if tree.type is not None:
         interface.type = ros_type(names, tree.type)
@@ -163,7 +159,7 @@ def _interface(
         missing = "external needs a reason: what outside the architecture feeds this input"
         if names.check(external, None if reason else missing):
             interface.external = reason
-    if interface_class == "ServiceServer":
+    if interface_kind.serves:  # a server has a ROS name of its own; a client takes its server's
         written = cast("tsm_tree.Provides", tree).rosName
         if written is not None:
             ros_name = decode(written.value)
@@ -208,6 +204,7 @@ def _connect_server(names: Names, client: Any, tree: tsm_tree.Calls) -> None:
         return
     parts = tree.server.parts
     container = _container_of(client)
+    client_kind = kind_of(client)
     if len(parts) != 2:
         names.error(tree.server, "expected NODE.SERVER (a server in the same container)")
         return
@@ -219,7 +216,8 @@ def _connect_server(names: Names, client: Any, tree: tsm_tree.Calls) -> None:
             names.error(
                 node_ref,
                 f"node {node_ref.name} is in container {elsewhere[0]}, not in "
-                f"{container.name}: use a bridge (declare 'calls {client.name} : TYPE' "
+                f"{container.name}: use a bridge (declare "
+                f"'{client_kind.keyword} {client.name} : TYPE' "
                 f"and write 'bridge {container.name}.{client.eContainer().name}."
                 f"{client.name} -> {elsewhere[0]}.{node_ref.name}.{server_ref.name}')",
             )
@@ -230,18 +228,19 @@ def _connect_server(names: Names, client: Any, tree: tsm_tree.Calls) -> None:
     if server is None:
         names.error(server_ref, f"unknown server {server_ref.name} of node {node.name}")
         return
-    if server.eClass.name != "ServiceServer":
+    server_kind = side(client_kind.family, True)
+    if kind_of(server) is not server_kind:
         names.error(
             server_ref,
-            f"{node.name}.{server.name} is a {server.eClass.name}, not a service server",
+            f"{node.name}.{server.name} is a {kind_of(server).eclass}, not a {server_kind.title}",
         )
         return
     _bind(names, client, "server", server, server_ref, f"{node.name}.{server.name}")
 
 
-# the references each kind of interface makes (a server refers to nothing)
-_RESOLVE: dict[str, Callable[[Names, Any, Any], None]] = {
-    "Publishes": _connect_topic,
-    "Subscribes": _connect_topic,
-    "Calls": _connect_server,
-}
+def _resolver(interface_kind: InterfaceKind) -> Callable[[Names, Any, Any], None] | None:
+    """What an interface of ``interface_kind`` refers to, resolved once every name of the
+    file is declared: a topic, or the server it calls (a server refers to nothing)."""
+    if interface_kind.on_topic:
+        return _connect_topic
+    return _connect_server if interface_kind.calls else None

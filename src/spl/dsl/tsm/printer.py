@@ -13,6 +13,7 @@ import re
 from typing import Any
 
 from spl.dsl.tsm.bridges import bridged_clients
+from spl.metamodels.interface_kinds import kind_of
 
 _INDENT = "    "
 
@@ -212,23 +213,19 @@ def _interface(interface: Any) -> str:
 
 
 def _wired(interface: Any) -> str:
-    kind, name = interface.eClass.name, interface.name
-    if kind == "ServiceServer":
-        text = f"provides {name} : {interface.type}"
+    """The statement of ``interface``'s kind (docs/tsm.md), with what it is bound to."""
+    kind, name = kind_of(interface), interface.name
+    if kind.binds is None:  # a server: bound to nothing, answering under its ROS name
+        text = f"{kind.keyword} {name} : {interface.type}"
         if interface.rosName and interface.rosName != f"/{name}":
             text += f" name {_quote(interface.rosName)}"
         return text
-    if kind == "ServiceClient":
-        server = interface.server
-        if server is None or server.eContainer().eClass.name == "Endpoint":
-            return f"calls {name} : {interface.type}"  # unbound, or bound by a bridge
-        where = f"{server.eContainer().name}.{server.name}"
-        return f"calls {name}{_typed(interface, server.type)} -> {where}"
-    verb, arrow = ("publishes", "->") if kind == "Publisher" else ("subscribes", "<-")
-    topic = interface.topic
-    if topic is None:
-        return f"{verb} {name} : {interface.type}"
-    return f"{verb} {name}{_typed(interface, topic.type)} {arrow} {topic.name}"
+    bound = kind.bound_to(interface)
+    if bound is None or bound.eContainer().eClass.name == "Endpoint":
+        return f"{kind.keyword} {name} : {interface.type}"  # unbound, or bound by a bridge
+    # a topic of the same container, or the server called: NODE.SERVER
+    where = bound.name if kind.on_topic else f"{bound.eContainer().name}.{bound.name}"
+    return f"{kind.keyword} {name}{_typed(interface, bound.type)} {kind.arrow} {where}"
 
 
 def _store(store: Any) -> list[str]:
@@ -265,7 +262,7 @@ def _bridges(system: Any) -> list[str]:
         source, target = connection.source, connection.target
         source_container = source.eContainer().eContainer()
         target_container = target.eContainer().eContainer()
-        if source.eClass.name == "Subscriber":
+        if kind_of(source).on_topic:  # a topic's bridge, else a stand-in server's
             lines.append(
                 f"bridge {source_container.name}.{source.topic.name} -> "
                 f"{target_container.name}.{target.topic.name}"
