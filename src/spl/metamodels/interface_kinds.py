@@ -36,6 +36,8 @@ class Family:
     flow_verbs: tuple[str, str]
     # the zenoh-bridge-ros2dds allow list where the flow starts, and where it ends
     zenoh_lists: tuple[str, str]
+    # what an input's unfed warning calls the providing end of a flow it lost (`spl check`)
+    provider_role: str
 
     @property
     def flows_from_provider(self) -> bool:
@@ -47,9 +49,13 @@ class Family:
         return self.name
 
 
-TOPIC = Family("topic", True, ("delivers to", "fed by"), ("publishers", "subscribers"))
+TOPIC = Family("topic", True, ("delivers to", "fed by"), ("publishers", "subscribers"), "feeder")
 SERVICE = Family(
-    "service", False, ("answered by", "called by"), ("service_clients", "service_servers")
+    "service",
+    False,
+    ("answered by", "called by"),
+    ("service_clients", "service_servers"),
+    "server",
 )
 
 
@@ -69,6 +75,9 @@ class InterfaceKind:
     # an input's warning when a product leaves it unfed, and how `spl explain` says it
     unfed_code: str | None = None
     unfed_words: str | None = None
+    # how `spl explain` says what an interface of this kind does, before what it is
+    # bound to (or, for a kind bound to nothing, the ROS name it answers under)
+    standing: str = ""
 
     @property
     def on_topic(self) -> bool:
@@ -127,18 +136,22 @@ KINDS = (
     InterfaceKind(
         "Publisher", "Publishes", "publishes", TOPIC, True, "topic publisher",
         "Publisher", "publisher", "#ffe135",
+        standing="publishes to topic",
     ),
     InterfaceKind(
         "Subscriber", "Subscribes", "subscribes", TOPIC, False, "topic subscriber",
         "Subscriber", "subscriber", "#3fe0f0", "SPL045", "fed by no flow of this product",
+        standing="subscribes to topic",
     ),
     InterfaceKind(
         "ServiceServer", "Provides", "provides", SERVICE, True, "service server",
         "ServiceProvider", "server", "#2ca02c",
+        standing="serves",
     ),
     InterfaceKind(
         "ServiceClient", "Calls", "calls", SERVICE, False, "service client",
         "ServiceClient", "client", "#e03131", "SPL046", "answered by no server of this product",
+        standing="calls",
     ),
 )  # fmt: skip
 FAMILIES = (TOPIC, SERVICE)

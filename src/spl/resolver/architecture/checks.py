@@ -16,7 +16,8 @@ from typing import TYPE_CHECKING, cast
 
 from spl.core.diagnostics import Diagnostic, Severity, location_of
 from spl.metamodels import tsm
-from spl.resolver.architecture.flows import CutRoute, FlowTable
+from spl.metamodels.interface_kinds import kind_of
+from spl.resolver.architecture.flows import CutRoute, FlowTable, bound_topic
 from spl.resolver.architecture.placement import (
     SHARED_ACROSS_USERS,
     SHARED_MODES,
@@ -31,8 +32,8 @@ from spl.resolver.resolution.context import qualified
 if TYPE_CHECKING:
     from spl.metamodels import tsm_types
 
-UNFED = "SPL045"
-UNSERVED = "SPL046"
+UNFED = "SPL045"  # a subscriber's unfed_code (spl.metamodels.interface_kinds)
+UNSERVED = "SPL046"  # a client's
 TWICE = "SPL051"
 
 
@@ -48,20 +49,23 @@ def unfed_reason(interface: tsm_types.Subscriber, cut_routes: tuple[CutRoute, ..
     )
 
 
+def awaits_feed(interface: tsm_types.Interface) -> bool:
+    """Whether an interface is an input that goes without when no flow feeds it: a
+    subscriber bound to a topic (one bound to none waits for nothing), or a client,
+    bound or not (its calls go unanswered either way)."""
+    kind = kind_of(interface)
+    return not kind.provides and (not kind.on_topic or kind.bound_to(interface) is not None)
+
+
 def input_gap(interface: tsm_types.Interface, flows: FlowTable) -> str | None:
-    """UNFED for a node subscriber bound to a topic that no flow of the product feeds,
-    UNSERVED for a node client no flow takes to a server, unless the model says what
-    feeds it from outside (``external``, docs/tsm.md); None otherwise. The one verdict
-    resolve, validate and the rehearsal give (docs/semantics.md F6), and the one
+    """The kind's unfed code (UNFED for a node subscriber bound to a topic, UNSERVED for
+    a node client) when no flow of the product feeds the input, unless the model says
+    what feeds it from outside (``external``, docs/tsm.md); None otherwise. The one
+    verdict resolve, validate and the rehearsal give (docs/semantics.md F6), and the one
     ``spl check`` looks for in every product (F8)."""
-    T = tsm()
-    if interface.external:
+    if interface.external or not awaits_feed(interface) or flows.feeding(interface):
         return None
-    if isinstance(interface, T.Subscriber):
-        return UNFED if interface.topic is not None and not flows.feeding(interface) else None
-    if isinstance(interface, T.ServiceClient):
-        return UNSERVED if not flows.feeding(interface) else None
-    return None
+    return kind_of(interface).unfed_code
 
 
 def check_architecture(
@@ -102,7 +106,8 @@ def check_architecture(
                         "SPL043",
                     )
             for interface in node.interfaces:
-                topic: tsm_types.Topic | None = getattr(interface, "topic", None)
+                kind = kind_of(interface)
+                topic = bound_topic(interface)
                 if topic is not None and interface.type and interface.type != topic.type:
                     report(
                         interface,
@@ -112,22 +117,22 @@ def check_architecture(
                         "SPL044",
                     )
                 gap = input_gap(interface, flows)
-                if gap == UNFED and topic is not None:
+                if gap is not None and topic is not None:
                     report(
                         interface,
-                        f"{qualified(interface)} subscribes {qualified(topic)}, "
+                        f"{qualified(interface)} {kind.keyword} {qualified(topic)}, "
                         + unfed_reason(cast("tsm_types.Subscriber", interface), flows.cut + cut),
                         "warning",
-                        UNFED,
+                        gap,
                     )
-                if isinstance(interface, T.ServiceClient):
-                    server = interface.server
-                    if gap == UNSERVED:
+                if kind.calls:
+                    server: tsm_types.ServiceServer | None = kind.bound_to(interface)
+                    if gap is not None:
                         report(
                             interface,
-                            f"service client {qualified(interface)} has no server in this product",
+                            f"{kind.title} {qualified(interface)} has no server in this product",
                             "warning",
-                            UNSERVED,
+                            gap,
                         )
                     elif (
                         server and interface.type and server.type and interface.type != server.type

@@ -24,6 +24,7 @@ from spl.dsl.tsm.language import (
     endpoint_subscriber_name,
 )
 from spl.metamodels import tsm
+from spl.metamodels.interface_kinds import TOPIC, InterfaceKind, kind_of, side
 
 if TYPE_CHECKING:
     from spl.metamodels import tsm_types
@@ -43,30 +44,27 @@ class EndpointWiring:
     def __init__(self, system: tsm_types.System) -> None:
         self.system = system
         self.interfaces = {
-            (id(c), i.eClass.name, i.name): i
-            for c in system.containers
-            for i in c.endpoint.interfaces
+            (id(c), kind_of(i), i.name): i for c in system.containers for i in c.endpoint.interfaces
         }
         self.connections = {(id(c.source), id(c.target)) for c in system.connections}
         # what each endpoint interface is for: its topic, or the node server it calls or
         # stands in for (a stand-in knows it through its connection)
         self.targets: dict[int, Target | None] = {
-            id(c.source): cast("tsm_types.ServiceClient", c.target).server
+            id(c.source): kind_of(c.target).bound_to(c.target)
             for c in system.connections
-            if c.source.eClass.name == "ServiceServer"
+            if kind_of(c.source).serves
         }
 
     def _target(self, interface: tsm_types.Interface) -> Target | None:
-        if interface.eClass.name in ("Subscriber", "Publisher"):
-            return cast("tsm_types.Publisher | tsm_types.Subscriber", interface).topic
-        if interface.eClass.name == "ServiceClient":
-            return cast("tsm_types.ServiceClient", interface).server
-        return self.targets.get(id(interface))
+        kind = kind_of(interface)
+        if kind.binds is not None:  # its topic, or the server it calls
+            return cast("Target | None", kind.bound_to(interface))
+        return self.targets.get(id(interface))  # a stand-in: through its connection
 
     def _find_or_add(
         self,
         container: tsm_types.Container,
-        kind: str,
+        kind: InterfaceKind,
         name: str,
         target: Target,
         **features: object,
@@ -76,7 +74,7 @@ class EndpointWiring:
         for choice in endpoint_name_choices(name, target):
             interface = self.interfaces.get((id(container), kind, choice))
             if interface is None:
-                made: tsm_types.Interface = getattr(tsm(), kind)(name=choice, **features)
+                made: tsm_types.Interface = getattr(tsm(), kind.eclass)(name=choice, **features)
                 interface = made
                 self.interfaces[id(container), kind, choice] = interface
                 self.targets[id(interface)] = target
@@ -96,7 +94,7 @@ class EndpointWiring:
         """Data published on ``source_topic`` reaches ``target_topic`` in another container."""
         subscriber = self._find_or_add(
             cast("tsm_types.Container", source_topic.eContainer()),  # a topic of the system
-            "Subscriber",
+            side(TOPIC, False),
             endpoint_subscriber_name(source_topic),
             source_topic,
             topic=source_topic,
@@ -104,7 +102,7 @@ class EndpointWiring:
         )
         publisher = self._find_or_add(
             cast("tsm_types.Container", target_topic.eContainer()),
-            "Publisher",
+            side(TOPIC, True),
             endpoint_publisher_name(target_topic),
             target_topic,
             topic=target_topic,
@@ -115,10 +113,13 @@ class EndpointWiring:
     def service_bridge(
         self, client: tsm_types.ServiceClient, server: tsm_types.ServiceServer
     ) -> None:
-        """Serve ``server`` to ``client``, a node interface in another container."""
+        """Serve ``server`` to ``client``, a node interface in another container: a
+        stand-in of the server's kind next to the client, calling the server through an
+        endpoint interface of the client's kind next to the server."""
+        calling = kind_of(client)
         stand_in = self._find_or_add(
             client.eContainer().eContainer(),
-            "ServiceServer",
+            side(calling.family, True),
             endpoint_server_name(server),
             server,
             type=server.type,
@@ -126,7 +127,7 @@ class EndpointWiring:
         )
         caller = self._find_or_add(
             server.eContainer().eContainer(),
-            "ServiceClient",
+            calling,
             endpoint_client_name(server),
             server,
             server=server,

@@ -33,7 +33,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, NamedTuple, cast
 
 from spl.metamodels import tsm
-from spl.metamodels.interface_kinds import SERVICE, TOPIC, Family
+from spl.metamodels.interface_kinds import SERVICE as SERVICE, TOPIC, Family, kind_of
 
 if TYPE_CHECKING:
     from spl.metamodels import tsm_types
@@ -52,19 +52,19 @@ class NodeInterfaces(NamedTuple):
 
     @classmethod
     def of(cls, containers: Iterable[tsm_types.Container]) -> NodeInterfaces:
-        T = tsm()
         publishers: list[tsm_types.Publisher] = []
         subscribers: list[tsm_types.Subscriber] = []
         clients: list[tsm_types.ServiceClient] = []
         for container in containers:
             for node in container.nodes:
                 for interface in node.interfaces:
-                    if isinstance(interface, T.Publisher) and interface.topic is not None:
-                        publishers.append(interface)
-                    elif isinstance(interface, T.Subscriber) and interface.topic is not None:
-                        subscribers.append(interface)
-                    elif isinstance(interface, T.ServiceClient):
-                        clients.append(interface)
+                    kind = kind_of(interface)
+                    if kind.calls:
+                        clients.append(cast("tsm_types.ServiceClient", interface))
+                    elif kind.publishes and kind.bound_to(interface) is not None:
+                        publishers.append(cast("tsm_types.Publisher", interface))
+                    elif kind.subscribes and kind.bound_to(interface) is not None:
+                        subscribers.append(cast("tsm_types.Subscriber", interface))
         return cls(tuple(publishers), tuple(subscribers), tuple(clients))
 
 
@@ -78,6 +78,12 @@ Reached = tuple["tsm_types.Topic", "tsm_types.Container"]  # a topic, the robot 
 def topic_of(interface: tsm_types.Publisher | tsm_types.Subscriber) -> tsm_types.Topic:
     """The topic of an interface bound to one (those :class:`NodeInterfaces` lists)."""
     return cast("tsm_types.Topic", interface.topic)
+
+
+def bound_topic(interface: tsm_types.Interface) -> tsm_types.Topic | None:
+    """The topic an interface is bound to; None if none, or of a kind on no topic."""
+    kind = kind_of(interface)
+    return cast("tsm_types.Topic | None", kind.bound_to(interface)) if kind.on_topic else None
 
 
 def node_of(interface: tsm_types.Interface) -> tsm_types.Node:
@@ -105,6 +111,16 @@ class Flow:
     routes: int = 1
 
     @property
+    def provider(self) -> tsm_types.Interface:
+        """The end the data or the answers come from: the publisher, or the server."""
+        return self.source if self.kind.flows_from_provider else self.target
+
+    @property
+    def consumer(self) -> tsm_types.Interface:
+        """The end that depends on the flow: the subscriber, or the client it answers."""
+        return self.target if self.kind.flows_from_provider else self.source
+
+    @property
     def source_container(self) -> tsm_types.Container:
         return container_of(self.source)
 
@@ -130,8 +146,7 @@ def _name(interface: tsm_types.Interface) -> str:
 
 def _bridge(connection: tsm_types.EndpointConnection) -> str:
     source, target = connection.source, connection.target
-    source_topic: tsm_types.Topic | None = getattr(source, "topic", None)
-    target_topic: tsm_types.Topic | None = getattr(target, "topic", None)
+    source_topic, target_topic = bound_topic(source), bound_topic(target)
     if source_topic is not None and target_topic is not None:
         return (
             f"{container_of(source).name}.{source_topic.name} -> "
@@ -183,7 +198,7 @@ class FlowTable:
     def feeding(self, interface: tsm_types.Interface) -> list[Flow]:
         """The flows an input depends on: those delivering to a subscriber, or the one
         taking a client's calls to its server."""
-        return [f for f in self.at(interface) if interface is f.target or f.kind == SERVICE]
+        return [f for f in self.at(interface) if interface is f.consumer]
 
     def through(self, connection: tsm_types.EndpointConnection) -> list[Flow]:
         """The flows an endpoint connection carries."""
@@ -200,7 +215,7 @@ class FlowTable:
         flows, which the endpoint rewiring keeps): a route starts at the topic the
         publisher is bound to, wherever that is."""
         T = tsm()
-        edges, callers = _connections(system, T)
+        edges, callers = _connections(system)
         publishers, subscribers, clients = NodeInterfaces.of(system.containers)
         subscribers_of: dict[int, list[tsm_types.Subscriber]] = defaultdict(list)
         for subscriber in subscribers:
@@ -230,7 +245,7 @@ class FlowTable:
             if server is None:
                 unserved.append(client)
             else:
-                flows.append(Flow(SERVICE, client, server, route))
+                flows.append(Flow(kind_of(client).family, client, server, route))
         return cls(flows, cut, unserved)
 
 
@@ -238,7 +253,7 @@ def reached_topics(system: tsm_types.System) -> dict[int, list[tsm_types.Topic]]
     """The topics data published on each topic of ``system`` reaches (itself first), by
     the routes of :class:`FlowTable`: what a publisher bound to the topic would feed."""
     T = tsm()
-    edges, _ = _connections(system, T)
+    edges, _ = _connections(system)
     return {
         id(topic): _Walk(topic, edges, T).order
         for container in system.containers
@@ -246,17 +261,19 @@ def reached_topics(system: tsm_types.System) -> dict[int, list[tsm_types.Topic]]
     }
 
 
-def _connections(system: tsm_types.System, T: tsm_types.Metamodel) -> tuple[Edges, Callers]:
+def _connections(system: tsm_types.System) -> tuple[Edges, Callers]:
     """The endpoint connections of ``system``: topic to topic, and stand-in server to
     the connections taking its calls on."""
     edges: Edges = defaultdict(list)  # topic -> (conn, topic)
     callers: Callers = defaultdict(list)  # stand-in server -> connections
     for connection in system.connections:
         source, target = connection.source, connection.target
-        if isinstance(source, T.Subscriber) and isinstance(target, T.Publisher):
-            if source.topic is not None and target.topic is not None:
-                edges[id(source.topic)].append((connection, target.topic))
-        elif isinstance(source, T.ServiceServer) and isinstance(target, T.ServiceClient):
+        taking, giving = kind_of(source), kind_of(target)
+        if taking.subscribes and giving.publishes:
+            source_topic, target_topic = bound_topic(source), bound_topic(target)
+            if source_topic is not None and target_topic is not None:
+                edges[id(source_topic)].append((connection, target_topic))
+        elif taking.serves and giving.calls:
             callers[id(source)].append(connection)
     return edges, callers
 

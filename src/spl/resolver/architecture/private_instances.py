@@ -33,7 +33,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from spl.resolver.architecture.flows import TOPIC, Flow, FlowTable, node_of
+from spl.resolver.architecture.flows import Flow, FlowTable, node_of
 
 if TYPE_CHECKING:
     from spl.metamodels import tsm_types
@@ -172,7 +172,7 @@ class PrivateInstances:
             giver = (self.index[id(source_node)], source.tag)
             taker = (self.index[id(target_node)], target.tag)
             edges.append(Edge(giver, taker, giver, flow, True))
-            if flow.kind != TOPIC:  # the server's answers back to the client
+            if not flow.kind.on_topic:  # a call: the server's answers back to the client
                 edges.append(Edge(taker, giver, giver, flow, False))
         return edges
 

@@ -11,6 +11,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, cast
 
 from spl.metamodels import tsm
+from spl.metamodels.interface_kinds import kind_of
 from spl.resolver.architecture.product import topic_ros_name
 
 if TYPE_CHECKING:
@@ -22,8 +23,9 @@ def _endpoint_caller_of(
 ) -> tsm_types.ServiceClient | None:
     """The endpoint client that forwards calls arriving at an endpoint stand-in server."""
     for connection in system.connections:
-        if connection.source is stand_in and isinstance(connection.target, tsm().ServiceClient):
-            return connection.target
+        target = connection.target
+        if connection.source is stand_in and kind_of(target).calls:
+            return cast("tsm_types.ServiceClient", target)
     return None
 
 
@@ -50,17 +52,19 @@ def server_ros_name(server: tsm_types.ServiceServer, system: tsm_types.System) -
 
 def remappings(node: tsm_types.Node, system: tsm_types.System) -> list[tuple[str, str]]:
     """``(interface name, ROS name)`` for every connected interface, in model order."""
-    T = tsm()
     rules = []
     for interface in node.interfaces:
-        if isinstance(interface, T.Publisher | T.Subscriber):
-            if interface.topic is not None:
-                rules.append((interface.name, topic_ros_name(interface.topic)))
-        elif isinstance(interface, T.ServiceServer):
-            if interface.rosName:
-                rules.append((interface.name, interface.rosName))
-        elif isinstance(interface, T.ServiceClient) and interface.server is not None:
-            rules.append((interface.name, server_ros_name(interface.server, system)))
+        kind = kind_of(interface)
+        bound = kind.bound_to(interface)
+        if kind.on_topic:
+            if bound is not None:
+                rules.append((interface.name, topic_ros_name(bound)))
+        elif kind.serves:
+            server = cast("tsm_types.ServiceServer", interface)
+            if server.rosName:
+                rules.append((interface.name, server.rosName))
+        elif kind.calls and bound is not None:
+            rules.append((interface.name, server_ros_name(bound, system)))
     return rules
 
 

@@ -28,8 +28,8 @@ from typing import TYPE_CHECKING, cast
 
 from spl.core.diagnostics import Diagnostic, location_of
 from spl.metamodels import tsm
-from spl.metamodels.interface_kinds import SERVICE, Family
-from spl.resolver.architecture.flows import TOPIC, Flow, FlowTable, container_of, node_of
+from spl.metamodels.interface_kinds import Family
+from spl.resolver.architecture.flows import Flow, FlowTable, container_of, node_of
 from spl.resolver.architecture.placement import Place, Placement, sharing_mode
 from spl.resolver.architecture.private_instances import Delivery, placed_flows
 from spl.resolver.architecture.ros_names import resolved_service_name, resolved_topic_name
@@ -43,8 +43,8 @@ if TYPE_CHECKING:
 @dataclass(frozen=True)
 class Crossing:
     """One flow between two places: data published at ``source`` is consumed at
-    ``target`` (``kind`` TOPIC), or a client at ``source`` calls a server at
-    ``target`` (``kind`` SERVICE)."""
+    ``target`` (``kind`` on a topic, TOPIC), or a client at ``source`` calls a server at
+    ``target`` (``kind`` a call family, SERVICE); ``kind`` is its flow's."""
 
     kind: Family
     source: Place
@@ -96,7 +96,7 @@ class Wiring:
             flow, producer, consumer = delivery.flow, delivery.source, delivery.target
             if delivery.withheld:
                 continue
-            if flow.kind == TOPIC:
+            if flow.kind.on_topic:
                 publisher = cast("tsm_types.Publisher", flow.source)
                 subscriber = cast("tsm_types.Subscriber", flow.target)
                 # a topic flow's ends are bound (spl.resolver.architecture.flows)
@@ -117,14 +117,14 @@ class Wiring:
                     )
                     continue
                 yield Crossing(
-                    TOPIC, producer, consumer, source_topic, target_topic,
+                    flow.kind, producer, consumer, source_topic, target_topic,
                     source_name, target_name, flow,
                 )  # fmt: skip
             elif producer != consumer:
                 client = cast("tsm_types.ServiceClient", flow.source)
                 server = cast("tsm_types.ServiceServer", flow.target)
                 yield Crossing(
-                    SERVICE,
+                    flow.kind,
                     producer,
                     consumer,
                     client,
@@ -167,7 +167,7 @@ def cut_off(flows: FlowTable, private: Callable[[tsm_types.Node], bool]) -> list
 
     # who gives data to whom: a publisher to a subscriber, a server's answers to its client
     given: list[tuple[Flow, tsm_types.Interface, tsm_types.Interface]] = [
-        (f, f.source, f.target) if f.kind == TOPIC else (f, f.target, f.source) for f in flows
+        (f, f.provider, f.consumer) for f in flows
     ]
     # id(node) -> id(robot) -> (robot, why)
     feeders: dict[int, dict[int, tuple[tsm_types.Container, Flow]]] = defaultdict(dict)

@@ -9,6 +9,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, cast
 
+from spl.metamodels.interface_kinds import kind_of
 from spl.resolver.architecture.placement import SHARED_MODES, Placement, sharing_mode
 from spl.resolver.fleets.fleet_file import FleetRobot
 from spl.resolver.resolution.effects import PLACEMENT, SHARING, observed, origin_of, real_server
@@ -91,9 +92,10 @@ def _server_instances(
     private one the robot's own)."""
     found = {}
     for interface in node.interfaces:
-        if interface.eClass.name != "ServiceClient":
+        kind = kind_of(interface)
+        if not kind.calls:
             continue
-        server = real_server(cast("tsm_types.ServiceClient", interface).server, product.system)
+        server = real_server(kind.bound_to(interface), product.system)
         if server is None or placement.is_robot(server.eContainer().eContainer()):
             continue
         server_node = cast("tsm_types.Node", server.eContainer())  # a node's server

@@ -80,8 +80,7 @@ def cross_robot_flows_in_line(
             keep = presence.present(end)
             clauses = None if keep is None or clauses is None else clauses + keep
         for flow in template.flows:  # none of the taker's robot may feed the node itself
-            giver = flow.source if flow.kind.flows_from_provider else flow.target
-            taker = flow.target if flow.kind.flows_from_provider else flow.source
+            giver, taker = flow.provider, flow.consumer
             mine = taker.eContainer() is node and giver.eContainer().eContainer() is cut.robot
             if clauses is not None and mine:
                 drop = presence.absent(node_of(giver))

@@ -30,8 +30,9 @@ from typing import TYPE_CHECKING, NamedTuple
 
 from spl.core.diagnostics import Diagnostic, Location, location_of
 from spl.dsl.rm.names import Names, Placement
-from spl.metamodels import tsm
-from spl.resolver.architecture.flows import SERVICE, FlowTable, node_of
+from spl.metamodels import interface_kinds
+from spl.resolver.architecture.checks import awaits_feed
+from spl.resolver.architecture.flows import FlowTable, bound_topic, node_of
 from spl.resolver.line_checks.activation import ActivationSolver
 from spl.resolver.line_checks.presence import Clauses, Presence
 from spl.resolver.line_checks.witnesses import Witness, witness_warnings
@@ -44,8 +45,6 @@ if TYPE_CHECKING:
     from spl.dsl.workspace import Workspace
     from spl.metamodels import rm_types, tsm_types
 
-UNFED = "SPL045"  # the codes spl resolve gives (src/spl/resolver/architecture/checks.py)
-UNSERVED = "SPL046"
 # products ruled out per input before the check stops asking about it: each costs one
 # resolution, and a line needs many only when statements feed an input in most products
 RETRIES = 16
@@ -101,15 +100,15 @@ class Feeds:
 
         # the publishers feeding each topic: the template's, and those statements bind
         self.publishing: dict[Key, list[_Option]] = {}
-        T = tsm()
         for container in line.tsm.containers:
             for node in container.nodes:
                 for interface in node.interfaces:
-                    if not isinstance(interface, T.Publisher):
+                    if not interface_kinds.kind_of(interface).publishes:
                         continue
-                    if interface.topic is not None:
+                    topic = bound_topic(interface)
+                    if topic is not None:
                         option = _Option(interface, (), tuple(self.rebinders(interface)))
-                        for there in onward((id(container), interface.topic.name)):
+                        for there in onward((id(container), topic.name)):
                             self.publishing.setdefault(there, []).append(option)
                     for element, _, key in self.rebinding.get(id(interface), ()):
                         if key is None:
@@ -188,23 +187,17 @@ def unfed_inputs_in_line(
 ) -> list[Diagnostic]:
     """The inputs some product of the line leaves unfed, each with its witness product
     (resolved again in the editor's ``workspace`` only when what it reads changed)."""
-    T = tsm()
     shared = Feeds(line, solver, workspace)
     template = line.template_flows
     found: list[Diagnostic] = []
     for container in line.tsm.containers:
         for node in container.nodes:
             for interface in node.interfaces:
-                if interface.external:
-                    continue
-                if isinstance(interface, T.Subscriber):
-                    if interface.topic is None and not shared.rebinders(interface):
-                        continue  # bound to no topic in any product: nothing to feed
-                    code = UNFED
-                elif isinstance(interface, T.ServiceClient):
-                    code = UNSERVED
-                else:
-                    continue
+                code = interface_kinds.kind_of(interface).unfed_code
+                if interface.external or code is None:
+                    continue  # fed from outside, or an output
+                if not awaits_feed(interface) and not shared.rebinders(interface):
+                    continue  # bound to no topic in any product: nothing to feed
                 clauses = _unfed(shared, _options(shared, template, interface), interface)
                 if clauses is not None:
                     found += _confirmed(shared, template, interface, clauses, code)
@@ -219,9 +212,9 @@ def _options(shared: Feeds, template: FlowTable, interface: tsm_types.Interface)
     own = tuple(shared.rebinders(interface))
     options = []
     for flow in template.feeding(interface):
-        feeder = flow.target if flow.kind == SERVICE else flow.source
+        feeder = flow.provider
         options.append(_Option(feeder, (), own + tuple(shared.rebinders(feeder))))
-    topic: tsm_types.Topic | None = getattr(interface, "topic", None)
+    topic = bound_topic(interface)
     if topic is not None:  # statements putting a publisher where the topic gets data
         home = (id(topic.eContainer()), topic.name)
         for option in shared.publishing.get(home, ()):
@@ -244,7 +237,7 @@ def _unfed(shared: Feeds, options: list[_Option], interface: tsm_types.Interface
     clauses = shared.presence.present(node_of(interface))
     if clauses is None:
         return None  # in no product
-    if getattr(interface, "topic", False) is None:  # a subscriber only statements bind
+    if not awaits_feed(interface):  # a subscriber only statements bind
         clauses = [*clauses, [solver.literal(e) for e in shared.rebinders(interface)]]
     for option in options:
         broken = [-solver.literal(e) for e in option.active]
@@ -320,9 +313,9 @@ def _why(
     if moving:
         reasons.append(f"{qualified(interface)} is rebound by {describe(moving[0])}")
     for flow in template.feeding(interface):
-        feeder = flow.target if flow.kind == SERVICE else flow.source
+        feeder = flow.provider
         node = node_of(feeder)
-        role = "server" if flow.kind == SERVICE else "feeder"
+        role = flow.kind.provider_role
         keepers = shared.presence.keepers(node)
         if node.optional and not any(active(e) for e in keepers):
             kept_by = ", ".join(describe(e) for e in keepers) or "no resolution element"

@@ -17,8 +17,8 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from spl.core.diagnostics import Diagnostic, location_of
-from spl.metamodels import tsm
-from spl.resolver.architecture.flows import TOPIC, node_of
+from spl.metamodels import interface_kinds
+from spl.resolver.architecture.flows import bound_topic, node_of
 from spl.resolver.line_checks.activation import ActivationSolver
 from spl.resolver.line_checks.presence import Presence
 from spl.resolver.resolution.context import qualified
@@ -33,7 +33,6 @@ UNCONSUMED = "SPL052"
 
 def unconsumed_outputs_in_line(line: ProductLine, solver: ActivationSolver) -> list[Diagnostic]:
     """The publishers whose data no subscriber of any product of the line reads."""
-    T = tsm()
     presence = Presence(line, solver)
     names: set[str] = set()  # topic names statements bind interfaces to or bridge from
     touched: set[int] = set()  # publishers rebound, nodes moved, containers moved into
@@ -52,20 +51,21 @@ def unconsumed_outputs_in_line(line: ProductLine, solver: ActivationSolver) -> l
     for container in line.tsm.containers:
         for node in container.nodes:
             for interface in node.interfaces:
-                if not isinstance(interface, T.Publisher) or interface.topic is None:
+                topic = bound_topic(interface)
+                if not interface_kinds.kind_of(interface).publishes or topic is None:
                     continue
                 if {id(interface), id(node)} & touched:
                     continue
-                topics = reached[id(interface.topic)]
+                topics = reached[id(topic)]
                 if any(t.name in names or id(t.eContainer()) in touched for t in topics):
                     continue
-                readers = [f.target for f in template.at(interface) if f.kind == TOPIC]
+                readers = [f.consumer for f in template.at(interface)]
                 if any(_together(presence, solver, node, node_of(r)) for r in readers):
                     continue
                 found.append(
                     Diagnostic(
                         location_of(interface),
-                        f"{qualified(interface)} publishes {qualified(interface.topic)}, which "
+                        f"{qualified(interface)} publishes {qualified(topic)}, which "
                         "no subscriber of any product reads",
                         "info",
                         UNCONSUMED,

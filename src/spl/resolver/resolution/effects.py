@@ -36,7 +36,7 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, cast
 
 from spl.core.diagnostics import Location, location_of
-from spl.metamodels import tsm
+from spl.metamodels import interface_kinds, tsm
 from spl.resolver.architecture.placement import sharing_mode
 from spl.resolver.architecture.product import topic_ros_name
 from spl.resolver.resolution.data_clients import client_packages
@@ -150,12 +150,14 @@ class LineEffects:
                     name = f"parameter {parameter.name}"
                     effects.aspects[name] = Aspect(name, parameter.value, location_of(parameter))
                 for interface in node.interfaces:
-                    if isinstance(interface, T.Publisher | T.Subscriber):
+                    kind = interface_kinds.kind_of(interface)
+                    if kind.on_topic:
                         name = f"topic of {interface.name}"
-                        bound = topic_ros_name(interface.topic) if interface.topic else None
+                        topic = kind.bound_to(interface)
+                        bound = topic_ros_name(topic) if topic else None
                         effects.aspects[name] = Aspect(name, bound, location_of(interface))
-                    elif isinstance(interface, T.ServiceClient):
-                        server = real_server(interface.server, line.tsm)
+                    elif kind.calls:
+                        server = real_server(kind.bound_to(interface), line.tsm)
                         effects.servers[interface.name] = Aspect(
                             f"server of {interface.name}", server, location_of(interface)
                         )
@@ -268,7 +270,6 @@ def active_in(features: set[str] | frozenset[str]) -> Active:
 def observed(node: tsm_types.Node, product: ResolvedProduct) -> dict[str, Value]:
     """The aspects of a node of a resolved product, in the values :class:`LineEffects`
     predicts (so predictions and resolutions compare)."""
-    T = tsm()
     container = node.eContainer()
     values: dict[str, Value] = {
         PLACEMENT: container.name,
@@ -278,12 +279,12 @@ def observed(node: tsm_types.Node, product: ResolvedProduct) -> dict[str, Value]
     for parameter in node.parameters:
         values[f"parameter {parameter.name}"] = parameter.value
     for interface in node.interfaces:
-        if isinstance(interface, T.Publisher | T.Subscriber):
-            values[f"topic of {interface.name}"] = (
-                topic_ros_name(interface.topic) if interface.topic else None
-            )
-        elif isinstance(interface, T.ServiceClient):
-            server = real_server(interface.server, product.system)
+        kind = interface_kinds.kind_of(interface)
+        if kind.on_topic:
+            topic = kind.bound_to(interface)
+            values[f"topic of {interface.name}"] = topic_ros_name(topic) if topic else None
+        elif kind.calls:
+            server = real_server(kind.bound_to(interface), product.system)
             if server is None:
                 values[f"server of {interface.name}"] = None
                 continue
@@ -318,9 +319,9 @@ def real_server(
             (
                 c.target
                 for c in system.connections
-                if c.source is server and isinstance(c.target, T.ServiceClient)
+                if c.source is server and interface_kinds.kind_of(c.target).calls
             ),
             None,
         )
-        server = caller.server if caller is not None else None
+        server = cast("tsm_types.ServiceClient", caller).server if caller is not None else None
     return server

@@ -25,7 +25,9 @@ from typing import TYPE_CHECKING, cast
 
 from spl.core.diagnostics import location_of
 from spl.metamodels import tsm
-from spl.resolver.architecture.flows import SERVICE, TOPIC, node_of
+from spl.metamodels.interface_kinds import is_interface, kind_of
+from spl.resolver.architecture.checks import awaits_feed
+from spl.resolver.architecture.flows import node_of
 from spl.resolver.architecture.product import ResolvedProduct, topic_ros_name
 from spl.resolver.resolution.context import qualified
 from spl.resolver.resolution.instance_explanation import node_instances
@@ -117,42 +119,35 @@ def _bridging(
     """For an endpoint interface, the trace entries of the bridges it belongs to: the
     rewiring records a topic bridge under its source topic, a service bridge under the
     client it serves."""
-    T = tsm()
-    if not isinstance(element, T.Interface) or not isinstance(element.eContainer(), T.Endpoint):
+    if not is_interface(element) or not isinstance(element.eContainer(), tsm().Endpoint):
         return []
     subjects = set()
     for connection in system.connections:
         if element not in (connection.source, connection.target):
             continue
         source = connection.source
-        if isinstance(source, T.Subscriber) and source.topic is not None:
-            subjects.add(qualified(source.topic))
-        elif isinstance(source, T.ServiceServer):
+        kind = kind_of(source)
+        bound = kind.bound_to(source)
+        if kind.subscribes and bound is not None:
+            subjects.add(qualified(bound))
+        elif kind.serves:
             subjects |= {
                 qualified(i)
                 for c in system.containers
                 for n in c.nodes
                 for i in n.interfaces
-                if isinstance(i, T.ServiceClient) and i.server is source
+                if kind_of(i).calls and kind_of(i).bound_to(i) is source
             }
     return [e for e in trace.entries if e.subject in subjects and e.decision == "bridged"]
 
 
-VERBS = {
-    (TOPIC, True): "delivers to",
-    (TOPIC, False): "fed by",
-    (SERVICE, True): "answered by",
-    (SERVICE, False): "called by",
-}
-
-
 def _flows(element: tsm_types.NamedElement, product: ResolvedProduct, trace: Trace) -> list[str]:
     """The flows at an interface, or carried by an endpoint interface, in words."""
-    T = tsm()
-    if not isinstance(element, T.Interface):
+    if not is_interface(element):
         return []
+    interface = cast("tsm_types.Interface", element)
     flows = product.flows
-    if isinstance(element.eContainer(), T.Endpoint):
+    if isinstance(element.eContainer(), tsm().Endpoint):
         carried = [
             flow
             for connection in product.system.connections
@@ -161,7 +156,7 @@ def _flows(element: tsm_types.NamedElement, product: ResolvedProduct, trace: Tra
         ]
         return [f"carries {flow.describe()}" for flow in dict.fromkeys(carried)]
     lines = []
-    for flow in flows.at(element):
+    for flow in flows.at(interface):
         mine = element is flow.source
         other: tsm_types.Interface = flow.target if mine else flow.source
         if flow.route:
@@ -175,15 +170,15 @@ def _flows(element: tsm_types.NamedElement, product: ResolvedProduct, trace: Tra
             None,
         )  # fmt: skip
         note = f"; {moved}" if moved is not None else ""
-        lines.append(f"{VERBS[(flow.kind, mine)]} {_end(other)} {where}{twice}{note}")
-    if not lines and isinstance(element, T.Subscriber) and element.topic is not None:
-        lines.append("fed by no flow of this product" + ("" if element.external else " (SPL045)"))
-    if not lines and isinstance(element, T.ServiceClient):
-        lines.append(
-            "answered by no server of this product" + ("" if element.external else " (SPL046)")
-        )
-    if element.external:  # why no product warns about it (docs/tsm.md)
-        lines.append(f"fed from outside the architecture: {element.external}")
+        # what the flow is, said at its start or at its end (Family.flow_verbs)
+        verb = flow.kind.flow_verbs[0 if mine else 1]
+        lines.append(f"{verb} {_end(other)} {where}{twice}{note}")
+    kind = kind_of(interface)
+    if not lines and awaits_feed(interface):
+        code = "" if interface.external else f" ({kind.unfed_code})"
+        lines.append(f"{kind.unfed_words}{code}")
+    if interface.external:  # why no product warns about it (docs/tsm.md)
+        lines.append(f"fed from outside the architecture: {interface.external}")
     return lines
 
 
@@ -203,7 +198,8 @@ def qualified_candidates(
             e.name
             for system in (template, product)
             for e in named_elements(system)
-            if isinstance(e.element, (T.Interface, T.Parameter)) and e.element.name == name
+            if (is_interface(e.element) or isinstance(e.element, T.Parameter))
+            and e.element.name == name
         }
     )
 
@@ -242,13 +238,12 @@ def _standing(element: tsm_types.NamedElement) -> str:
         return f"store present in container {owner.name}"
     if isinstance(element, T.Parameter):
         return f"parameter = {element.value}" if element.value is not None else "parameter unset"
-    if isinstance(element, T.Publisher):
-        return _bound("publishes to topic", element.topic)
-    if isinstance(element, T.Subscriber):
-        return _bound("subscribes to topic", element.topic)
-    if isinstance(element, T.ServiceServer):
-        return f"serves {element.rosName or '/' + element.name} ({element.type})"
-    return _bound("calls", cast("tsm_types.ServiceClient", element).server)
+    interface = cast("tsm_types.Interface", element)  # the last elements named
+    kind = kind_of(interface)
+    if kind.binds is None:  # a server: called by its ROS name
+        server = cast("tsm_types.ServiceServer", interface)
+        return f"{kind.standing} {server.rosName or '/' + server.name} ({server.type})"
+    return _bound(kind.standing, kind.bound_to(interface))
 
 
 def _bound(verb: str, target: tsm_types.NamedElement | None) -> str:

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, NamedTuple
 
-from spl.resolver.architecture.flows import TOPIC, node_of
+from spl.resolver.architecture.flows import node_of
 from spl.resolver.architecture.placement import MODES, Placement, sharing_mode
 from spl.resolver.architecture.private_instances import Edge, Reason, placed_flows
 
@@ -81,7 +81,7 @@ def chain(placement: Placement, reason: Reason) -> str:
 def _step(placement: Placement, edge: Edge) -> str:
     flow = edge.flow
     giver, taker = _end(edge.giver[1], flow.source), _end(edge.taker[1], flow.target)
-    if flow.kind == TOPIC:
+    if flow.kind.on_topic:  # data one way; a call goes, and its answer comes back
         return f"{giver} -> {taker}"
     if edge.trigger:
         return f"{giver} calls {taker}"

@@ -29,6 +29,7 @@ from typing import TYPE_CHECKING, TypeVar
 
 from spl.core.diagnostics import location_of
 from spl.core.emf import references, remove_all
+from spl.resolver.architecture.flows import bound_topic
 from spl.resolver.resolution.context import qualified
 from spl.resolver.resolution.trace import Trace
 
@@ -145,9 +146,7 @@ def prune_unused(system: tsm_types.System, trace: Trace) -> tuple[tuple[str, str
     for container in system.containers:
         interfaces = [i for node in container.nodes for i in node.interfaces]
         interfaces += list(container.endpoint.interfaces)
-        used.update(
-            id(topic) for i in interfaces if (topic := getattr(i, "topic", None)) is not None
-        )
+        used.update(id(topic) for i in interfaces if (topic := bound_topic(i)) is not None)
     for container in system.containers:
         for topic in list(container.topics):
             if id(topic) not in used:

@@ -32,10 +32,9 @@ import networkx as nx
 
 from spl.core.diagnostics import Diagnostic, location_of
 from spl.metamodels import tsm
+from spl.metamodels.interface_kinds import kind_of
 from spl.resolver.architecture import endpoints
 from spl.resolver.architecture.flows import (
-    SERVICE,
-    TOPIC,
     CutRoute,
     FlowTable,
     NodeInterfaces,
@@ -90,10 +89,10 @@ def rewire(
     which it drops), for the architecture checks to say why a subscriber is unfed."""
     causes = Causes(displaced)
     template = FlowTable.of(system)  # interfaces still point at their template topics
-    local_before = {
+    local_before = {  # clients bound to their server itself, not to a stand-in
         id(f.source)
         for f in template
-        if f.kind == SERVICE and cast("tsm_types.ServiceClient", f.source).server is f.target
+        if not f.kind.on_topic and kind_of(f.source).bound_to(f.source) is f.target
     }
     publishers, subscribers, clients = NodeInterfaces.of(system.containers)
     bound: list[Bound] = [*publishers, *subscribers]
@@ -101,9 +100,9 @@ def rewire(
     served_by = {
         id(f.source): cast("tsm_types.ServiceServer", f.target)
         for f in template
-        if f.kind == SERVICE
+        if not f.kind.on_topic
     }
-    flows = [cast("TopicFlow", (f.source, f.target)) for f in template if f.kind == TOPIC]
+    flows = [cast("TopicFlow", (f.source, f.target)) for f in template if f.kind.on_topic]
     flows.sort(key=lambda flow: (order[id(flow[0])], order[id(flow[1])]))
     _bind_moved(bound, flows, trace, causes)
 
