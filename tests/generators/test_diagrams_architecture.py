@@ -10,6 +10,7 @@ from lxml import etree
 from spl.core.emf import copy_model
 from spl.generators.diagrams import architecture as diagrams, graphviz_output
 from spl.metamodels import tsm
+from spl.metamodels.interface_kinds import KINDS
 
 from support.launch_system import mapping_product
 
@@ -69,7 +70,7 @@ def test_fig4_colours_for_interfaces_topics_endpoints(svg):
     root = etree.fromstring(svg)
     fills = {p.get("fill") for p in root.iterfind(".//s:polygon", SVG)}
     for colour in (
-        diagrams.INTERFACE_COLOURS.values(),
+        [kind.colour for kind in KINDS],
         [diagrams.NODE_GREY, diagrams.TOPIC_GREEN, diagrams.ENDPOINT_ORANGE],
     ):
         assert set(colour) <= fills

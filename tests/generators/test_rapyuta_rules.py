@@ -69,6 +69,10 @@ def test_unconnectable_pair(real):
         "unconnectable-pair",
     )
     assert "cTag_01/stringEchoReq (PublisherInterface)" in problem.message
+    # the pairs the engine connects, the side a flow starts at first
+    assert problem.message.endswith(
+        ": only Publisher with Subscriber or ServiceClient with ServiceProvider"
+    )
 
 
 def test_publisher_with_service_side_is_unconnectable(real):

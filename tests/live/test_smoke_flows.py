@@ -73,7 +73,7 @@ def fans(product) -> bool:
     """A publisher whose data reaches two other containers and a subscriber fed from two."""
     out, into = {}, {}
     for flow in product.flows:
-        if flow.kind == "topic":
+        if flow.kind.on_topic:
             out.setdefault(id(flow.source), set()).add(flow.target_container.name)
             into.setdefault(id(flow.target), set()).add(flow.source_container.name)
     return any(len(c) >= 2 for c in out.values()) and any(len(c) >= 2 for c in into.values())

@@ -215,12 +215,12 @@ def check_smoke_plan(product: ResolvedProduct, folder: Path) -> None:
         else:
             fed[name(flow.target)].add(name(flow.source))
     for interface in by_id.values():
-        if interface.kind == "subscriber" and not interface.endpoint:
+        if interface.kind.subscribes and not interface.endpoint:
             assert set(interface.sources) == fed[interface.id], interface.id
     # follow the relays as the stand-ins do: (publisher id, route so far) at a topic
     endpoints = {c.name: c.endpoint for c in plan.containers if c.endpoint is not None}
     arrived: dict[tuple[str, str], set[str]] = defaultdict(set)
-    for publisher in (i for i in by_id.values() if i.kind == "publisher" and not i.endpoint):
+    for publisher in (i for i in by_id.values() if i.kind.publishes and not i.endpoint):
         todo = [((publisher.container, publisher.ros_name), "")]
         while todo:
             (where, ros_name), route = todo.pop()
@@ -229,7 +229,7 @@ def check_smoke_plan(product: ResolvedProduct, folder: Path) -> None:
             assert len(set(crossed)) == len(crossed), "a message crossed a connection twice"
             endpoint = endpoints.get(where)
             for relay_from in endpoint.interfaces if endpoint else ():
-                if relay_from.kind != "subscriber" or relay_from.ros_name != ros_name:
+                if not relay_from.kind.subscribes or relay_from.ros_name != ros_name:
                     continue
                 for relay in relay_from.relays:
                     if f"{publisher.id}|{route}" in relay.passes:
@@ -244,7 +244,7 @@ def check_smoke_plan(product: ResolvedProduct, folder: Path) -> None:
                             )
                         )
     for interface in by_id.values():
-        if interface.kind == "subscriber":
+        if interface.kind.subscribes:
             assert arrived[(interface.container, interface.ros_name)] == set(interface.sources), (
                 interface.id
             )

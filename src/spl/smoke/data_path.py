@@ -347,7 +347,7 @@ class DataPath:
                 if node.role == "endpoint":
                     continue
                 for interface in node.interfaces:
-                    if interface.kind != "subscriber" or publisher not in interface.sources:
+                    if not interface.kind.subscribes or publisher not in interface.sources:
                         continue
                     entry = (
                         statuses.get(container.name, {})

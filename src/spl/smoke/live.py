@@ -18,6 +18,7 @@ from pathlib import Path
 from typing import Any
 
 from spl.core.diagnostics import counted
+from spl.metamodels.interface_kinds import KINDS, InterfaceKind
 from spl.smoke.plan import ContainerPlan, Interface, NodePlan
 
 CALLER = "/spl_smoke"
@@ -81,6 +82,15 @@ class LiveGraph:
     def nodes(self) -> set[str]:
         every = [*self.publishers.values(), *self.subscribers.values(), *self.services.values()]
         return set().union(*every) - {ROSOUT}
+
+    def registered(self, kind: InterfaceKind) -> dict[str, set[str]] | None:
+        """The nodes the master lists with an interface of ``kind``, by topic or service
+        name; None for a caller, which the ROS 1 master does not register."""
+        if kind.publishes:
+            return self.publishers
+        if kind.subscribes:
+            return self.subscribers
+        return self.services if kind.serves else None
 
 
 @dataclass(frozen=True)
@@ -164,20 +174,19 @@ def _interface_row(
     resolved = entry.get("resolved")
     if resolved and resolved != topic:
         notes.append(f"bound to {resolved}")
-    registry = {"publisher": graph.publishers, "subscriber": graph.subscribers,
-                "server": graph.services}.get(kind)  # fmt: skip
+    registry = graph.registered(kind)
     registered = registry is None or node.ros_name in registry.get(topic, ())
     if not registered:
         notes.append(f"not registered on {topic}")
     ok = registered
-    if kind == "publisher":
-        expected = f"publishes {interface.type}"
+    if kind.publishes:
+        expected = f"{kind.keyword} {interface.type}"
         live_type = graph.types.get(topic)
         if registered and live_type != interface.type:
             notes.append(f"type {live_type}")
             ok = False
-        seen = f"publishes {live_type} ({entry.get('sent', 0)} sent)" if ok else ""
-    elif kind == "subscriber":
+        seen = f"{kind.keyword} {live_type} ({entry.get('sent', 0)} sent)" if ok else ""
+    elif kind.subscribes:
         expected = _sources_text(interface, plan.name)
         received = entry.get("received", {})
         missing = [s for s in interface.sources if s not in received]
@@ -190,10 +199,10 @@ def _interface_row(
             notes.append("nothing from " + ", ".join(short(s, plan.name) for s in missing))
         if extra:
             notes.append("not in the model: " + ", ".join(short(s, plan.name) for s in extra))
-    elif kind == "server":
-        expected = f"provides {interface.type}"
+    elif kind.serves:
+        expected = f"{kind.keyword} {interface.type}"
         answered = counted(entry.get("served", 0), "call")
-        seen = f"provides ({answered} answered)" if registered else ""
+        seen = f"{kind.keyword} ({answered} answered)" if registered else ""
     else:
         expected = (
             f"answer from {short(interface.server, plan.name)}"
@@ -222,11 +231,11 @@ def _generated_row(plan: ContainerPlan, node: NodePlan, interface: Interface,
                    graph: LiveGraph) -> Row:  # fmt: skip
     """A generated writer's or reader's interface: registered where the model binds it,
     with the model's type (the data it moves is checked by the data path's rows)."""
-    registry = graph.publishers if interface.kind == "publisher" else graph.subscribers
+    registry = graph.registered(interface.kind) or {}
     registered = node.ros_name in registry.get(interface.ros_name, ())
     live_type = graph.types.get(interface.ros_name)
     ok = registered and live_type == interface.type
-    verb = "publishes" if interface.kind == "publisher" else "subscribes"
+    verb = interface.kind.keyword
     seen = f"{verb} {live_type}" if registered else f"not registered on {interface.ros_name}"
     return Row(plan.name, node.name, interface.name, interface.ros_name,
                f"{verb} {interface.type} (generated node)", seen, ok)  # fmt: skip
@@ -250,11 +259,10 @@ def _unexpected(
                         False))  # fmt: skip
     wanted = {(i.kind, i.ros_name, node.ros_name) for node in plan.nodes for i in node.interfaces}
     names = {node.ros_name: node.name for node in plan.nodes}
-    for kind, registry, verb in (
-        ("publisher", graph.publishers, "publishes"),
-        ("subscriber", graph.subscribers, "subscribes"),
-        ("server", graph.services, "provides"),
-    ):
+    for kind in KINDS:
+        registry = graph.registered(kind)
+        if registry is None:
+            continue
         for topic, nodes in sorted(registry.items()):
             if topic in INFRASTRUCTURE_TOPICS or topic.endswith(INFRASTRUCTURE_SERVICE_SUFFIXES):
                 continue
@@ -270,7 +278,7 @@ def _unexpected(
                         interface,
                         topic,
                         NOT_MODELLED,
-                        f"{verb} {graph.types.get(topic, '')}".strip(),
+                        f"{kind.keyword} {graph.types.get(topic, '')}".strip(),
                         False,
                     )
                 )

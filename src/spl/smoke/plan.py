@@ -29,13 +29,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from spl.metamodels.interface_kinds import InterfaceKind
+
 ENDPOINT = "endpoint"  # how the rehearsal names a container's endpoint node, if free
-KINDS = {
-    "Publisher": "publisher",
-    "Subscriber": "subscriber",
-    "ServiceServer": "server",
-    "ServiceClient": "client",
-}
 
 
 @dataclass
@@ -43,7 +39,7 @@ class Interface:
     container: str
     node: str  # model node name, or the container's endpoint node name
     name: str
-    kind: str  # publisher | subscriber | server | client
+    kind: InterfaceKind  # the stand-ins are told its smoke_role
     type: str
     ros_name: str  # the absolute ROS name the model binds it to in its container
     sources: tuple[str, ...] = ()  # subscribers: ids of the publishers that must feed it
@@ -143,7 +139,7 @@ class SmokePlan:
                     "interfaces": [
                         {
                             "name": i.name,
-                            "kind": i.kind,
+                            "kind": i.kind.smoke_role,
                             "type": i.type,
                             "ros_name": i.ros_name,
                             "forward": list(i.forward) if i.forward else None,

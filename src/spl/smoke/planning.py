@@ -12,12 +12,12 @@ from typing import Any
 import yaml
 
 from spl.metamodels import tsm
+from spl.metamodels.interface_kinds import kind_of, side
 from spl.resolver.architecture.checks import UNFED, UNSERVED, input_gap
-from spl.resolver.architecture.flows import SERVICE, FlowTable, container_of
+from spl.resolver.architecture.flows import FlowTable, container_of
 from spl.resolver.architecture.product import topic_ros_name
 from spl.resolver.architecture.ros_names import remappings, server_ros_name
 from spl.smoke.plan import (
-    KINDS,
     ContainerPlan,
     Interface,
     NodePlan,
@@ -83,11 +83,11 @@ def _expect_values(plans: list[ContainerPlan], fields: dict[str, list[tuple[str,
     for container in plans:
         interfaces = [i for n in container.nodes for i in n.interfaces]
         for publisher in interfaces:
-            if publisher.kind != "publisher" or publisher.endpoint or publisher.type not in fields:
+            if not publisher.kind.publishes or publisher.endpoint or publisher.type not in fields:
                 continue
             waiting = [
                 i for i in interfaces
-                if i.kind == "subscriber" and i.ros_name == publisher.ros_name
+                if i.kind.subscribes and i.ros_name == publisher.ros_name
                 and publisher.id in i.sources
             ]  # fmt: skip
             publisher.values = {
@@ -106,7 +106,7 @@ def _probe_readers(plans: list[ContainerPlan]) -> None:
     for container in plans:
         interfaces = [i for n in container.nodes for i in n.interfaces]
         for node in [n for n in container.nodes if n.role == "generated"]:
-            for publisher in (i for i in node.interfaces if i.kind == "publisher"):
+            for publisher in (i for i in node.interfaces if i.kind.publishes):
                 if any(publisher.id in i.sources for i in interfaces):
                     continue
                 taken = {n.name for n in container.nodes} | {n.ros_name for n in container.nodes}
@@ -114,8 +114,9 @@ def _probe_readers(plans: list[ContainerPlan]) -> None:
                 probe = NodePlan(container.name, name,
                                  node_ros_name(container.namespace, name), "probe")  # fmt: skip
                 probe.interfaces.append(
-                    Interface(container.name, name, publisher.name, "subscriber",
-                              publisher.type, publisher.ros_name, sources=(publisher.id,))
+                    Interface(container.name, name, publisher.name,
+                              side(publisher.kind.family, False), publisher.type,
+                              publisher.ros_name, sources=(publisher.id,))
                 )  # fmt: skip
                 container.nodes.append(probe)
 
@@ -142,7 +143,7 @@ def _containers(system: Any, generated: bool) -> list[ContainerPlan]:
                         container.name,
                         node.name,
                         interface.name,
-                        KINDS[interface.eClass.name],
+                        kind_of(interface),
                         _type(interface),
                         ros_name,
                         # an interface the model leaves unconnected (`subscribes x : T`,
@@ -170,9 +171,9 @@ def _containers(system: Any, generated: bool) -> list[ContainerPlan]:
 
 
 def _type(interface: Any) -> str:
-    topic = getattr(interface, "topic", None)
-    server = getattr(interface, "server", None)
-    return interface.type or (topic.type if topic else None) or (server.type if server else "")
+    """Its own type, else that of the topic or server it is bound to; "" if none."""
+    bound = kind_of(interface).bound_to(interface)
+    return interface.type or (bound.type if bound else None) or ""
 
 
 def _typed(kind: str, text: str) -> Any:
@@ -188,27 +189,27 @@ def _typed(kind: str, text: str) -> Any:
 
 
 def _endpoint(container: Any, namespace: str, system: Any, name: str) -> NodePlan:
-    T = tsm()
     node = NodePlan(container.name, name, node_ros_name(namespace, name), "endpoint")
     forward: dict[int, tuple[str, str]] = {}
     for connection in system.connections:
-        if isinstance(connection.source, T.ServiceServer):  # a stand-in's one peer client
+        if kind_of(connection.source).serves:  # a stand-in's one peer client
             target = connection.target
             forward.setdefault(id(connection.source), (container_of(target).name, target.name))
     for interface in container.endpoint.interfaces:
-        if isinstance(interface, T.Publisher | T.Subscriber):
-            ros_name = topic_ros_name(interface.topic) if interface.topic else interface.name
-        elif isinstance(interface, T.ServiceServer):
+        kind = kind_of(interface)
+        bound = kind.bound_to(interface)  # its topic, or the server it calls
+        if kind.on_topic:
+            ros_name = topic_ros_name(bound) if bound else interface.name
+        elif kind.serves:  # a stand-in answers under the name of the server it stands for
             ros_name = server_ros_name(interface, system)
         else:
-            server = interface.server
-            ros_name = server_ros_name(server, system) if server else interface.name
+            ros_name = server_ros_name(bound, system) if bound else interface.name
         node.interfaces.append(
             Interface(
                 container.name,
                 name,
                 interface.name,
-                KINDS[interface.eClass.name],
+                kind,
                 _type(interface),
                 join(namespace, ros_name),
                 forward=forward.get(id(interface)),
@@ -238,7 +239,7 @@ def _expect_flows(system: Any, plans: list[ContainerPlan]) -> None:
     flows = FlowTable.of(system)
     for flow in flows:
         source, target = plan_of(flow.source), plan_of(flow.target)
-        if flow.kind == SERVICE:
+        if not flow.kind.on_topic:  # a call: the client's answer comes from the server
             source.server = target.id
             for connection in flow.route:  # endpoint clients passing the calls on
                 relay = plan_of(connection.target)
@@ -254,15 +255,15 @@ def _expect_flows(system: Any, plans: list[ContainerPlan]) -> None:
             crossed.append(connection_ids[id(connection)])
             arriving.setdefault(_topic(plan_of(connection.target)), set()).add(source.id)
     for interface in by_id.values():
-        if interface.kind == "publisher" and not interface.endpoint:
+        if interface.kind.publishes and not interface.endpoint:
             arriving.setdefault(_topic(interface), set()).add(interface.id)
     for interface in by_id.values():
-        if interface.kind == "subscriber" and interface.endpoint:
+        if interface.kind.subscribes and interface.endpoint:
             interface.sources = tuple(sorted(arriving.get(_topic(interface), ())))
             interface.required = bool(interface.sources)
-        elif interface.kind == "subscriber":
+        elif interface.kind.subscribes:
             interface.sources = tuple(sorted(set(sources.get(interface.id, ()))))
-        elif interface.kind == "client" and interface.endpoint and interface.server is None:
+        elif interface.kind.calls and interface.endpoint and interface.server is None:
             interface.required = False  # no node client's calls pass through it
     for container in system.containers:  # resolve's verdict on inputs nothing feeds
         for node in container.nodes:
@@ -273,10 +274,10 @@ def _expect_flows(system: Any, plans: list[ContainerPlan]) -> None:
                     planned.gap = f"{GAPS[gap]} in the model ({gap})"
                 elif model_interface.external and not flows.feeding(model_interface):
                     planned.gap = f"fed from outside the architecture: {model_interface.external}"
-                if planned.gap and planned.kind == "client":
+                if planned.gap and planned.kind.calls:
                     planned.required = False  # no answer is expected: none is modelled
     for connection in system.connections:
-        if isinstance(connection.source, T.Subscriber):
+        if kind_of(connection.source).subscribes:  # an endpoint subscriber relays
             endpoint = plan_of(connection.source)
             passed = passes.get((endpoint.id, id(connection)))
             if passed:

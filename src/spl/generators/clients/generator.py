@@ -20,6 +20,7 @@ from spl.core.diagnostics import Diagnostic, ModelError, location_of
 from spl.generators.bundle.paths import BundleFiles
 from spl.generators.jinja_templates import render
 from spl.generators.store_contract import client_settings, store_context
+from spl.metamodels.interface_kinds import TOPIC, InterfaceKind, kind_of, side
 from spl.resolver.architecture.generated_names import IDENTIFIER
 from spl.resolver.architecture.product import ResolvedProduct
 from spl.resolver.resolution.data_clients import client_package_name, client_packages
@@ -31,9 +32,10 @@ ROS_PACKAGE = re.compile(r"[a-z][a-z0-9_]*\Z")
 MESSAGE_TYPE = re.compile(r"([A-Za-z][A-Za-z0-9_]*)/(?:msg/)?([A-Za-z][A-Za-z0-9_]*)\Z")
 ROS2_TOP = ("package.xml", "setup.py", "setup.cfg", "README.md")
 ROS1_TOP = ("package.xml", "CMakeLists.txt", "setup.py", "README.md")
+# a writer takes the records it stores from a topic, a reader puts those it reads on one
 KINDS = {
-    "Writer": ("writer", "Subscriber", "writer_node"),
-    "Reader": ("reader", "Publisher", "reader_node"),
+    "Writer": ("writer", side(TOPIC, False), "writer_node"),
+    "Reader": ("reader", side(TOPIC, True), "reader_node"),
 }
 
 
@@ -50,9 +52,9 @@ def client_nodes(
     ]
 
 
-def _message(node: tsm_types.Node, interface_kind: str) -> tuple[str, str, str]:
+def _message(node: tsm_types.Node, interface_kind: InterfaceKind) -> tuple[str, str, str]:
     interface = next(
-        (i for i in node.interfaces if i.eClass.name == interface_kind and i.name == "records"),
+        (i for i in node.interfaces if kind_of(i) is interface_kind and i.name == "records"),
         None,
     )
     if interface is None:
@@ -60,11 +62,11 @@ def _message(node: tsm_types.Node, interface_kind: str) -> tuple[str, str, str]:
             [
                 Diagnostic(
                     location_of(node),
-                    f"{node.name}: no {interface_kind.lower()} interface 'records'",
+                    f"{node.name}: no {interface_kind.eclass.lower()} interface 'records'",
                 )
             ]
         )
-    topic: tsm_types.Topic | None = getattr(interface, "topic", None)
+    topic: tsm_types.Topic | None = interface_kind.bound_to(interface)
     type_text = (topic.type if topic is not None and topic.type else interface.type) or ""
     match = MESSAGE_TYPE.match(type_text)
     if match is None:
@@ -80,9 +82,7 @@ def listeners(node: tsm_types.Node, product: ResolvedProduct) -> int:
     table delivers its records to, each a subscriber of the records topic there, and
     the container's endpoint once when some of them travel on over a bridge; at least
     one, since a record published to no subscriber reaches nobody."""
-    publisher = next(
-        i for i in node.interfaces if i.eClass.name == "Publisher" and i.name == "records"
-    )
+    publisher = next(i for i in node.interfaces if kind_of(i).publishes and i.name == "records")
     first_hops = {
         id((flow.route[0].source if flow.route else flow.target).eContainer())
         for flow in product.flows.at(publisher)

@@ -31,6 +31,7 @@ from spl.generators.diagrams.graphviz_output import (
     render_bytes,
 )
 from spl.metamodels import tsm
+from spl.metamodels.interface_kinds import KINDS, kind_of
 from spl.resolver.architecture.flows import FlowTable
 from spl.resolver.architecture.product import ResolvedProduct, topic_ros_name
 from spl.resolver.architecture.ros_names import server_ros_name
@@ -47,18 +48,6 @@ TOPIC_GREEN = "#9bd49b"
 ENDPOINT_ORANGE = "#f5a54a"
 STORE_BLUE = "#bcd4f0"
 MIGRATED_RED = "#c0392b"
-INTERFACE_COLOURS = {
-    "Publisher": "#ffe135",  # yellow
-    "Subscriber": "#3fe0f0",  # cyan
-    "ServiceServer": "#2ca02c",  # green
-    "ServiceClient": "#e03131",  # red
-}
-INTERFACE_LEGEND = {
-    "Publisher": "topic publisher",
-    "Subscriber": "topic subscriber",
-    "ServiceServer": "service server",
-    "ServiceClient": "service client",
-}
 CONTAINER_STYLE = {
     "RobotContainer": {"style": "rounded,filled", "fillcolor": "#eef4fb", "color": "#2f5f8f"},
     "CloudContainer": {
@@ -67,10 +56,6 @@ CONTAINER_STYLE = {
         "color": "#6a3d9a",
     },
 }
-
-
-def _interface_kind(interface: tsm_types.Interface) -> str:
-    return interface.eClass.name
 
 
 def _port(interface: tsm_types.Interface) -> str:
@@ -96,7 +81,7 @@ def _topic_id(topic: tsm_types.Topic) -> str:
 def _interface_rows(interfaces: Iterable[tsm_types.Interface]) -> list[str]:
     rows = []
     for interface in interfaces:
-        colour = INTERFACE_COLOURS[_interface_kind(interface)]
+        colour = kind_of(interface).colour
         rows.append(
             f'<TR><TD PORT="{html_text(_port(interface))}" BGCOLOR="{colour}" '
             f'WIDTH="10" HEIGHT="10" FIXEDSIZE="TRUE" BORDER="1"></TD>'
@@ -200,21 +185,26 @@ def _add_container(
 
 
 def _data_flow_edges(graph: graphviz.Digraph, container: tsm_types.Container) -> None:
-    T = tsm()
+    """Data runs from a publisher through its topic to each subscriber; a call's answer
+    from the server to the client bound to it."""
     owners: list[tsm_types.Node | tsm_types.Endpoint] = [*container.nodes]
     if container.endpoint is not None:
         owners.append(container.endpoint)
     for owner in owners:
         for interface in owner.interfaces:
-            if isinstance(interface, T.Publisher) and interface.topic is not None:
-                graph.edge(_interface_ref(interface), _topic_id(interface.topic))
-            elif isinstance(interface, T.Subscriber) and interface.topic is not None:
-                graph.edge(_topic_id(interface.topic), _interface_ref(interface))
-            elif isinstance(interface, T.ServiceClient) and interface.server is not None:
+            kind = kind_of(interface)
+            bound = kind.bound_to(interface)
+            if bound is None:
+                continue
+            if kind.publishes:
+                graph.edge(_interface_ref(interface), _topic_id(bound))
+            elif kind.subscribes:
+                graph.edge(_topic_id(bound), _interface_ref(interface))
+            elif kind.calls:
                 graph.edge(
-                    _interface_ref(interface.server),
+                    _interface_ref(bound),
                     _interface_ref(interface),
-                    label=plain_label(server_ros_name(interface.server, container.eContainer())),
+                    label=plain_label(server_ros_name(bound, container.eContainer())),
                     fontsize="9",
                     color="#555555",
                 )
@@ -237,12 +227,8 @@ def _store_edges(graph: graphviz.Digraph, system: tsm_types.System) -> None:
 
 def _legend(graph: graphviz.Digraph) -> None:
     rows = ['<TR><TD COLSPAN="2"><B>legend</B></TD></TR>']
-    for kind, colour in INTERFACE_COLOURS.items():
-        rows.append(
-            f'<TR><TD BGCOLOR="{colour}" WIDTH="10" HEIGHT="10" FIXEDSIZE="TRUE" BORDER="1"></TD>'
-            f'<TD ALIGN="LEFT"><FONT POINT-SIZE="9">{INTERFACE_LEGEND[kind]}</FONT></TD></TR>'
-        )
     for colour, text in (
+        *((kind.colour, kind.title) for kind in KINDS),
         (NODE_GREY, "node"),
         (TOPIC_GREEN, "topic"),
         (ENDPOINT_ORANGE, "endpoint"),

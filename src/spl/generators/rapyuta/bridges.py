@@ -25,6 +25,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, cast
 
 from spl.core.diagnostics import Diagnostic
+from spl.metamodels.interface_kinds import InterfaceKind, side
 from spl.resolver.architecture.endpoints import endpoint_name_choices
 from spl.resolver.architecture.flows import FlowTable, node_of
 from spl.resolver.architecture.placement import Place, Placement
@@ -57,17 +58,18 @@ class Bridge:
 def _end(
     place: Place,
     tag: str,
-    role: str,
+    kind: InterfaceKind,
     cls: str | None,
     addr: str,
     target: tsm_types.Topic | tsm_types.ServiceServer,
 ) -> End:
-    """One side of a bridge: the interface ``tag`` on ``place`` and its engine entry."""
+    """One side of a bridge: the interface ``tag`` on ``place``, an interface of ``kind``
+    to Rapyuta, and its engine entry."""
     suffix = "Converter" if place.is_robot else "Interface"
     spec = {
         "eTag": place.tag,
         "iTag": tag,
-        "iType": f"{role}{suffix}",
+        "iType": f"{kind.rapyuta_role}{suffix}",
         "iCls": cls or "",
         "addr": addr,
     }
@@ -75,15 +77,21 @@ def _end(
 
 
 def _ends(crossing: Crossing) -> tuple[End, End]:
-    """The two interfaces of the bridge carrying ``crossing``."""
-    if crossing.kind.on_topic:
+    """The two interfaces of the bridge carrying ``crossing``: each faces the node
+    interface next to it, so the bridge takes the other side of the family where the
+    flow starts (a Subscriber next to the publisher, a ServiceProvider next to the
+    client) and the side the flow starts at where it ends."""
+    family = crossing.kind
+    entering = side(family, not family.flows_from_provider)
+    delivering = side(family, family.flows_from_provider)
+    if family.on_topic:
         source_topic = cast("tsm_types.Topic", crossing.source_element)
         target_topic = cast("tsm_types.Topic", crossing.target_element)
         return (
             _end(
                 crossing.source,
                 f"sub_{source_topic.name}",
-                "Subscriber",
+                entering,
                 source_topic.type,
                 crossing.source_name,
                 source_topic,
@@ -91,7 +99,7 @@ def _ends(crossing: Crossing) -> tuple[End, End]:
             _end(
                 crossing.target,
                 f"pub_{target_topic.name}",
-                "Publisher",
+                delivering,
                 target_topic.type,
                 crossing.target_name,
                 target_topic,
@@ -103,7 +111,7 @@ def _ends(crossing: Crossing) -> tuple[End, End]:
         _end(
             crossing.source,
             f"srv_{tag}",
-            "ServiceProvider",
+            entering,
             server.type,
             crossing.source_name,
             server,
@@ -111,7 +119,7 @@ def _ends(crossing: Crossing) -> tuple[End, End]:
         _end(
             crossing.target,
             f"cli_{tag}",
-            "ServiceClient",
+            delivering,
             server.type,
             crossing.target_name,
             server,

@@ -27,15 +27,23 @@ from typing import cast
 
 from spl.generators.json_text import Document
 from spl.generators.rapyuta.schema import ConfigurationProblem, schema_problems
+from spl.metamodels.interface_kinds import FAMILIES, KINDS, side
 
-ROLES = ("Publisher", "Subscriber", "ServiceClient", "ServiceProvider")
+# The engine's interface roles are the Rapyuta roles of spl's interface kinds
+# (docs/architecture.md, "Interface kinds"): one per kind, the two of a family connectable.
+ROLES = tuple(kind.rapyuta_role for kind in KINDS)
 CONTAINER_SUFFIXES = ("Interface",)
 ROBOT_SUFFIXES = ("Converter", "Forwarder")
-# Pairs the engine connects (either order), whatever the suffix of each side.
-CONNECTABLE = {
-    frozenset({"Publisher", "Subscriber"}),
-    frozenset({"ServiceClient", "ServiceProvider"}),
-}
+# Pairs the engine connects (either order), whatever the suffix of each side: the two
+# sides of one family, the side a flow starts at first (as the engine's refusal says them).
+PAIRS = tuple(
+    (
+        side(family, family.flows_from_provider).rapyuta_role,
+        side(family, not family.flows_from_provider).rapyuta_role,
+    )
+    for family in FAMILIES
+)
+CONNECTABLE = {frozenset(pair) for pair in PAIRS}
 
 
 def check_all(
@@ -283,12 +291,12 @@ def check_configurations(
             path = f"connections[{index}]"
             tags = [entry.get("tagA"), entry.get("tagB")]
             ends: list[Document] = []
-            for side, tag in zip(("tagA", "tagB"), tags, strict=True):
+            for key, tag in zip(("tagA", "tagB"), tags, strict=True):
                 parts = tag.split("/") if isinstance(tag, str) else []
                 if len(parts) != 2:
                     report(
                         name,
-                        f"{path}.{side}",
+                        f"{path}.{key}",
                         f"{tag!r} is not of the form eTag/iTag",
                         "malformed-tag",
                     )
@@ -297,7 +305,7 @@ def check_configurations(
                 if interface is None:
                     report(
                         name,
-                        f"{path}.{side}",
+                        f"{path}.{key}",
                         f"{tag} names no declared interface (no file of user "
                         f"{user[name]!r} declares interface {parts[1]!r} on endpoint "
                         f"{parts[0]!r})",
@@ -327,8 +335,8 @@ def check_configurations(
                     name,
                     path,
                     f"{tags[0]} ({a.get('iType')}) cannot be connected to {tags[1]} "
-                    f"({b.get('iType')}): only Publisher with Subscriber or ServiceClient "
-                    "with ServiceProvider",
+                    f"({b.get('iType')}): only "
+                    + " or ".join(f"{first} with {second}" for first, second in PAIRS),
                     "unconnectable-pair",
                 )
             if a.get("iCls") != b.get("iCls"):
