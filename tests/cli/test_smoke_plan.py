@@ -150,3 +150,31 @@ def test_an_interface_the_product_leaves_unconnected_expects_nothing(tmp_path):
     assert not idle.required and idle.sources == ()
     fed = interfaces(load_plan(with_map))["OrchardCloud.PathPlanner.yield_map"]
     assert fed.required and fed.sources == ("OrchardCloud.YieldMapper.yield_map",)
+
+
+def test_inputs_the_model_leaves_unfed_are_worded_by_their_kind(paper, tmp_path):
+    """The warehouse camera product (tests/models/line_checks/warehouse) leaves the
+    localizer's scan unfed and the detector's classify unserved: each planned input
+    carries resolve's verdict in the rehearsal's word for its kind, a client with no
+    server to answer it expects no answer, and the stand-ins are told each interface's
+    role."""
+    warehouse = ROOT / "tests" / "models" / "line_checks" / "warehouse"
+    plan = load_plan(write_product(warehouse, "CameraSensing,Detection", tmp_path / "bundle"))
+    found = interfaces(plan)
+    scan, classify = found["Amr.Localizer.scan"], found["Cloud.Detector.classify"]
+    assert scan.gap == "unfed in the model (SPL045)" and scan.required
+    assert classify.gap == "unserved in the model (SPL046)" and not classify.required
+    assert found["Amr.Localizer.odom"].gap.startswith("fed from outside the architecture: ")
+    assert found["Amr.Localizer.pose"].gap == ""
+    told = {
+        (container, node["id"].split(".")[1], i["name"]): i["kind"]
+        for container, described in plan.stand_in_description(tmp_path)["containers"].items()
+        for node in described["nodes"].values()
+        for i in node["interfaces"]
+    }
+    assert told[("Amr", "Localizer", "scan")] == "subscriber"
+    assert told[("Amr", "Localizer", "pose")] == "publisher"
+    assert told[("Cloud", "Detector", "classify")] == "client"
+    served = paper.stand_in_description(tmp_path)["containers"]["MappingCloud"]["nodes"]
+    database = next(n for n in served.values() if n["id"] == "MappingCloud.Database")
+    assert {i["kind"] for i in database["interfaces"]} == {"server"}

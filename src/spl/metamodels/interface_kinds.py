@@ -78,6 +78,9 @@ class InterfaceKind:
     # how `spl explain` says what an interface of this kind does, before what it is
     # bound to (or, for a kind bound to nothing, the ROS name it answers under)
     standing: str = ""
+    # the rehearsal's one word for an input of this kind that a product leaves unfed
+    # ("unfed in the model (SPL045)", docs/smoke.md); None where unfed_code is
+    gap_word: str | None = None
 
     @property
     def on_topic(self) -> bool:
@@ -141,7 +144,7 @@ KINDS = (
     InterfaceKind(
         "Subscriber", "Subscribes", "subscribes", TOPIC, False, "topic subscriber",
         "Subscriber", "subscriber", "#3fe0f0", "SPL045", "fed by no flow of this product",
-        standing="subscribes to topic",
+        standing="subscribes to topic", gap_word="unfed",
     ),
     InterfaceKind(
         "ServiceServer", "Provides", "provides", SERVICE, True, "service server",
@@ -151,7 +154,7 @@ KINDS = (
     InterfaceKind(
         "ServiceClient", "Calls", "calls", SERVICE, False, "service client",
         "ServiceClient", "client", "#e03131", "SPL046", "answered by no server of this product",
-        standing="calls",
+        standing="calls", gap_word="unserved",
     ),
 )  # fmt: skip
 FAMILIES = (TOPIC, SERVICE)

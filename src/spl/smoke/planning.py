@@ -13,7 +13,7 @@ import yaml
 
 from spl.metamodels import tsm
 from spl.metamodels.interface_kinds import kind_of, side
-from spl.resolver.architecture.checks import UNFED, UNSERVED, input_gap
+from spl.resolver.architecture.checks import input_gap
 from spl.resolver.architecture.flows import FlowTable, container_of
 from spl.resolver.architecture.product import topic_ros_name
 from spl.resolver.architecture.ros_names import remappings, server_ros_name
@@ -33,9 +33,6 @@ from spl.smoke.plan import (
 DATA_MESSAGES = 12  # messages a stand-in publisher sends on a writer's topic
 ROS_FIELD_TYPES = {"double": "float64", "int": "int64", "string": "string", "bool": "bool"}
 TRACKING = "string source\nstring route\nuint32 seq\n"
-
-
-GAPS = {UNFED: "unfed", UNSERVED: "unserved"}  # the rehearsal's words for resolve's codes
 
 
 def load_plan(bundle: Path, generated: bool = False) -> SmokePlan:
@@ -271,7 +268,7 @@ def _expect_flows(system: Any, plans: list[ContainerPlan]) -> None:
                 gap = input_gap(model_interface, flows)
                 planned = plan_of(model_interface)
                 if gap is not None:
-                    planned.gap = f"{GAPS[gap]} in the model ({gap})"
+                    planned.gap = f"{planned.kind.gap_word} in the model ({gap})"
                 elif model_interface.external and not flows.feeding(model_interface):
                     planned.gap = f"fed from outside the architecture: {model_interface.external}"
                 if planned.gap and planned.kind.calls:
