@@ -32,8 +32,6 @@ from spl.resolver.resolution.context import qualified
 if TYPE_CHECKING:
     from spl.metamodels import tsm_types
 
-UNFED = "SPL045"  # a subscriber's unfed_code (spl.metamodels.interface_kinds)
-UNSERVED = "SPL046"  # a client's
 TWICE = "SPL051"
 
 
@@ -58,7 +56,7 @@ def awaits_feed(interface: tsm_types.Interface) -> bool:
 
 
 def input_gap(interface: tsm_types.Interface, flows: FlowTable) -> str | None:
-    """The kind's unfed code (UNFED for a node subscriber bound to a topic, UNSERVED for
+    """The kind's unfed code (SPL045 for a node subscriber bound to a topic, SPL046 for
     a node client) when no flow of the product feeds the input, unless the model says
     what feeds it from outside (``external``, docs/tsm.md); None otherwise. The one
     verdict resolve, validate and the rehearsal give (docs/semantics.md F6), and the one
