@@ -65,6 +65,27 @@ def product_count(
         return ProductCount(None, str(exc))
 
 
+def count_together(
+    clause_sets: list[list[Clause]],
+    depths: list[int],
+    seconds: float | None,
+    cached_clauses: int = COUNT_CACHED_CLAUSES,
+) -> list[ProductCount]:
+    """For each clause set, the number of assignments of the features ``1..len(depths)``
+    (``depths[v - 1]``: how deep feature ``v`` is in its tree) that extend to a model of
+    it, by one counter within one bound. The sets share its component cache: the two
+    queries of an edit (docs/evolution.md) share most of a model's components. Past the
+    bound, that count and every later one are ``None`` with the note."""
+    counter = _ProjectedCounter(depths, seconds, cached_clauses)
+    counts: list[ProductCount] = []
+    for clauses in clause_sets:
+        try:
+            counts.append(ProductCount(counter.count(clauses)))
+        except _BudgetExceeded as exc:
+            return counts + [ProductCount(None, str(exc))] * (len(clause_sets) - len(counts))
+    return counts
+
+
 def count_with_fixed(
     formula: FeatureModelFormula, fixed: Mapping[int, bool], seconds: float | None
 ) -> ProductCount:
