@@ -64,8 +64,8 @@ def test_a_tsm_bridge_joins_a_client_to_a_server_of_its_family() -> None:
     ) == [
         "bad.tsm:17:21: error: M.out is a Publisher, not a service server",
         "bad.tsm:18:21: error: M.cli is a ServiceClient, not a service server",
-        "bad.tsm:19:12: error: N.p is a Publisher, not a service client",
-        "bad.tsm:20:12: error: N.s is a Subscriber, not a service client",
+        "bad.tsm:19:12: error: N.p is a Publisher, not a service client or action client",
+        "bad.tsm:20:12: error: N.s is a Subscriber, not a service client or action client",
     ]
 
 
@@ -81,9 +81,10 @@ def test_rm_connections_take_the_kinds_they_join(tmp_path: Path) -> None:
     ) == [
         "farm.rm:5:5: error: Planner.plan is a ServiceServer, not a publisher or subscriber",
         "farm.rm:6:5: error: Navigator.plan is a ServiceClient, not a publisher or subscriber",
-        "farm.rm:7:5: error: Navigator.cmd is a Publisher, not a service client",
+        "farm.rm:7:5: error: Navigator.cmd is a Publisher, not a service client or action client",
         "farm.rm:8:5: error: Planner.route is a Publisher, not a service server",
-        "farm.rm:9:5: error: Navigator.route is a Subscriber, not a service client",
+        "farm.rm:9:5: error: Navigator.route is a Subscriber, not a service client or action "
+        "client",
         "farm.rm:10:5: error: Planner.weeds is a Subscriber, not a service server",
     ]
 
@@ -113,5 +114,5 @@ def test_each_kind_is_printed_with_its_keyword_and_arrow() -> None:
     assert "calls c -> M.srv" in lines
     assert 'provides srv : std_srvs/Empty name "/m/srv"' in lines
     # a kind bound to nothing (a server) has no arrow: nothing follows its type
-    assert [k.keyword for k in KINDS if k.arrow is None] == ["provides"]
+    assert [k.keyword for k in KINDS if k.arrow is None] == ["provides", "provides action"]
     assert print_model(tsm.parse_text(printed, "printed.tsm")) == printed

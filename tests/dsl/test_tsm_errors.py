@@ -260,7 +260,7 @@ def test_service_bridge_problems() -> None:
         """,
         "client N.bound is already bound to N.own; declare it unbound ('calls bound : TYPE') "
         "to bridge it",
-        "N.own is a ServiceServer, not a service client",
+        "N.own is a ServiceServer, not a service client or action client",
         "type mismatch: free is std_srvs/Trigger, M.s is std_srvs/Empty",
         "duplicate bridge for client N.other (first at line 17)",
     )

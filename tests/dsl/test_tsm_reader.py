@@ -108,6 +108,15 @@ CORNERS = {
             node external { subscribes external <- T external "the bring-up's driver"
                             subscribes s2 : a/B external ""  calls c : s/S external "x"
                             calls c2 -> external.srv external "y"  provides srv : s/S } }""",
+    "actions, and action as a name (docs/tsm.md)": """
+        robot container R { node N {
+            provides action move_base : move_base_msgs/MoveBase name "/move_base"
+            provides action : std_srvs/Empty  provides action action : a/B
+            calls action goal : move_base_msgs/MoveBase -> N.move_base external "x"
+            calls action -> N.action  calls action g2 -> N.move_base  calls action : s/S
+            calls action/**/g3/**/: a/B  calls actions : s/S  provides actions : s/S } }""",
+    "an action statement cut short": "robot container R { node N { provides action x } }",
+    "an action called by a service's arrow": "robot container R { node N { calls action -> } }",
     "external on a publisher": 'robot container R { node N { publishes p : a/B external "x" } }',
     "external without its reason": "robot container R { node N { subscribes s : a/B external } }",
     "unicode after a keyword": "robot container R { nodeé }",
@@ -126,7 +135,11 @@ def test_corners_of_the_grammar_are_read_as_textx_reads_them(text: str) -> None:
 
 
 def test_valid_corners_are_read_by_the_reader_itself() -> None:
-    for label in [*list(CORNERS)[:5], "inputs fed from outside (docs/tsm.md)"]:
+    for label in [
+        *list(CORNERS)[:5],
+        "inputs fed from outside (docs/tsm.md)",
+        "actions, and action as a name (docs/tsm.md)",
+    ]:
         assert tsm_reader.read(CORNERS[label]) is not None, label
 
 

@@ -1,8 +1,8 @@
 """The kinds of interface a .tsm node has, each declared once (docs/architecture.md,
 "Interface kinds").
 
-A node publishes and subscribes topics, provides and calls services. Every part of spl
-asks the same few questions about an interface: what it binds to (a topic of its
+A node publishes and subscribes topics, provides and calls services and actions. Every
+part of spl asks the same few questions about an interface: what it binds to (a topic of its
 container, or the server it calls), which side of its family it is (the side data or
 answers come from, or the side that takes them and may be left unfed), how the .tsm
 writes it, and how each output target names its role. They are answered here, by the
@@ -12,9 +12,10 @@ only it does (its grammar rule, and its ROS names where they differ).
 
 A kind belongs to a :class:`Family`, the way its two sides meet: on a topic, many to
 many (publishers and subscribers bound to the same topic of a container), or by call,
-a consumer bound to the one provider it calls (service clients to servers). The
-family says what a flow between the two sides is (docs/semantics.md, F1 and F2): a
-topic flow runs from publisher to subscriber, a call from client to server.
+a consumer bound to the one provider it calls (service clients to servers, action
+clients to action servers). The family says what a flow between the two sides is
+(docs/semantics.md, F1 and F2): a topic flow runs from publisher to subscriber, a call
+(a service request, an action goal) from client to server.
 """
 
 from __future__ import annotations
@@ -27,10 +28,23 @@ if TYPE_CHECKING:
 
 
 @dataclass(frozen=True, order=True)
+class PartTopic:
+    """One of the ROS 1 topics an interface of a family is made of, under its name
+    (actionlib's goal, cancel, status, feedback and result, docs/deployment.md "Actions")."""
+
+    suffix: str  # the topic is NAME/suffix
+    from_consumer: bool  # sent by the consumer (a client's goals), else back from the provider
+    message: str  # its message type, "{type}" standing for the interface's type
+
+    def message_of(self, interface_type: str) -> str:
+        return self.message.format(type=interface_type)
+
+
+@dataclass(frozen=True, order=True)
 class Family:
     """How the two sides of a ROS interface meet, and what a flow between them is."""
 
-    name: str  # as messages and flow tables name it: "topic", "service"
+    name: str  # as messages and flow tables name it: "topic", "service", "action"
     on_topic: bool  # both sides bind to a topic (many to many); else a consumer calls one provider
     # what a flow is, said at the interface where it starts, and where it ends
     flow_verbs: tuple[str, str]
@@ -38,6 +52,16 @@ class Family:
     zenoh_lists: tuple[str, str]
     # what an input's unfed warning calls the providing end of a flow it lost (`spl check`)
     provider_role: str
+    # the ROS 1 topics one interface of this family is, under its name, each remapped with
+    # it and carried by a bridge (actionlib's five); () where it is its name alone
+    ros1_topics: tuple[PartTopic, ...] = ()
+    # whether the diagram's legend shows this family's kinds on every diagram (topics and
+    # services, as it always has), or only on one holding an interface of the family
+    in_every_legend: bool = False
+    # endings of the message types ROS generates from an interface's type, refused as its
+    # type (an action's type is its .action file, move_base_msgs/MoveBase, never the
+    # move_base_msgs/MoveBaseAction message actionlib generates from it)
+    generated_types: tuple[str, ...] = ()
 
     @property
     def flows_from_provider(self) -> bool:
@@ -49,13 +73,36 @@ class Family:
         return self.name
 
 
-TOPIC = Family("topic", True, ("delivers to", "fed by"), ("publishers", "subscribers"), "feeder")
+TOPIC = Family(
+    "topic",
+    True,
+    ("delivers to", "fed by"),
+    ("publishers", "subscribers"),
+    "feeder",
+    in_every_legend=True,
+)
 SERVICE = Family(
     "service",
     False,
     ("answered by", "called by"),
     ("service_clients", "service_servers"),
     "server",
+    in_every_legend=True,
+)
+ACTION = Family(
+    "action",
+    False,
+    ("sends goals to", "takes goals from"),
+    ("action_clients", "action_servers"),
+    "action server",
+    (
+        PartTopic("goal", True, "{type}ActionGoal"),
+        PartTopic("cancel", True, "actionlib_msgs/GoalID"),
+        PartTopic("status", False, "actionlib_msgs/GoalStatusArray"),
+        PartTopic("feedback", False, "{type}ActionFeedback"),
+        PartTopic("result", False, "{type}ActionResult"),
+    ),
+    generated_types=("Action", "ActionGoal", "ActionResult", "ActionFeedback"),
 )
 
 
@@ -69,8 +116,11 @@ class InterfaceKind:
     family: Family
     provides: bool  # the side data or answers come from (a publisher, a server)
     title: str  # as a reader is told: "topic publisher", "service client"
-    rapyuta_role: str  # the Rapyuta interface type (iType) of a bridge's end of this kind
-    smoke_role: str  # what the rehearsal's stand-in plays
+    # the Rapyuta interface type (iType) of a bridge's end of this kind; None for a kind
+    # a bridge carries as its family's ros1_topics (an action, as five topics)
+    rapyuta_role: str | None
+    # what the rehearsal's stand-in plays; None: `spl smoke` has no stand-in for it yet
+    smoke_role: str | None
     colour: str  # the architecture diagram's colour
     # an input's warning when a product leaves it unfed, and how `spl explain` says it
     unfed_code: str | None = None
@@ -85,6 +135,16 @@ class InterfaceKind:
     @property
     def on_topic(self) -> bool:
         return self.family.on_topic
+
+    @property
+    def a_title(self) -> str:
+        """The title with its article, as messages say it: "an action server"."""
+        return with_article(self.title)
+
+    @property
+    def a_class(self) -> str:
+        """The class with its article, as messages say it: "an ActionServer"."""
+        return with_article(self.eclass)
 
     @property
     def publishes(self) -> bool:
@@ -135,6 +195,10 @@ class InterfaceKind:
         return getattr(interface, self.binds) if self.binds is not None else None
 
 
+def with_article(words: str) -> str:
+    return f"{'an' if words[0].lower() in 'aeiou' else 'a'} {words}"
+
+
 KINDS = (
     InterfaceKind(
         "Publisher", "Publishes", "publishes", TOPIC, True, "topic publisher",
@@ -156,8 +220,19 @@ KINDS = (
         "ServiceClient", "client", "#e03131", "SPL046", "answered by no server of this product",
         standing="calls", gap_word="unserved",
     ),
+    InterfaceKind(
+        "ActionServer", "ProvidesAction", "provides action", ACTION, True, "action server",
+        None, None, "#7048e8",
+        standing="serves action",
+    ),
+    InterfaceKind(
+        "ActionClient", "CallsAction", "calls action", ACTION, False, "action client",
+        None, None, "#c2255c", "SPL046",
+        "sends goals to no action server of this product",
+        standing="sends goals to", gap_word="unserved",
+    ),
 )  # fmt: skip
-FAMILIES = (TOPIC, SERVICE)
+FAMILIES = (TOPIC, SERVICE, ACTION)
 _BY_ECLASS = {kind.eclass: kind for kind in KINDS}
 
 

@@ -158,14 +158,18 @@ class ConnectToNewTopic(Transformation):
 
 
 class ConnectService(Transformation):
-    client: tsm.ServiceClient
-    server: tsm.ServiceServer
+    """A client bound to a server of its own container: a service client to a service server, an
+    action client to an action server (the .rm builder checks the kinds, docs/rm.md).
+    """
+
+    client: tsm.Interface
+    server: tsm.Interface
 
     def __init__(
         self,
         *,
-        client: tsm.ServiceClient = ...,
-        server: tsm.ServiceServer = ...,
+        client: tsm.Interface = ...,
+        server: tsm.Interface = ...,
         srcFile: str = ...,
         srcLine: int = ...,
         srcCol: int = ...,
@@ -176,21 +180,22 @@ class ConnectService(Transformation):
 
 class ConnectBridge(Transformation):
     """A bridge between containers: topic to topic (sourceTopic, targetTopic, each with its
-    container) or a service client to a server of another container (client, server).
+    container) or a service or action client to a server of its kind in another container
+    (client, server).
     """
 
     sourceTopic: TopicReference | None
     targetTopic: TopicReference | None
-    client: tsm.ServiceClient | None
-    server: tsm.ServiceServer | None
+    client: tsm.Interface | None
+    server: tsm.Interface | None
 
     def __init__(
         self,
         *,
         sourceTopic: TopicReference | None = ...,
         targetTopic: TopicReference | None = ...,
-        client: tsm.ServiceClient | None = ...,
-        server: tsm.ServiceServer | None = ...,
+        client: tsm.Interface | None = ...,
+        server: tsm.Interface | None = ...,
         srcFile: str = ...,
         srcLine: int = ...,
         srcCol: int = ...,

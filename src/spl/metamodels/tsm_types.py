@@ -190,9 +190,10 @@ class Endpoint(Located):
 
 
 class Interface(NamedElement):
-    """The four interface kinds, owned by a Node or by an Endpoint (the endpoint's specialised
-    interfaces of the paper). `type` is the ROS message or service type. `external` is set on a
-    node's input (a subscriber or a service client) that something outside the architecture
+    """The interface kinds (topic publishers and subscribers, service and action servers and
+    clients), owned by a Node or by an Endpoint (the endpoint's specialised interfaces of the
+    paper). `type` is the ROS message, service or action type. `external` is set on a node's
+    input (a subscriber, a service or action client) that something outside the architecture
     feeds, such as a driver the robot's own bring-up starts: the model's reason, for which no
     product warns that nothing feeds it (docs/tsm.md).
     """
@@ -266,6 +267,51 @@ class ServiceClient(Interface):
         self,
         *,
         server: ServiceServer | None = ...,
+        type: str = ...,
+        external: str = ...,
+        name: str = ...,
+        srcFile: str = ...,
+        srcLine: int = ...,
+        srcCol: int = ...,
+    ) -> None: ...
+
+    def eContainer(self) -> Endpoint | Node: ...
+
+
+class ActionServer(Interface):
+    """A ROS action a node serves (actionlib in ROS 1, an action server in ROS 2): `type` is the
+    action's type, `package/Name` of its .action file, and `rosName` the name its goals are sent
+    to (docs/tsm.md, "Actions").
+    """
+
+    rosName: str
+
+    def __init__(
+        self,
+        *,
+        rosName: str = ...,
+        type: str = ...,
+        external: str = ...,
+        name: str = ...,
+        srcFile: str = ...,
+        srcLine: int = ...,
+        srcCol: int = ...,
+    ) -> None: ...
+
+    def eContainer(self) -> Endpoint | Node: ...
+
+
+class ActionClient(Interface):
+    """A node's client of an action: it sends goals to the one action server it is bound to and
+    takes its feedback and result (docs/tsm.md, "Actions").
+    """
+
+    server: ActionServer | None
+
+    def __init__(
+        self,
+        *,
+        server: ActionServer | None = ...,
         type: str = ...,
         external: str = ...,
         name: str = ...,
@@ -668,6 +714,8 @@ class Metamodel:
     Subscriber: type[tsm.Subscriber]
     ServiceServer: type[tsm.ServiceServer]
     ServiceClient: type[tsm.ServiceClient]
+    ActionServer: type[tsm.ActionServer]
+    ActionClient: type[tsm.ActionClient]
     EndpointConnection: type[tsm.EndpointConnection]
     Topic: type[tsm.Topic]
     Node: type[tsm.Node]

@@ -11,6 +11,7 @@ from typing import Any
 
 import yaml
 
+from spl.core.diagnostics import Diagnostic, ModelError
 from spl.metamodels import tsm
 from spl.metamodels.interface_kinds import kind_of, side
 from spl.resolver.architecture.checks import input_gap
@@ -49,10 +50,34 @@ def load_plan(bundle: Path, generated: bool = False) -> SmokePlan:
         + TRACKING
         for kind, names in fields.items()
     }
+    _refuse_unrehearsed(system)
     containers = _containers(system, generated)
     _expect_values(containers, fields)
     _probe_readers(containers)
     return SmokePlan(product, containers, messages)
+
+
+def _refuse_unrehearsed(system: Any) -> None:
+    """A bundle with an interface of a kind no stand-in plays yet (an action:
+    ``smoke_role`` None in the registry) is refused before anything starts, in one line
+    naming each such interface, rather than rehearsed without it (docs/smoke.md)."""
+    unplayed = [
+        f"{kind_of(i).title} {container.name}.{node.name}.{i.name}"
+        for container in system.containers
+        for node in container.nodes
+        for i in node.interfaces
+        if kind_of(i).smoke_role is None
+    ]
+    if unplayed:
+        raise ModelError(
+            [
+                Diagnostic(
+                    None,
+                    f"spl smoke cannot rehearse this bundle yet: it has no stand-in for "
+                    f'{", ".join(unplayed)} (docs/smoke.md, "Actions")',
+                )
+            ]
+        )
 
 
 def data_fields(system: Any) -> dict[str, list[tuple[str, str]]]:

@@ -37,7 +37,7 @@ from spl.dsl.textx_text import model_from_text
 from spl.dsl.tsm.data import PERIOD_RANGE, period_fits
 from spl.dsl.workspace import Workspace, text_of
 from spl.metamodels import rm as rm_metamodel, tsm as tsm_metamodel
-from spl.metamodels.interface_kinds import KINDS, kind_of, side
+from spl.metamodels.interface_kinds import KINDS, kind_of, side, with_article
 
 if TYPE_CHECKING:
     from spl.metamodels import fm_types, rm_types, tsm_types
@@ -214,7 +214,7 @@ class _Builder:
         """``fits``, else an error: the interface is not a ``role``."""
         if not fits:
             named = f"{interface.eContainer().name}.{interface.name}"
-            self.error(stmt, f"{named} is a {kind_of(interface).eclass}, not a {role}")
+            self.error(stmt, f"{named} is {kind_of(interface).a_class}, not {with_article(role)}")
         return fits
 
     def _topic_reference(self, container: Any, name: str, stmt: Any) -> Any:

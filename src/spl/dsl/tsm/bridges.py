@@ -158,14 +158,14 @@ class Bridges:
             callers = " or ".join(k.title for k in KINDS if k.calls)
             names.error(
                 source[1],
-                f"{source[0].name}.{client.name} is a {client_kind.eclass}, not a {callers}",
+                f"{source[0].name}.{client.name} is {client_kind.a_class}, not a {callers}",
             )
             return
         provider = side(client_kind.family, True)
         if server_kind is not provider:
             names.error(
                 target[1],
-                f"{target[0].name}.{server.name} is a {server_kind.eclass}, not a {provider.title}",
+                f"{target[0].name}.{server.name} is {server_kind.a_class}, not {provider.a_title}",
             )
             return
         if client.server is not None:

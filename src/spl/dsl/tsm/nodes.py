@@ -153,6 +153,7 @@ def _interface(
     names.check(tree.name, rosnames.problem_base_name(name, "interface name"))
     if tree.type is not None:
         interface.type = ros_type(names, tree.type)
+        _refuse_generated_type(names, interface_kind, interface, tree.type)
     external: tsm_tree.Str | None = getattr(tree, "external", None)
     if external is not None:  # an input fed from outside the architecture (docs/tsm.md)
         reason = decode(external.value).strip()
@@ -163,11 +164,30 @@ def _interface(
         written = cast("tsm_tree.Provides", tree).rosName
         if written is not None:
             ros_name = decode(written.value)
-            names.check(written, rosnames.problem_graph_name(ros_name, "service name"))
+            what = f"{interface_kind.family.name} name"
+            names.check(written, rosnames.problem_graph_name(ros_name, what))
         else:
             ros_name = f"/{name}"
         interface.rosName = ros_name
     return interface
+
+
+def _refuse_generated_type(
+    names: Names, interface_kind: InterfaceKind, interface: Any, tree: tsm_tree.TypeRef
+) -> None:
+    """A type ROS generates from the interface's own (``MoveBaseAction`` from the action
+    ``MoveBase``) is refused with the type to write instead (docs/tsm.md, "Actions")."""
+    package, _, name = interface.type.partition("/")
+    for ending in interface_kind.family.generated_types:
+        if name.endswith(ending) and len(name) > len(ending):
+            own = f"{package}/{name[: -len(ending)]}"
+            names.error(
+                tree,
+                f"{interface_kind.title} {interface.name}: {interface.type} is the {ending} "
+                f"message generated from {own}; write the {interface_kind.family.name}'s own "
+                f"type, {own}",
+            )
+            return
 
 
 def _container_of(interface: Any) -> Any:
@@ -232,7 +252,7 @@ def _connect_server(names: Names, client: Any, tree: tsm_tree.Calls) -> None:
     if kind_of(server) is not server_kind:
         names.error(
             server_ref,
-            f"{node.name}.{server.name} is a {kind_of(server).eclass}, not a {server_kind.title}",
+            f"{node.name}.{server.name} is {kind_of(server).a_class}, not {server_kind.a_title}",
         )
         return
     _bind(names, client, "server", server, server_ref, f"{node.name}.{server.name}")

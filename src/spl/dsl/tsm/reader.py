@@ -31,7 +31,7 @@ from __future__ import annotations
 
 from typing import Any, cast
 
-from spl.dsl.tsm.expression_reader import ExpressionReader
+from spl.dsl.tsm.interface_reader import InterfaceReader
 from spl.dsl.tsm.tree import (
     BOOLEAN,
     IDENT,
@@ -43,7 +43,6 @@ from spl.dsl.tsm.tree import (
     Assignment,
     BoolValue,
     Bridge,
-    Calls,
     CloudContainer,
     DataType,
     Endpoint,
@@ -56,16 +55,12 @@ from spl.dsl.tsm.tree import (
     NumberValue,
     Parameter,
     Period,
-    Provides,
-    Publishes,
     Reader,
-    Ref,
     Refinement,
     Refused,
     RobotContainer,
     Store,
     StringValue,
-    Subscribes,
     System,
     Topic,
     Transform,
@@ -82,7 +77,7 @@ def read(text: str) -> Any:
         return None
 
 
-class _Reader(ExpressionReader):
+class _Reader(InterfaceReader):
     """The declaration rules of the .tsm reader: the system, containers, nodes, bridges,
     data types, transforms and the data-acquisition nodes."""
 
@@ -240,43 +235,6 @@ class _Reader(ExpressionReader):
             else:
                 value = NumberValue(*self.match(SIGNED_NUMBER))
         return Parameter(start, name, kind, value)
-
-    def publishes(self, start: int) -> Any:
-        return self.interface(start, "publishes", Publishes, "->", self.ref)
-
-    def subscribes(self, start: int) -> Any:
-        return self.interface(start, "subscribes", Subscribes, "<-", self.ref)
-
-    def calls(self, start: int) -> Any:
-        return self.interface(start, "calls", Calls, "->", self.qref)
-
-    def interface(self, start: int, keyword: str, rule: Any, arrow: str, target: Any) -> Any:
-        """``KEYWORD name ((':' TypeRef (ARROW TARGET)?) | (ARROW TARGET)) ('external' Str)?``"""
-        self.keyword(keyword)
-        name = self.name()
-        kind = found = None
-        if self.at(":"):
-            self.punct(":")
-            kind = TypeRef(*self.match(ROS_TYPE))
-            if self.at(arrow):
-                self.punct(arrow)
-                found = target()
-        else:
-            self.punct(arrow)
-            found = target()
-        if rule is Publishes:
-            return rule(start, name, kind, found)
-        return rule(start, name, kind, found, self.optional_string("external"))
-
-    def ref(self) -> Any:
-        return self.name(Ref)
-
-    def provides(self, start: int) -> Any:
-        self.keyword("provides")
-        name = self.name()
-        self.punct(":")
-        kind = TypeRef(*self.match(ROS_TYPE))
-        return Provides(start, name, kind, self.optional_string("name"))
 
     def bridge(self, start: int) -> Any:
         self.keyword("bridge")

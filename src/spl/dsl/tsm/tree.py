@@ -141,8 +141,24 @@ class Calls(Rule):
     external: Str | None
 
 
+class ProvidesAction(Rule):
+    position: int
+    name: Name
+    type: TypeRef
+    rosName: Str | None
+
+
+class CallsAction(Rule):
+    position: int
+    name: Name
+    type: TypeRef | None
+    server: QRef | None
+    external: Str | None
+
+
 if TYPE_CHECKING:
-    NodeMember = Parameter | Publishes | Subscribes | Provides | Calls
+    NodeInterface = Publishes | Subscribes | ProvidesAction | Provides | CallsAction | Calls
+    NodeMember = Parameter | NodeInterface
 
 
 class Topic(Rule):

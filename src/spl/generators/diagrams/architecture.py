@@ -225,10 +225,17 @@ def _store_edges(graph: graphviz.Digraph, system: tsm_types.System) -> None:
                 graph.edge(store_id, node_id, label="GET", style="dotted", fontsize="9")
 
 
-def _legend(graph: graphviz.Digraph) -> None:
+def _legend(graph: graphviz.Digraph, system: tsm_types.System) -> None:
+    """The colours of the diagram: every kind of interface of the families shown on
+    every diagram, and the kinds of the others (an action's) where the product has one."""
+    present = {kind_of(i).family for c in system.containers for n in c.nodes for i in n.interfaces}
     rows = ['<TR><TD COLSPAN="2"><B>legend</B></TD></TR>']
     for colour, text in (
-        *((kind.colour, kind.title) for kind in KINDS),
+        *(
+            (kind.colour, kind.title)
+            for kind in KINDS
+            if kind.family.in_every_legend or kind.family in present
+        ),
         (NODE_GREY, "node"),
         (TOPIC_GREEN, "topic"),
         (ENDPOINT_ORANGE, "endpoint"),
@@ -291,7 +298,7 @@ def architecture_graph(
             **style,
         )
     _store_edges(graph, system)
-    _legend(graph)
+    _legend(graph, system)
     return graph
 
 

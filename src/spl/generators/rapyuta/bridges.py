@@ -25,7 +25,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, cast
 
 from spl.core.diagnostics import Diagnostic
-from spl.metamodels.interface_kinds import InterfaceKind, side
+from spl.metamodels.interface_kinds import TOPIC, InterfaceKind, side
 from spl.resolver.architecture.endpoints import endpoint_name_choices
 from spl.resolver.architecture.flows import FlowTable, node_of
 from spl.resolver.architecture.placement import Place, Placement
@@ -74,6 +74,33 @@ def _end(
         "addr": addr,
     }
     return place, tag, spec, target
+
+
+def _bridged_ends(crossing: Crossing) -> list[tuple[End, End]]:
+    """The ends of every bridge carrying ``crossing``, where it enters and where it is
+    delivered: one bridge, or one topic bridge per ROS 1 topic the interface is made of
+    (an action's goal and cancel from the client's side, status, feedback and result
+    back; ``Family.ros1_topics``, docs/deployment.md "Actions")."""
+    parts = crossing.kind.ros1_topics
+    if not parts:
+        return [_ends(crossing)]
+    server = crossing.target_element  # the node's server, as for a service
+    node = node_of(cast("tsm_types.ServiceServer", server)).name
+    entering, delivering = side(TOPIC, False), side(TOPIC, True)
+    bridged = []
+    for part in parts:
+        towards = part.from_consumer
+        source, target = (crossing.source, crossing.target)[:: 1 if towards else -1]
+        names = (crossing.source_name, crossing.target_name)[:: 1 if towards else -1]
+        tag = f"{node}_{server.name}_{part.suffix}"
+        cls = part.message_of(server.type)
+        bridged.append(
+            (
+                _end(source, f"sub_{tag}", entering, cls, f"{names[0]}/{part.suffix}", server),
+                _end(target, f"pub_{tag}", delivering, cls, f"{names[1]}/{part.suffix}", server),
+            )
+        )
+    return bridged
 
 
 def _ends(crossing: Crossing) -> tuple[End, End]:
@@ -152,9 +179,9 @@ class Bridges:
             bridges: set[Bridge] = set()
             for crossing in wiring.crossings(robot):
                 if _declared_by(robot_id, crossing):
-                    source, target = _ends(crossing)
-                    source_tag, target_tag = self._register(source), self._register(target)
-                    bridges.add(Bridge(crossing.source, source_tag, crossing.target, target_tag))
+                    for source, target in _bridged_ends(crossing):
+                        source_tag, target_tag = self._register(source), self._register(target)
+                        bridges.add(Bridge(source[0], source_tag, target[0], target_tag))
             self.of_robot[id(robot)] = bridges
 
     def _register(self, end: End) -> str:

@@ -30,8 +30,9 @@ from spl.generators.rapyuta.schema import ConfigurationProblem, schema_problems
 from spl.metamodels.interface_kinds import FAMILIES, KINDS, side
 
 # The engine's interface roles are the Rapyuta roles of spl's interface kinds
-# (docs/architecture.md, "Interface kinds"): one per kind, the two of a family connectable.
-ROLES = tuple(kind.rapyuta_role for kind in KINDS)
+# (docs/architecture.md, "Interface kinds"): one per kind, the two of a family connectable
+# (an action has none: its bridge is the topics it is made of, Family.ros1_topics).
+ROLES = tuple(kind.rapyuta_role for kind in KINDS if kind.rapyuta_role is not None)
 CONTAINER_SUFFIXES = ("Interface",)
 ROBOT_SUFFIXES = ("Converter", "Forwarder")
 # Pairs the engine connects (either order), whatever the suffix of each side: the two
@@ -42,6 +43,7 @@ PAIRS = tuple(
         side(family, not family.flows_from_provider).rapyuta_role,
     )
     for family in FAMILIES
+    if not family.ros1_topics
 )
 CONNECTABLE = {frozenset(pair) for pair in PAIRS}
 

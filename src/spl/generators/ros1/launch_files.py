@@ -96,7 +96,7 @@ def launch_document(
                 etree.SubElement(
                     element, "param", name=name, value=_plain(value, name), type=ROS1_TYPES[kind]
                 )
-        for source, target in remappings(node, system):
+        for source, target in remappings(node, system, ros1=True):
             etree.SubElement(
                 element,
                 "remap",

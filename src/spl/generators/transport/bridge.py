@@ -1,4 +1,4 @@
-"""zenoh-bridge-ros2dds configurations: exactly the topics and services that cross.
+"""zenoh-bridge-ros2dds configurations: exactly the topics, services and actions that cross.
 
 Which data crosses which boundary is :mod:`spl.resolver.architecture.wiring`'s (the flows the
 Rapyuta
@@ -10,7 +10,8 @@ the bridge's DEFAULT_CONFIG.json5) hold:
 - ``subscribers``: topics produced elsewhere and consumed here (routed out of Zenoh);
 - ``service_clients``: services called here and served elsewhere;
 - ``service_servers``: services served here and called from elsewhere;
-- ``action_servers`` / ``action_clients``: empty (the models have no actions).
+- ``action_clients``: actions whose goals are sent here and served elsewhere;
+- ``action_servers``: actions served here whose goals come from elsewhere.
 
 Every list is written, empty or not: in an ``allow`` block a list left out means
 *nothing* of that kind, so the bridge routes exactly these names and nothing

@@ -50,21 +50,32 @@ def server_ros_name(server: tsm_types.ServiceServer, system: tsm_types.System) -
     return server.name
 
 
-def remappings(node: tsm_types.Node, system: tsm_types.System) -> list[tuple[str, str]]:
-    """``(interface name, ROS name)`` for every connected interface, in model order."""
+def remappings(
+    node: tsm_types.Node, system: tsm_types.System, ros1: bool = False
+) -> list[tuple[str, str]]:
+    """``(interface name, ROS name)`` for every connected interface, in model order.
+
+    In ROS 1 (``ros1``) an interface made of several topics (an action's five,
+    ``Family.ros1_topics``) is remapped topic by topic, ``NAME/goal`` to ``ROS_NAME/goal``
+    and so on: roslaunch remaps a name exactly, never the names under it."""
     rules = []
     for interface in node.interfaces:
         kind = kind_of(interface)
         bound = kind.bound_to(interface)
+        rule: tuple[str, str] | None = None
         if kind.on_topic:
             if bound is not None:
-                rules.append((interface.name, topic_ros_name(bound)))
+                rule = (interface.name, topic_ros_name(bound))
         elif kind.serves:
             server = cast("tsm_types.ServiceServer", interface)
             if server.rosName:
-                rules.append((interface.name, server.rosName))
+                rule = (interface.name, server.rosName)
         elif kind.calls and bound is not None:
-            rules.append((interface.name, server_ros_name(bound, system)))
+            rule = (interface.name, server_ros_name(bound, system))
+        if rule is None:
+            continue
+        parts = kind.family.ros1_topics if ros1 else ()
+        rules.extend([(f"{rule[0]}/{p.suffix}", f"{rule[1]}/{p.suffix}") for p in parts] or [rule])
     return rules
 
 

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Callable, Iterator
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, cast
 
 from spl.core.diagnostics import location_of
 from spl.dsl.rm.messages import not_served_here
@@ -23,15 +23,21 @@ if TYPE_CHECKING:
     from spl.metamodels import rm_types, tsm_types
 
 
+def _pair(t: rm_types.ConnectService) -> tuple[tsm_types.ServiceClient, tsm_types.ServiceServer]:
+    """The client and server a statement binds: a service's, or an action's, which binds
+    the same way (the .rm builder checked that the kinds agree, docs/rm.md)."""
+    return cast("tsm_types.ServiceClient", t.client), cast("tsm_types.ServiceServer", t.server)
+
+
 class ConnectService(TransformationKind["rm_types.ConnectService"]):
     metaclass = "ConnectService"
 
     def apply(self, t: rm_types.ConnectService, ctx: ResolutionContext) -> None:
-        client = ctx.copy_of(t.client)
-        server = ctx.copy_of(t.server)
+        ends = _pair(t)
+        client, server = ctx.copy_of(ends[0]), ctx.copy_of(ends[1])
         where = location_of(t)
         if here(client) is not here(server):
-            message = not_served_here(t.client, t.server, [here(server)], [here(client)])
+            message = not_served_here(*_pair(t), [here(server)], [here(client)])
             ctx.sink.error(where, f"{message} (containers at this point)")
             return
         ctx.keep(node_of(client), f"its client {client.name} is connected by {ctx.by()}", where)
@@ -42,7 +48,8 @@ class ConnectService(TransformationKind["rm_types.ConnectService"]):
             ctx.trace.record(qualified(client), "connected", reason, where)
 
     def rebinds(self, t: rm_types.ConnectService) -> Iterator[Binding]:
-        yield Binding(t.client, server=t.server)
+        client, server = _pair(t)
+        yield Binding(client, server=server)
 
     def touched(self, t: rm_types.ConnectService) -> Iterator[tsm_types.Node | tsm_types.Store]:
         yield node_of(t.client)
@@ -56,9 +63,10 @@ class ConnectService(TransformationKind["rm_types.ConnectService"]):
     def predict(
         self, t: rm_types.ConnectService, element: rm_types.ResolutionElement, effects: Predictions
     ) -> None:
-        effects.server(t.client, element, t.server, location_of(t))
+        client, server = _pair(t)
+        effects.server(client, element, server, location_of(t))
 
     def questions(
         self, t: rm_types.ConnectService, ask: Callable[[], Questions]
     ) -> Iterator[str | None]:
-        yield ask().apart(t.client, t.server)
+        yield ask().apart(*_pair(t))
