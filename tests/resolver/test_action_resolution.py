@@ -93,3 +93,27 @@ def test_explain_names_what_bound_and_rebound_the_client() -> None:
     assert server[-1].startswith(
         "  takes goals from Robot.Behaviour.navigate through Robot -> Cloud"
     )
+
+
+def test_an_rm_bridge_carries_the_action_like_the_tsm_bridge(tmp_path: Path) -> None:
+    """The same line with the bridge written in the .rm (`connect bridge`) instead of
+    the .tsm: the product's action flow crosses the same way."""
+    tsm = (NAVIGATION / "navigation.tsm").read_text(encoding="utf-8")
+    tsm = tsm.replace("bridge Robot.Behaviour.navigate -> Cloud.Planner.move_base\n", "")
+    (tmp_path / "navigation.tsm").write_text(tsm, encoding="utf-8")
+    (tmp_path / "navigation.fm").write_text(
+        (NAVIGATION / "navigation.fm").read_text(encoding="utf-8"), encoding="utf-8"
+    )
+    (tmp_path / "navigation.rm").write_text(
+        'resolution model Navigation\ntsm "navigation.tsm"\nfm  "navigation.fm"\n'
+        "when Planning selected {\n    require Planner\n"
+        "    connect bridge Behaviour.navigate -> Planner.move_base\n}\n",
+        encoding="utf-8",
+    )
+    line = load_product_line(tmp_path)
+    flows = resolve(line, selection_from_list("Navigation,Planning")).product.flows.flows
+    assert [
+        (f.source.name, f.target.name, [c.name for c in f.hops()])
+        for f in flows
+        if f.kind is ACTION
+    ] == [("navigate", "move_base", ["Robot", "Cloud"])]
