@@ -215,3 +215,19 @@ def test_names_are_reported_as_the_files_write_them(tmp_path: Path) -> None:
     same = diff_json(new, converted)
     assert same["classification"] == "refactoring"
     assert same["added"] == same["removed"] == [] and same["constraints"]["added"] == []
+
+
+def test_a_void_version_has_no_products_to_add_or_keep(tmp_path: Path) -> None:
+    void = Path(__file__).parents[1] / "models" / "analysis" / "void.fm"
+    fixed = tmp_path / "fixed.fm"
+    fixed.write_text(
+        void.read_text(encoding="utf-8").replace("A excludes R", "B requires A"),
+        encoding="utf-8",
+    )
+    # R and A in both products, B free: two products, both removed by the void version
+    report = diff_json(fixed, void, "--count")
+    assert report["classification"] == "specialization"
+    assert report["counts"] == {"old_not_new": 2, "new_not_old": 0}
+    assert report["constraints"] == {"added": ["A => not R"], "removed": ["B => A"]}
+    assert diff_json(void, fixed, "--count")["classification"] == "generalization"
+    assert diff_json(void, void)["classification"] == "refactoring"
