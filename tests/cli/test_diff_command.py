@@ -231,3 +231,17 @@ def test_a_void_version_has_no_products_to_add_or_keep(tmp_path: Path) -> None:
     assert report["constraints"] == {"added": ["A => not R"], "removed": ["B => A"]}
     assert diff_json(void, fixed, "--count")["classification"] == "generalization"
     assert diff_json(void, void)["classification"] == "refactoring"
+
+
+def test_two_features_written_with_one_name_are_a_located_error(tmp_path: Path) -> None:
+    model = tmp_path / "twice.fm"
+    model.write_text(
+        "feature model M\n\nroot R {\n"
+        '    optional A { attribute original_name : string = "Lidar" }\n'
+        '    optional B { attribute original_name : string = "Lidar" }\n}\n',
+        encoding="utf-8",
+    )
+    result = run("diff", model, MAY)
+    assert result.exit_code == 1, result.output
+    assert result.stderr.startswith(f"{model}:5:")
+    assert "features A and B are both named 'Lidar'" in result.stderr

@@ -15,6 +15,7 @@ import random
 from hypothesis import given, settings, strategies as st
 from test_analysis_random import iff_heavy_model, random_formula, random_model
 
+from spl.resolver.analysis.formula import FeatureModelFormula
 from spl.resolver.analysis.operations.edit_classification import ModelEdit
 
 from support.analysis_models import (
@@ -135,3 +136,13 @@ def test_both_bounds_of_a_group_with_auxiliary_variables_are_negated() -> None:
     with ModelEdit(old, new) as edit:
         assert edit.classification == "specialization"
         assert edit.counts(None)[0].value == 1 + 4 + 1
+
+
+def test_formulas_given_by_the_caller_stay_open() -> None:
+    old, new = cardinality_model(-1), cardinality_model(3)
+    with FeatureModelFormula(old) as old_formula, FeatureModelFormula(new) as new_formula:
+        with ModelEdit(old_formula, new_formula) as edit:
+            assert edit.classification == "specialization"
+        # 11 products: 6 pairs, 4 triples, all four; the edit closed none of the solvers
+        assert old_formula.count(None).value == 11 and old_formula.solver.solve()
+        assert new_formula.count(None).value == 10 and new_formula.solver.solve()

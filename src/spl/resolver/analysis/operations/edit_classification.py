@@ -38,6 +38,7 @@ from typing import TYPE_CHECKING, Any
 from pysat.card import CardEnc, EncType
 from pysat.solvers import Solver
 
+from spl.core.diagnostics import Diagnostic, ModelError, location_of
 from spl.dsl.fm.printer import quote_string
 from spl.dsl.fm.vocabulary import is_feature_name
 from spl.dsl.interop.interchange import ORIGINAL_NAME
@@ -81,7 +82,7 @@ class _Version:
     constraints: list[str]  # normalised text of each constraint
     plain: set[Clause] = field(default_factory=set)  # rules without auxiliaries
     parts: dict[tuple, list[Clause]] = field(default_factory=dict)  # the others, by meaning
-    meanings: dict[tuple, tuple] = field(default_factory=dict)  # (kind, bounds, tree) by key
+    meanings: dict[tuple, tuple] = field(default_factory=dict)  # (kind, features, bounds, tree)
     lacks: list[int] = field(default_factory=list)  # union features it does not have
 
     def clauses(self) -> list[Clause]:
@@ -99,6 +100,8 @@ class ModelEdit:
         self, old: FmModel | FeatureModelFormula, new: FmModel | FeatureModelFormula
     ) -> None:
         old_formula, new_formula = formula_of(old), formula_of(new)
+        # the formulas made here are closed here; a caller's stay open for the caller
+        self._made = [f for f, given in ((old_formula, old), (new_formula, new)) if f is not given]
         old_written = written_names(old_formula.model)
         new_written = written_names(new_formula.model)
         names = [old_written[name] for name in old_formula.cnf.names]
@@ -112,8 +115,8 @@ class ModelEdit:
         self._queries: list[list[Clause] | None] = [None, None]  # OLD and not NEW, converse
 
     def close(self) -> None:
-        self.old.formula.close()
-        self.new.formula.close()
+        for formula in self._made:
+            formula.close()
 
     def __enter__(self) -> ModelEdit:
         return self
@@ -329,17 +332,34 @@ class ModelEdit:
 
 def written_names(model: Any) -> dict[str, str]:
     """Each feature's identifier -> the name its file writes (importers keep a name
-    .fm cannot carry in ``original_name``, :mod:`spl.dsl.interop.interchange`)."""
+    .fm cannot carry in ``original_name``, :mod:`spl.dsl.interop.interchange`). Features
+    are matched by these names, so two features of one model may not share one."""
     out: dict[str, str] = {}
+    owner: dict[str, Any] = {}
+    problems = []
     stack = [model.root]
     while stack:
         feature = stack.pop()
-        out[feature.name] = feature.name
+        written = feature.name
         for attribute in feature.attributes:
             kind = attribute.type if isinstance(attribute.type, str) else attribute.type.name
             if attribute.name == ORIGINAL_NAME and kind == "string" and attribute.value:
-                out[feature.name] = attribute.value
-        stack.extend(child for group in feature.groups for child in group.features)
+                written = attribute.value
+        if written in owner:
+            problems.append(
+                Diagnostic(
+                    location_of(feature),
+                    f"features {owner[written].name} and {feature.name} are both named "
+                    f"{written!r} (an original_name attribute): versions could not be "
+                    "compared feature by feature",
+                )
+            )
+        owner[written] = feature
+        out[feature.name] = written
+        children = [child for group in feature.groups for child in group.features]
+        stack.extend(reversed(children))  # pre-order: the later of two is reported
+    if problems:
+        raise ModelError(problems)
     return out
 
 
