@@ -8,9 +8,13 @@ import re
 from pathlib import Path
 
 from click.testing import CliRunner
+from hypothesis import given, settings, strategies as st
 
 from spl.cli import main
 
+from support.cli_outcome import assert_clean
+from support.hypothesis_budget import examples
+from support.model_mutations import mutate, mutations
 from support.real_models import REAL_MODELS
 
 BUSYBOX = REAL_MODELS / "evolution" / "busybox"
@@ -245,3 +249,28 @@ def test_two_features_written_with_one_name_are_a_located_error(tmp_path: Path) 
     assert result.exit_code == 1, result.output
     assert result.stderr.startswith(f"{model}:5:")
     assert "features A and B are both named 'Lidar'" in result.stderr
+
+
+FUZZED = [REAL_MODELS / "berkeleydb.uvl", REAL_MODELS / "berkeleydb.xml", MAY]
+
+
+@st.composite
+def mutated_versions(draw):
+    source = draw(st.sampled_from(FUZZED))
+    text = source.read_text(encoding="utf-8")
+    return source, mutate(text, draw(mutations(text)))
+
+
+@settings(max_examples=examples(30))
+@given(mutated_versions(), st.booleans())
+def test_a_mutated_version_is_compared_or_refused_with_a_located_error(
+    tmp_path_factory, case, mutant_is_new: bool
+) -> None:
+    source, text = case
+    mutant = tmp_path_factory.mktemp("mutant") / source.name
+    mutant.write_text(text, encoding="utf-8", errors="surrogateescape")
+    pair = (source, mutant) if mutant_is_new else (mutant, source)
+    result = run("diff", "--json", "--count-seconds", "1", *pair)
+    assert_clean(result, f"spl diff of {source.name} and its mutant:\n{text!r}")
+    if result.exit_code == 0:
+        assert set(json.loads(result.stdout)) == KEYS
