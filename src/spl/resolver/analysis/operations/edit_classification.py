@@ -24,9 +24,8 @@ The number of products each way is the projected count of its query (the auxilia
 left out), by one counter within one time bound
 (:func:`~spl.resolver.analysis.operations.product_count.count_together`); a direction
 without a witness counts 0 without counting. Counting the query directly, rather than
-OLD minus OLD-and-NEW, costs one count a direction instead of up to three: the features
-the edit constrains come out of the query's units, and on a small edit of automotive01
-one count took 1.7 s where the two of the difference took 2.2 s.
+OLD minus OLD-and-NEW, costs one count a direction instead of up to three, and the
+query's own units (what the edit's broken rule forces) shrink what is left to count.
 """
 
 from __future__ import annotations
@@ -254,9 +253,10 @@ class ModelEdit:
         return sorted(self.names[v - 1] for v in range(1, len(self.names) + 1) if v in selected)
 
     def _violations(self, first: _Version, second: _Version) -> list[Clause] | None:
-        """Clauses true exactly where some rule of ``second`` that ``first`` lacks is
-        broken, or a feature ``second`` lacks is selected; None when there is no such
-        rule or feature (``first``'s products are all ``second``'s)."""
+        """Clauses satisfiable (their fresh variables chosen) exactly where some rule of
+        ``second`` that ``first`` lacks is broken, or a feature ``second`` lacks is
+        selected; None when there is no such rule or feature (``first``'s products are
+        all ``second``'s)."""
         present = set(first.var.values())
         either: list[int] = [v for v in second.lacks if v in present]
         extra: list[Clause] = []
