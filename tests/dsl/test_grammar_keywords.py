@@ -39,7 +39,12 @@ LANGUAGES = {
 }
 # The hand-written fast reader of each grammar (with the modules holding its rules).
 READERS = {
-    "tsm": ["tsm/reader.py", "tsm/expression_reader.py", "tsm/tree.py"],
+    "tsm": [
+        "tsm/reader.py",
+        "tsm/interface_reader.py",
+        "tsm/expression_reader.py",
+        "tsm/tree.py",
+    ],
     "fm": ["fm/reader.py"],
     "rm": ["rm/reader.py"],
 }
