@@ -85,7 +85,10 @@ class LiveGraph:
 
     def registered(self, kind: InterfaceKind) -> dict[str, set[str]] | None:
         """The nodes the master lists with an interface of ``kind``, by topic or service
-        name; None for a caller, which the ROS 1 master does not register."""
+        name; None for a caller, which the ROS 1 master does not register, and for a kind
+        the master knows only as its topics (an action, ``Family.ros1_topics``)."""
+        if kind.family.ros1_topics:
+            return None
         if kind.publishes:
             return self.publishers
         if kind.subscribes:
