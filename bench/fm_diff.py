@@ -4,8 +4,9 @@ at most twice the analysis).
 
     .venv/bin/python bench/fm_diff.py [--runs 5] [MODEL.uvl]
 
-MODEL defaults to the largest ``.uvl`` of ``../shared/data/feature-models`` (the copies
-in tests/data when that folder is not there): automotive01, 2,513 features. Two edits
+MODEL defaults to the largest community ``.uvl`` model of the shared data folder beside
+the repository (the copies in tests/data when that folder is not there): automotive01,
+2,513 features (docs/evolution.md). Two edits
 of its UVL text, each written to a temporary file:
 
 * *removed*: its first constraint left out;
