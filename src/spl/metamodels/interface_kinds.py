@@ -199,6 +199,11 @@ def with_article(words: str) -> str:
     return f"{'an' if words[0].lower() in 'aeiou' else 'a'} {words}"
 
 
+def calling_titles() -> str:
+    """What may call a server, as a message says it: "service client or action client"."""
+    return " or ".join(k.title for k in KINDS if k.calls)
+
+
 KINDS = (
     InterfaceKind(
         "Publisher", "Publishes", "publishes", TOPIC, True, "topic publisher",

@@ -37,7 +37,7 @@ from spl.dsl.textx_text import model_from_text
 from spl.dsl.tsm.data import PERIOD_RANGE, period_fits
 from spl.dsl.workspace import Workspace, text_of
 from spl.metamodels import rm as rm_metamodel, tsm as tsm_metamodel
-from spl.metamodels.interface_kinds import KINDS, kind_of, side, with_article
+from spl.metamodels.interface_kinds import calling_titles, kind_of, side, with_article
 
 if TYPE_CHECKING:
     from spl.metamodels import fm_types, rm_types, tsm_types
@@ -280,7 +280,7 @@ class _Builder:
         self, stmt: Any, client: tsm_types.Interface, server: tsm_types.Interface
     ) -> tuple[tsm_types.ServiceClient, tsm_types.ServiceServer] | None:
         """The client and server of a statement when their kinds and types agree, else None."""
-        callers = " or ".join(k.title for k in KINDS if k.calls)
+        callers = calling_titles()
         if not self._typed(stmt, client, kind_of(client).calls, callers):
             return None
         provider = side(kind_of(client).family, True)

@@ -13,7 +13,7 @@ from itertools import count
 from typing import TYPE_CHECKING, Any
 
 from spl.dsl.tsm.names import Names, find_interface
-from spl.metamodels.interface_kinds import KINDS, TOPIC, InterfaceKind, kind_of, side
+from spl.metamodels.interface_kinds import TOPIC, InterfaceKind, calling_titles, kind_of, side
 
 if TYPE_CHECKING:
     from spl.metamodels import tsm_types
@@ -155,7 +155,7 @@ class Bridges:
             return
         client_kind, server_kind = kind_of(client), kind_of(server)
         if not client_kind.calls:
-            callers = " or ".join(k.title for k in KINDS if k.calls)
+            callers = calling_titles()
             names.error(
                 source[1],
                 f"{source[0].name}.{client.name} is {client_kind.a_class}, not a {callers}",
