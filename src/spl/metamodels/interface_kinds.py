@@ -246,11 +246,6 @@ def kind_of(interface: tsm_types.Interface) -> InterfaceKind:
     return _BY_ECLASS[interface.eClass.name]
 
 
-def kind_named(eclass: str) -> InterfaceKind:
-    """The kind whose tsm.ecore class is ``eclass``."""
-    return _BY_ECLASS[eclass]
-
-
 def is_interface(element: Any) -> bool:
     """Whether a model element is an interface (of any kind)."""
     return getattr(element, "eClass", None) is not None and element.eClass.name in _BY_ECLASS
