@@ -10,6 +10,7 @@ a number printed here is never an estimate. A UVL file is analysed from plain ob
 from __future__ import annotations
 
 import json
+import re
 import time
 from pathlib import Path
 from typing import Any
@@ -22,6 +23,8 @@ from spl.core.diagnostics import counted
 # the model took, and at least this long: it never makes the command much slower than
 # the analysis the user asked for.
 DEFAULT_COUNT_SECONDS = 1.0
+# Names printed bare in the text report; any other is quoted (docs/analysis.md).
+_UNQUOTED = re.compile(r'[^\s,"]+')
 
 
 def analysis_report(
@@ -34,6 +37,7 @@ def analysis_report(
     the bound is instead the time spent since then, at least
     :data:`DEFAULT_COUNT_SECONDS`.
     """
+    from spl.dsl.interop.interchange import written_names
     from spl.resolver.analysis.formula import FeatureModelFormula
 
     start = time.perf_counter()
@@ -47,22 +51,33 @@ def analysis_report(
             count_seconds = round(max(DEFAULT_COUNT_SECONDS, spent), 1)
         count = formula.count(count_seconds)
         features = formula.cnf.num_features
+    written = written_names(model)
+
+    def as_written(names: list[str]) -> list[str]:
+        return sorted(written.get(name, name) for name in names)
+
     return {
-        "name": model.name,
+        "name": getattr(model, "written_name", model.name),  # a UVL file's, as written
         "features": features,
         "constraints": len(model.constraints),
         "satisfiable": satisfiable,
         "products": count.value,
         "products_note": count.note,
-        "core": core,
-        "dead": dead,
-        "false_optional": false_optional,
+        "core": as_written(core),
+        "dead": as_written(dead),
+        "false_optional": as_written(false_optional),
         "seconds": round(time.perf_counter() - start, 3),
     }
 
 
 def _names(names: list[str]) -> str:
-    return ", ".join(names) if names else "-"
+    """Names as written, comma-separated; a name a comma list would make ambiguous (a
+    blank, a comma, a quote in it) is quoted as UVL quotes it."""
+    shown = [
+        name if _UNQUOTED.fullmatch(name) else json.dumps(name, ensure_ascii=False)
+        for name in names
+    ]
+    return ", ".join(shown) if shown else "-"
 
 
 def text_report(path: Path, report: dict[str, Any]) -> list[str]:

@@ -125,11 +125,15 @@ class Constraint(Located):
 
 
 class FeatureModel(Located):
-    __slots__ = ("constraints", "name", "root")
+    """``name`` is an identifier (the .fm language needs one); ``written_name`` the name
+    as the file gives it (a UVL namespace, a file stem), which reports show."""
 
-    def __init__(self, source: Source, name: str) -> None:
+    __slots__ = ("constraints", "name", "root", "written_name")
+
+    def __init__(self, source: Source, name: str, written_name: str | None = None) -> None:
         super().__init__(source, 0)
         self.name = name
+        self.written_name = name if written_name is None else written_name
         self.root: Feature | None = None
         self.constraints: list[Constraint] = []
 

@@ -219,9 +219,11 @@ class _Reader:
         tag = element.tag
         operands = [e for e in element if isinstance(e.tag, str)]
         if tag == "var":
-            name = (element.text or "").strip()
+            name = element.text or ""
             reference = self.locate(F.FeatureRef(), element)
-            target = self.features.get(name)
+            # the name exactly (FeatureIDE writes it so, blanks of a name included), else
+            # without the blanks a hand-written file puts around it
+            target = self.features.get(name) or self.features.get(name := name.strip())
             if target is None:
                 self.error(element, f"unknown feature {name}")
                 return None

@@ -75,6 +75,27 @@ def original_name(feature: Any) -> str:
     return feature.name
 
 
+def written_names(model: Any) -> dict[str, str]:
+    """Each feature's identifier -> its name as its file writes it (the kept original
+    name, else the identifier), for a pyecore or a plain (:mod:`spl.dsl.fm.plain`) model.
+
+    What a user reads (analysis reports, their JSON) names features so: an identifier
+    made up on import never leaves the toolchain (docs/fm.md, "Interchange").
+    """
+    written: dict[str, str] = {}
+    stack = [model.root] if model.root is not None else []
+    while stack:
+        feature = stack.pop()
+        name = feature.name
+        for attribute in feature.attributes:
+            kind = attribute.type if isinstance(attribute.type, str) else attribute.type.name
+            if attribute.name == ORIGINAL_NAME and kind == "string" and attribute.value:
+                name = attribute.value
+        written[feature.name] = name
+        stack.extend(child for group in feature.groups for child in group.features)
+    return written
+
+
 def exported_attributes(feature: Any) -> list[Any]:
     """The attributes an exporter writes as attributes (not the kept original name)."""
     return [a for a in feature.attributes if a.name != ORIGINAL_NAME]

@@ -91,7 +91,7 @@ class UvlReader(FormulaReader):
 
     # -- featureModel ----------------------------------------------------------------
     def read(self, default_name: str) -> FeatureModel:
-        model = FeatureModel(self.source, model_name(default_name))
+        model = FeatureModel(self.source, model_name(default_name), default_name)
         tokens = self.tokens
         bad = next((token for token in tokens if token[0] == "bad"), None)
         if bad is not None:  # the lexer refuses the file: nothing after it is read
@@ -100,7 +100,8 @@ class UvlReader(FormulaReader):
         try:
             if tokens[self.index][0] == "namespace":
                 self.index += 1
-                model.name = model_name(".".join(self.reference()[0]))
+                model.written_name = ".".join(self.reference()[0])
+                model.name = model_name(model.written_name)
             self.optional_newline()
             for keyword in ("include", "imports"):
                 if tokens[self.index][0] == keyword:
