@@ -1,8 +1,8 @@
 """How a service answers (docs/services.md, "Linked Robotic Things"): JSON or Turtle as
 the Accept header asks, with an ETag and 304 for a client that already has the body,
-and problems as ``{"status", "detail"}``. The Turtle itself is the product's (its
-``linked.py``, described here by ``LinkedDocuments``): every store has its own
-resources, so the runtime takes their documents as an argument, never by import.
+and problems as ``{"status", "detail"}``. The Turtle itself is linked.py's, of the
+store's own resources (``StoreDocuments``, which the product's ``linked.py`` makes):
+the routes take it from the service, never by import.
 """
 
 from __future__ import annotations
@@ -10,56 +10,16 @@ from __future__ import annotations
 import hashlib
 import json
 from collections.abc import Callable
-from typing import Any, Protocol
+from typing import Any
 
 from fastapi import HTTPException, Request, WebSocket
 from fastapi.responses import JSONResponse, Response
 
-from .records import FieldSpec, Refinement
 from .turtle import Links, NotAcceptable
 
 # One encoder for every answer: json.dumps with options builds a new one per call.
 JSON = json.JSONEncoder(separators=(",", ":"), allow_nan=False)
 TURTLE_TYPE = "text/turtle; charset=utf-8"
-
-
-class LinkedDocuments(Protocol):
-    """The Turtle of one store's resources: the generated ``linked.py`` of a service."""
-
-    MODEL: str
-    ACTIONS: dict[str, tuple[str, str, str]]  # name: method, path under the store, text
-
-    def negotiate(self, accept: str | None) -> str: ...
-    def iri(self, value: str) -> str: ...
-    def document(self, *blocks: str) -> str: ...
-    def one(self, statements_: str) -> str: ...
-    def collections(self) -> list[str]: ...
-    def properties(self) -> list[tuple[str, FieldSpec, str]]: ...
-    def property_path(self, type_name: str, field: str) -> str: ...
-    def root(self, links: Links) -> str: ...
-    def store(self, links: Links) -> str: ...
-    def raw_record(self, links: Links, row: Any) -> str: ...
-    def refined_record(self, links: Links, refinement: Refinement, row: Any) -> str: ...
-    def error_record(self, links: Links, row: Any) -> str: ...
-    def page(
-        self,
-        links: Links,
-        path: str,
-        url: str,
-        member_paths: list[str],
-        blocks: list[str],
-        next_url: str | None,
-    ) -> str: ...
-    def created(self, links: Links, paths: list[str], batch: bool) -> str: ...
-    def subscription(self, links: Links, item: dict[str, Any]) -> str: ...
-    def subscriptions(self, links: Links, items: list[dict[str, Any]]) -> str: ...
-    def blueprint(self, links: Links) -> str: ...
-    def property_list(self, links: Links) -> str: ...
-    def property_resource(
-        self, links: Links, type_name: str, field: FieldSpec, collection: str
-    ) -> str: ...
-    def action_list(self, links: Links) -> str: ...
-    def action_resource(self, links: Links, name: str) -> str: ...
 
 
 def etag(body: bytes) -> str:

@@ -30,9 +30,10 @@ from sqlalchemy import ColumnElement, Engine, Table, select
 
 from . import contract, described, ingest, reads
 from .access import BodyLimit, Guard, WriteRoute
-from .answers import Answers, LinkedDocuments, related
+from .answers import Answers, related
 from .database import WriteTurns
 from .hub import Hub
+from .linked import StoreDocuments
 from .records import FieldSpec, RecordModel, Refinement
 from .routes import READ, Routes
 from .settings import Settings
@@ -55,7 +56,7 @@ class StoreService:
     callback_subscriptions: Table
     raw_record_in: type[RecordModel]  # the body of a post, and of a batch
     raw_batch_in: type[RecordModel]
-    linked: LinkedDocuments
+    linked: StoreDocuments  # the Turtle of the store's resources (linked.py)
     settings: Settings
     token_env: str  # the variable of the write token, named when it is missing
     guard: Guard

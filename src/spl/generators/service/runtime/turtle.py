@@ -186,7 +186,7 @@ def predicate(type_name: str, field: str) -> str:
     return f"dt:{type_name}:{field}"
 
 
-def statements(subject: str, pairs: Iterable[tuple[str, str]]) -> str:
+def statements(subject: str, pairs: Iterable[tuple[str, str | None]]) -> str:
     """``subject p1 o1 ; p2 o2 .`` (objects None are left out)."""
     body = " ;\n    ".join(f"{p} {o}" for p, o in pairs if o is not None)
     return f"{subject} {body} .\n"
