@@ -3,7 +3,8 @@ navigation test line: ROS 1 remaps the five actionlib topics under the action's 
 read back by roslaunch's own loader; ROS 2 remaps the action's one name; Zenoh lists it
 in action_clients where goals are sent and action_servers where they are served;
 Rapyuta carries the five topics across the bridge, goal and cancel towards the server,
-status, feedback and result back; ``spl smoke`` refuses the bundle in one line."""
+status, feedback and result back. (``spl smoke`` rehearses them with actionlib:
+tests/cli/test_smoke_actions.py, tests/live/test_smoke_actions.py.)"""
 
 from __future__ import annotations
 
@@ -16,14 +17,12 @@ import pytest
 from lxml import etree
 
 from spl.generators.bundle.options import BundleOptions
-from spl.generators.bundle.writer import build_bundle, write_bundle
+from spl.generators.bundle.writer import build_bundle
 from spl.generators.launch.launch_schema import validate_ros1_launch, validate_ros2_launch
 from spl.resolver.resolution.engine import resolve
 from spl.resolver.resolution.product_line import load_product_line
 from spl.resolver.resolution.product_selection import selection_from_list
 from spl.smoke.processes import find_ros
-
-from support.cli_outcome import run
 
 NAVIGATION = Path(__file__).parents[1] / "models" / "navigation"
 PARTS = ("goal", "cancel", "status", "feedback", "result")
@@ -133,18 +132,6 @@ def test_rapyuta_carries_the_five_topics_in_their_directions(across) -> None:
     goal = by_tag[("rover_1", "sub_Planner_move_base_goal")]["iCls"]
     cancel = by_tag[("rover_1", "sub_Planner_move_base_cancel")]["iCls"]
     assert (goal, cancel) == ("move_base_msgs/MoveBaseActionGoal", "actionlib_msgs/GoalID")
-
-
-def test_spl_smoke_refuses_a_bundle_with_an_action_in_one_line(tmp_path, across) -> None:
-    write_bundle(across, tmp_path / "bundle")
-    result = run("smoke", tmp_path / "bundle")
-    assert result.exit_code == 1
-    assert "Traceback" not in result.stderr + result.stdout
-    assert result.stderr.strip().splitlines() == [
-        "error: spl smoke cannot rehearse this bundle yet: it has no stand-in for action "
-        "client Robot.Behaviour.navigate, action server Cloud.Planner.move_base "
-        '(docs/smoke.md, "Actions")'
-    ]
 
 
 def test_the_diagram_legend_shows_action_kinds_where_the_product_has_an_action(

@@ -227,12 +227,12 @@ KINDS = (
     ),
     InterfaceKind(
         "ActionServer", "ProvidesAction", "provides action", ACTION, True, "action server",
-        None, None, "#7048e8",
+        None, "action_server", "#7048e8",
         standing="serves action",
     ),
     InterfaceKind(
         "ActionClient", "CallsAction", "calls action", ACTION, False, "action client",
-        None, None, "#c2255c", "SPL046",
+        None, "action_client", "#c2255c", "SPL046",
         "sends goals to no action server of this product",
         standing="sends goals to", gap_word="unserved",
     ),

@@ -18,7 +18,7 @@ from pathlib import Path
 from typing import Any
 
 from spl.core.diagnostics import counted
-from spl.metamodels.interface_kinds import KINDS, InterfaceKind
+from spl.metamodels.interface_kinds import KINDS, TOPIC, InterfaceKind, side
 from spl.smoke.plan import ContainerPlan, Interface, NodePlan
 
 CALLER = "/spl_smoke"
@@ -177,11 +177,18 @@ def _interface_row(
     resolved = entry.get("resolved")
     if resolved and resolved != topic:
         notes.append(f"bound to {resolved}")
-    registry = graph.registered(kind)
-    registered = registry is None or node.ros_name in registry.get(topic, ())
-    if not registered:
-        notes.append(f"not registered on {topic}")
+    registered = True
+    for side_kind, name, part_type in registrations(interface):
+        registry = graph.registered(side_kind)
+        if registry is not None and node.ros_name not in registry.get(name, ()):
+            notes.append(f"not registered on {name}")
+            registered = False
+        elif registry is not None and name != topic and graph.types.get(name) != part_type:
+            notes.append(f"{name} type {graph.types.get(name)}")  # an action's topic
+            registered = False
     ok = registered
+    # an action (its family's ROS 1 topics): goals, answered by a result and feedback
+    action = bool(kind.family.ros1_topics)
     if kind.publishes:
         expected = f"{kind.keyword} {interface.type}"
         live_type = graph.types.get(topic)
@@ -204,23 +211,27 @@ def _interface_row(
             notes.append("not in the model: " + ", ".join(short(s, plan.name) for s in extra))
     elif kind.serves:
         expected = f"{kind.keyword} {interface.type}"
-        answered = counted(entry.get("served", 0), "call")
+        answered = counted(entry.get("served", 0), "goal" if action else "call")
         seen = f"{kind.keyword} ({answered} answered)" if registered else ""
     else:
+        answer = "result and feedback" if action else "answer"
         expected = (
-            f"answer from {short(interface.server, plan.name)}"
+            f"{answer} from {short(interface.server, plan.name)}"
             if interface.server
             else f"nothing: {interface.gap}"
             if interface.gap
             else ("an answer (no server in the model)" if interface.required else "calls forwarded")
         )
         answers = entry.get("answered_by", {})
+        feedback = entry.get("feedback_from", {}) if action else {}
+        said = "result from" if action else "answered by"
         seen = ", ".join(
-            f"answered by {short(s, plan.name)} ({n})" for s, n in sorted(answers.items())
+            [f"{said} {short(s, plan.name)} ({n})" for s, n in sorted(answers.items())]
+            + [f"feedback from {short(s, plan.name)} ({n})" for s, n in sorted(feedback.items())]
         )
-        wrong = [s for s in answers if s != interface.server]
-        reached = interface.server in answers
-        ok = not wrong and (reached or not interface.required)
+        wrong = [s for s in {*answers, *feedback} if s != interface.server]
+        reached = interface.server in answers and (not action or interface.server in feedback)
+        ok = ok and not wrong and (reached or not interface.required)
         if not seen:
             error = entry.get("last_error")
             seen = f"no answer: {error}" if error else "no answer"
@@ -260,7 +271,12 @@ def _unexpected(
     for ros_name in sorted(graph.nodes() - expected):
         rows.append(Row(plan.name, ros_name, "(node)", ros_name, NOT_MODELLED, "running",
                         False))  # fmt: skip
-    wanted = {(i.kind, i.ros_name, node.ros_name) for node in plan.nodes for i in node.interfaces}
+    wanted = {
+        (kind, name, node.ros_name)
+        for node in plan.nodes
+        for i in node.interfaces
+        for kind, name, _ in registrations(i)
+    }
     names = {node.ros_name: node.name for node in plan.nodes}
     for kind in KINDS:
         registry = graph.registered(kind)
@@ -286,6 +302,21 @@ def _unexpected(
                     )
                 )
     return rows
+
+
+def registrations(interface: Interface) -> list[tuple[InterfaceKind, str, str]]:
+    """``(kind, ROS name, type)`` of what the master lists for ``interface``: the
+    interface itself, or, for a kind that is its family's ROS 1 topics (an action, the
+    five of actionlib), each topic under its name with the side that publishes or
+    subscribes it (a client publishes goals and cancels, its server the rest)."""
+    parts = interface.kind.family.ros1_topics
+    if not parts:
+        return [(interface.kind, interface.ros_name, interface.type)]
+    return [
+        (side(TOPIC, part.from_consumer != interface.kind.provides),
+         f"{interface.ros_name}/{part.suffix}", part.message_of(interface.type))
+        for part in parts
+    ]  # fmt: skip
 
 
 def _interface_bound_to(status: dict[str, Any] | None, topic: str) -> str:

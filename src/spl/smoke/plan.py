@@ -45,6 +45,8 @@ class Interface:
     sources: tuple[str, ...] = ()  # subscribers: ids of the publishers that must feed it
     server: str | None = None  # clients: id of the node server that must answer
     forward: tuple[str, str] | None = None  # endpoint server: (peer container, peer client)
+    # endpoint action client: the endpoints whose servers' stand-ins it sends answers back to
+    peers: tuple[tuple[str, str], ...] = ()
     relays: tuple[Relay, ...] = ()  # endpoint subscriber: where it passes which messages
     # a stand-in publisher on a data-typed topic: the fields it fills and how many
     # messages it sends (after as many subscribers as ``wait_for`` connected)
@@ -143,6 +145,16 @@ class SmokePlan:
                             "type": i.type,
                             "ros_name": i.ros_name,
                             "forward": list(i.forward) if i.forward else None,
+                            "peers": [list(peer) for peer in i.peers],
+                            # the ROS 1 topics the interface is under its name, if several
+                            "parts": [
+                                {
+                                    "suffix": part.suffix,
+                                    "from_consumer": part.from_consumer,
+                                    "type": part.message_of(i.type),
+                                }
+                                for part in i.kind.family.ros1_topics
+                            ],
                             "relays": [relay.as_json() for relay in i.relays],
                             "values": i.values,
                         }

@@ -36,10 +36,11 @@ ROS_FIELD_TYPES = {"double": "float64", "int": "int64", "string": "string", "boo
 TRACKING = "string source\nstring route\nuint32 seq\n"
 
 
-def load_plan(bundle: Path, generated: bool = False) -> SmokePlan:
+def load_plan(bundle: Path, generated: bool = False, actions: bool = True) -> SmokePlan:
     """The plan of the bundle in folder ``bundle``; a ModelError when it is not one.
     ``generated``: the bundle's own writers and readers run (the data path), not
-    stand-ins."""
+    stand-ins. ``actions``: actionlib is there to play the actions; without it they are
+    left out of the plan (the rehearsal warns, docs/smoke.md "Actions")."""
     from spl.pipeline import read_bundle
 
     system, product = read_bundle(bundle)
@@ -52,6 +53,8 @@ def load_plan(bundle: Path, generated: bool = False) -> SmokePlan:
     }
     _refuse_unrehearsed(system)
     containers = _containers(system, generated)
+    if not actions:
+        _leave_out_actions(containers)
     _expect_values(containers, fields)
     _probe_readers(containers)
     return SmokePlan(product, containers, messages)
@@ -78,6 +81,24 @@ def _refuse_unrehearsed(system: Any) -> None:
                 )
             ]
         )
+
+
+def actions_of(system: Any) -> list[str]:
+    """The node interfaces of ``system`` that actionlib plays (a kind whose ROS 1 form is
+    its family's topics: actionlib's), as a message names them, in model order."""
+    return [
+        f"{kind_of(i).title} {container.name}.{node.name}.{i.name}"
+        for container in system.containers
+        for node in container.nodes
+        for i in node.interfaces
+        if kind_of(i).family.ros1_topics
+    ]
+
+
+def _leave_out_actions(plans: list[ContainerPlan]) -> None:
+    for container in plans:
+        for node in container.nodes:
+            node.interfaces = [i for i in node.interfaces if not i.kind.family.ros1_topics]
 
 
 def data_fields(system: Any) -> dict[str, list[tuple[str, str]]]:
@@ -213,10 +234,13 @@ def _typed(kind: str, text: str) -> Any:
 def _endpoint(container: Any, namespace: str, system: Any, name: str) -> NodePlan:
     node = NodePlan(container.name, name, node_ros_name(namespace, name), "endpoint")
     forward: dict[int, tuple[str, str]] = {}
+    peers: dict[int, list[tuple[str, str]]] = {}
     for connection in system.connections:
-        if kind_of(connection.source).serves:  # a stand-in's one peer client
-            target = connection.target
-            forward.setdefault(id(connection.source), (container_of(target).name, target.name))
+        source, target = connection.source, connection.target
+        if kind_of(source).serves:  # a stand-in's one peer client
+            forward.setdefault(id(source), (container_of(target).name, target.name))
+            if kind_of(source).family.ros1_topics:  # answers come back as topics too
+                peers.setdefault(id(target), []).append((container_of(source).name, source.name))
     for interface in container.endpoint.interfaces:
         kind = kind_of(interface)
         bound = kind.bound_to(interface)  # its topic, or the server it calls
@@ -235,6 +259,7 @@ def _endpoint(container: Any, namespace: str, system: Any, name: str) -> NodePla
                 _type(interface),
                 join(namespace, ros_name),
                 forward=forward.get(id(interface)),
+                peers=tuple(peers.get(id(interface), ())),
                 endpoint=True,
             )
         )

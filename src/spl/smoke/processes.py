@@ -36,6 +36,7 @@ MARKER = "SPL_SMOKE_RUN"
 ROS_MISSING = (
     "roscore not found: apt-get install ros-core python3-rospy python3-roslaunch python3-rostopic"
 )
+ACTIONLIB_MISSING = "apt-get install python3-actionlib"
 STANDIN = Path(__file__).with_name("standin.py")
 # What the caller's environment may say about a ROS graph; none of it reaches a rehearsal.
 CALLER_ROS_VARIABLES = (
@@ -74,6 +75,15 @@ def find_ros() -> RosInstall:
     if not python or subprocess.run(check, capture_output=True).returncode != 0:
         raise RosMissing(f"rospy not importable by {python or 'roslaunch'}: {ROS_MISSING}")
     return RosInstall(roscore, roslaunch, python)
+
+
+def actionlib_missing(python: str) -> str | None:
+    """Why the stand-ins cannot play actions with ``python`` (the Python that has rospy),
+    or None when its actionlib imports (Debian's ``python3-actionlib``)."""
+    check = [python, "-I", "-c", "import actionlib, actionlib_msgs.msg"]
+    if subprocess.run(check, capture_output=True).returncode == 0:
+        return None
+    return f"actionlib not importable by {python}: {ACTIONLIB_MISSING}"
 
 
 def _interpreter(script: Path) -> str | None:

@@ -31,11 +31,12 @@ from spl.pipeline import read_bundle
 from spl.smoke.data_path import DATA_ROWS, DataPath, cloud_stores, missing
 from spl.smoke.live import Master, Row, compare, read_statuses
 from spl.smoke.plan import ContainerPlan, SmokePlan
-from spl.smoke.planning import load_plan
+from spl.smoke.planning import actions_of, load_plan
 from spl.smoke.processes import (
     STANDIN,
     Processes,
     RosInstall,
+    actionlib_missing,
     find_ros,
     free_port,
     marked_processes,
@@ -78,7 +79,9 @@ def run_smoke(
     ros = ros or find_ros()
     stores = bool(cloud_stores(system))
     skipped = missing(bundle, system) if stores else None
-    plan = load_plan(bundle, generated=stores and skipped is None)
+    actions = actions_of(system)
+    unplayed = actionlib_missing(ros.python) if actions else None
+    plan = load_plan(bundle, generated=stores and skipped is None, actions=unplayed is None)
     run_dir = Path(tempfile.mkdtemp(prefix="spl-smoke-"))
     try:
         with Processes(run_dir) as processes:
@@ -90,6 +93,11 @@ def run_smoke(
         shutil.rmtree(run_dir, ignore_errors=True)
     result = SmokeResult(plan.product, str(bundle), time.monotonic() - start, rows, problems)
     result.skipped = skipped
+    if unplayed is not None:
+        result.actions_skipped = (
+            f"actions not rehearsed, no goal, feedback or result of {', '.join(actions)} "
+            f"is checked: {unplayed}"
+        )
     return result
 
 
@@ -105,10 +113,13 @@ def rehearse_files(
         write_bundle(files, Path(folder) / "bundle")
         result = run_smoke(Path(folder) / "bundle", timeout=timeout, ros=ros)
     checks = sum(len(rows) for rows in result.rows.values())
+    warning = f"; warning: {result.actions_skipped}" if result.actions_skipped else ""
     if result.passed:
-        return [], f"smoke: all {checks} checks ok in {result.seconds:.1f} s"
+        return [], f"smoke: all {checks} checks ok in {result.seconds:.1f} s{warning}"
     failures = [f"smoke: {failure}" for failure in result.failures()]
-    return failures, f"smoke: FAILED, {len(failures)} of {checks} checks in {result.seconds:.1f} s"
+    return failures, (
+        f"smoke: FAILED, {len(failures)} of {checks} checks in {result.seconds:.1f} s{warning}"
+    )
 
 
 class _Rehearsal:

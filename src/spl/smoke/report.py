@@ -41,6 +41,7 @@ class SmokeResult:
     rows: dict[str, list[Row]]  # container -> rows, in model order
     problems: list[str] = field(default_factory=list)  # what failed outside the rows
     skipped: str | None = None  # why the data path was not rehearsed, when it was not
+    actions_skipped: str | None = None  # why the actions were not, when they were not
 
     @property
     def passed(self) -> bool:
@@ -71,6 +72,7 @@ class SmokeResult:
             ],
             "failures": self.failures(),
             "skipped": self.skipped,
+            "actions_skipped": self.actions_skipped,
         }
 
 

@@ -14,11 +14,12 @@ Roles:
     launch file (data clients are started the same way by the rehearsal). It finds its
     interfaces in the plan by the node name rospy resolved, creates each one under its
     *interface name* so that only the remappings decide the ROS name, publishes,
-    subscribes, serves and calls, and records what it saw in a status file.
+    subscribes, serves and calls, serves and sends action goals with actionlib
+    (``standin_action.py``), and records what it saw in a status file.
 ``endpoint``
     The container's Rapyuta endpoint: its interfaces use the model's ROS names and relay
-    data and service calls to the peer endpoints (over XML-RPC on the loopback
-    interface), exactly along the routes of the product's flow table: an endpoint
+    data, service calls and actions' five topics to the peer endpoints (over XML-RPC on
+    the loopback interface), exactly along the routes of the product's flow table: an endpoint
     subscriber passes a message over a connection when the plan lists the message's
     publisher and the connections it crossed so far for it.
 
@@ -106,6 +107,12 @@ def _node_interface(interface: dict, node_id: str, nodes: dict, status: Status):
                     entry["values"].append([source, [getattr(message, f) for f in fields]])
 
         return rospy.Subscriber(name, message_class(type_name), received, queue_size=1000)
+    if kind in ("action_server", "action_client"):  # only a plan with actions needs actionlib
+        import standin_action
+
+        if kind == "action_server":
+            return standin_action.serve(interface, own_id, status)
+        return standin_action.send_goals(interface, own_id, status)
     if kind == "server":
         cls = service_class(type_name)
         entry = status.interface(name, rospy.resolve_name(name))

@@ -21,11 +21,18 @@ import rospy
 MESSAGE = "string TYPE={}\nstring source\nstring route\nuint32 seq\n"
 REQUEST = "string TYPE={}\nstring client\nuint32 seq\n"
 RESPONSE = "string TYPE={}\nstring server\n"
+# An action's goal, result and feedback (actionlib wraps each in its Action* message):
+# the client's id and the goal's number go out, the server's id comes back with them
+GOAL = "string TYPE={}\nstring client\nuint32 seq\n"
+RESULT = "string TYPE={}\nstring server\nstring client\nuint32 seq\n"
+FEEDBACK = "string TYPE={}\nstring server\nuint32 seq\n"
+SEPARATOR = "\n" + "=" * 80 + "\n"  # between the definitions of one genpy text
 PUBLISH_PERIOD = 0.2  # seconds between two messages of a publisher
 CALL_PERIOD = 0.3  # seconds between two calls of a client
 
 _messages: dict[str, object] = {}
 _services: dict[str, object] = {}
+_actions: dict[str, dict[str, object]] = {}
 DEFINITIONS: dict[str, str] = {}  # the plan's data-typed messages, by type
 TRACKING = ("source", "route", "seq")
 VALUES_KEPT = 2000  # values a subscriber records, at most
@@ -94,6 +101,45 @@ def service_class(type_name: str):
     return _services[type_name]
 
 
+def action_classes(type_name: str) -> dict[str, object]:
+    """The messages of action ``type_name`` (``pkg/Name``) by type: ``pkg/NameAction``,
+    the specification actionlib's server and client take, and the ``ActionGoal``,
+    ``ActionResult`` and ``ActionFeedback`` messages its topics carry, generated once per
+    process from synthetic goal, result and feedback definitions around actionlib's own
+    ``Header``, ``GoalID`` and ``GoalStatus`` (so the topics' types are the ones the
+    master shows for the real action, and no message package is needed)."""
+    if type_name not in _actions:
+        import actionlib_msgs.msg
+        import std_msgs.msg
+
+        def own(cls) -> str:  # a class's own definition, without those it depends on
+            return cls._full_text.split(SEPARATOR)[0].strip() + "\n"
+
+        t = type_name
+        texts = {
+            f"{t}ActionGoal": f"Header header\nactionlib_msgs/GoalID goal_id\n{t}Goal goal\n",
+            f"{t}ActionResult": f"Header header\nactionlib_msgs/GoalStatus status\n"
+            f"{t}Result result\n",
+            f"{t}ActionFeedback": f"Header header\nactionlib_msgs/GoalStatus status\n"
+            f"{t}Feedback feedback\n",
+            f"{t}Goal": GOAL.format(t),
+            f"{t}Result": RESULT.format(t),
+            f"{t}Feedback": FEEDBACK.format(t),
+            "std_msgs/Header": own(std_msgs.msg.Header),
+            "actionlib_msgs/GoalID": own(actionlib_msgs.msg.GoalID),
+            "actionlib_msgs/GoalStatus": own(actionlib_msgs.msg.GoalStatus),
+        }
+        core = (f"{t}ActionGoal action_goal\n{t}ActionResult action_result\n"
+                f"{t}ActionFeedback action_feedback\n")  # fmt: skip
+        text = core + "".join(f"{SEPARATOR}MSG: {name}\n{body}" for name, body in texts.items())
+        classes = genpy.dynamic.generate_dynamic(f"{t}Action", text)
+        # the topics actionlib itself publishes with its own classes
+        classes["actionlib_msgs/GoalID"] = actionlib_msgs.msg.GoalID
+        classes["actionlib_msgs/GoalStatusArray"] = actionlib_msgs.msg.GoalStatusArray
+        _actions[type_name] = classes
+    return _actions[type_name]
+
+
 def serialize(message) -> bytes:
     buffer = io.BytesIO()
     message.serialize(buffer)
@@ -121,6 +167,7 @@ class Status:
                 "resolved": resolved,
                 "received": {},
                 "answered_by": {},
+                "feedback_from": {},
                 "sent": 0,
                 "served": 0,
                 "last_error": None,

@@ -1,6 +1,6 @@
 """The ``endpoint`` role of the smoke stand-ins: a container's Rapyuta endpoint, relaying
-topic data and service calls to the peer endpoints over XML-RPC, along the product's
-flow table. Run by the Python that has rospy, imported by ``standin.py``.
+topic data, service calls and actions' topics to the peer endpoints over XML-RPC, along
+the product's flow table. Run by the Python that has rospy, imported by ``standin.py``.
 """
 
 from __future__ import annotations
@@ -16,6 +16,7 @@ from xmlrpc.server import SimpleXMLRPCServer
 import rospy
 from standin_common import (
     Status,
+    action_classes,
     load_plan,
     message_class,
     serialize,
@@ -55,7 +56,8 @@ def run_endpoint() -> None:
 class _Relay:
     """Forwards along the endpoint connections: topic data from a ``sub_`` interface to
     the peers' ``pub_`` (each message over the connections its flows take), service calls
-    from a ``srv_`` interface to the peer's ``cli_``."""
+    from a ``srv_`` interface to the peer's ``cli_``, an action's topics between the
+    ``srv_`` standing in for its server and the ``cli_`` by the server, both ways."""
 
     def __init__(self, plan: dict, container: str, status: Status) -> None:
         self.plan, self.container, self.status = plan, container, status
@@ -94,6 +96,8 @@ class _Relay:
                         self.status.set(entry, "last_error", f"relay: {error}"[:200])
 
             self.keep.append(rospy.Subscriber(ros_name, message_class(type_name), received))
+        elif kind in ("action_server", "action_client"):
+            self._add_action(interface, entry, kind == "action_server")
         elif kind == "server":
             cls = service_class(type_name)
 
@@ -107,6 +111,39 @@ class _Relay:
             self.keep.append(rospy.Service(ros_name, cls, answer))
         else:
             self.proxies[name] = rospy.ServiceProxy(ros_name, service_class(type_name))
+
+    def _add_action(self, interface: dict, entry: dict, stands_for_server: bool) -> None:
+        """An action's five topics, as the Rapyuta bridge carries them: the stand-in for
+        a server elsewhere takes what the clients here send (goals, cancels) and passes
+        it to the peer endpoint's client, which publishes it by the server; what comes
+        back (status, feedback, results) takes the reverse way to every endpoint whose
+        clients it answers (``peers``)."""
+        name, ros_name = interface["name"], interface["ros_name"]
+        classes = action_classes(interface["type"])
+        forward = interface.get("forward")
+        peers = [forward] if stands_for_server and forward else interface.get("peers") or []
+        for part in interface["parts"]:
+            topic, cls = f"{ros_name}/{part['suffix']}", classes[part["type"]]
+            key = f"{name}/{part['suffix']}"
+            if part["from_consumer"] != stands_for_server:
+                self.publishers[key] = rospy.Publisher(topic, cls, queue_size=100)
+                self.entries[key] = entry
+                continue
+
+            def received(message, suffix=part["suffix"]) -> None:
+                if suffix == "goal":
+                    self.status.count(entry, "served")
+                elif suffix == "result":
+                    self.status.count(entry, "answered_by", message.result.server)
+                elif suffix == "feedback":
+                    self.status.count(entry, "feedback_from", message.feedback.server)
+                for container, peer in peers:
+                    try:
+                        self._peer(container).deliver(f"{peer}/{suffix}", serialize(message))
+                    except (OSError, xmlrpc.client.Error, KeyError) as error:
+                        self.status.set(entry, "last_error", f"relay: {error}"[:200])
+
+            self.keep.append(rospy.Subscriber(topic, cls, received, queue_size=100))
 
     def _peer(self, container: str) -> xmlrpc.client.ServerProxy:
         path = status_path(

@@ -56,8 +56,9 @@ def command(bundle: Path, timeout: float, as_json: bool) -> None:
     finally:
         if live:
             click.echo("\r\033[K", nl=False, err=True)
-    if result.skipped:
-        click.echo(f"warning: {result.skipped}", err=True)
+    for skipped in (result.skipped, result.actions_skipped):
+        if skipped:
+            click.echo(f"warning: {skipped}", err=True)
     if as_json:
         click.echo(json.dumps(result.as_dict(), indent=2))
     else:
