@@ -62,8 +62,10 @@ def test_a_tsm_bridge_joins_a_client_to_a_server_of_its_family() -> None:
         bridge R.N.s -> C.M.srv
         """
     ) == [
-        "bad.tsm:17:21: error: M.out is a Publisher, not a service server",
-        "bad.tsm:18:21: error: M.cli is a ServiceClient, not a service server",
+        "bad.tsm:17:21: error: kind mismatch: R.N.c (bad.tsm:4:15) is a service client, C.M.out "
+        "(bad.tsm:14:19) is a topic publisher, not a service server",
+        "bad.tsm:18:21: error: kind mismatch: R.N.c (bad.tsm:4:15) is a service client, C.M.cli "
+        "(bad.tsm:13:15) is a service client, not a service server",
         "bad.tsm:19:12: error: N.p is a Publisher, not a service client or action client",
         "bad.tsm:20:12: error: N.s is a Subscriber, not a service client or action client",
     ]
@@ -82,10 +84,12 @@ def test_rm_connections_take_the_kinds_they_join(tmp_path: Path) -> None:
         "farm.rm:5:5: error: Planner.plan is a ServiceServer, not a publisher or subscriber",
         "farm.rm:6:5: error: Navigator.plan is a ServiceClient, not a publisher or subscriber",
         "farm.rm:7:5: error: Navigator.cmd is a Publisher, not a service client or action client",
-        "farm.rm:8:5: error: Planner.route is a Publisher, not a service server",
+        "farm.rm:8:5: error: kind mismatch: Tractor.Navigator.plan (farm.tsm:25:20) is a service "
+        "client, Cloud.Planner.route (farm.tsm:61:20) is a topic publisher, not a service server",
         "farm.rm:9:5: error: Navigator.route is a Subscriber, not a service client or action "
         "client",
-        "farm.rm:10:5: error: Planner.weeds is a Subscriber, not a service server",
+        "farm.rm:10:5: error: kind mismatch: Tractor.Navigator.plan (farm.tsm:25:20) is a service "
+        "client, Cloud.Planner.weeds (farm.tsm:60:20) is a topic subscriber, not a service server",
     ]
 
 

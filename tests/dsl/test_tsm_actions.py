@@ -131,11 +131,14 @@ def test_a_client_is_bound_only_to_a_server_of_its_own_kind_and_type() -> None:
         }
         """
     ) == [
-        "bad.tsm:4:38: error: M.srv is a ServiceServer, not an action server",
-        "bad.tsm:5:36: error: M.out is a Publisher, not an action server",
-        "bad.tsm:6:64: error: type mismatch: mismatched is move_base_msgs/MoveBase, M.dock is "
-        "dock_msgs/Dock",
-        "bad.tsm:7:38: error: M.dock is an ActionServer, not a service server",
+        "bad.tsm:4:38: error: kind mismatch: R.N.to_service (bad.tsm:4:22) is an action client, "
+        "R.M.srv (bad.tsm:10:18) is a service server, not an action server",
+        "bad.tsm:5:36: error: kind mismatch: R.N.to_topic (bad.tsm:5:22) is an action client, "
+        "R.M.out (bad.tsm:11:19) is a topic publisher, not an action server",
+        "bad.tsm:6:64: error: type mismatch: R.N.mismatched (bad.tsm:6:22) is "
+        "move_base_msgs/MoveBase, R.M.dock (bad.tsm:12:25) is dock_msgs/Dock",
+        "bad.tsm:7:38: error: kind mismatch: R.N.service_to_action (bad.tsm:7:15) is a service "
+        "client, R.M.dock (bad.tsm:12:25) is an action server, not a service server",
     ]
 
 
@@ -158,12 +161,18 @@ def test_a_bridge_carries_an_action_client_to_an_action_server_only() -> None:
         bridge R.N.goal -> C.M.srv
         bridge R.N.plan -> C.M.move_base
         bridge R.N.goal -> C.M.other
+        bridge C.M.move_base -> R.N.goal
         """
     ) == [
-        "bad.tsm:14:24: error: M.srv is a ServiceServer, not an action server",
-        "bad.tsm:15:24: error: M.move_base is an ActionServer, not a service server",
-        "bad.tsm:16:24: error: type mismatch: goal is move_base_msgs/MoveBase, M.other is "
-        "dock_msgs/Dock",
+        "bad.tsm:14:24: error: kind mismatch: R.N.goal (bad.tsm:3:22) is an action client, "
+        "C.M.srv (bad.tsm:10:18) is a service server, not an action server",
+        "bad.tsm:15:24: error: kind mismatch: R.N.plan (bad.tsm:4:15) is a service client, "
+        "C.M.move_base (bad.tsm:9:25) is an action server, not a service server",
+        "bad.tsm:16:24: error: type mismatch: R.N.goal (bad.tsm:3:22) is move_base_msgs/MoveBase, "
+        "C.M.other (bad.tsm:11:25) is dock_msgs/Dock",
+        "bad.tsm:17:12: error: action bridged the wrong way: C.M.move_base (bad.tsm:9:25) is an "
+        "action server and R.N.goal (bad.tsm:3:22) is an action client; calls run from the "
+        "client to its server: write 'bridge R.N.goal -> C.M.move_base'",
     ]
 
 
@@ -178,15 +187,27 @@ def test_rm_connect_binds_an_action_client_like_a_service_client(tmp_path: Path)
         + "    connect Behaviour.navigate to server Planner.move_base\n"
         + "    connect Behaviour.navigate to server Planner.cmd_vel\n"
         + "    connect Lidar.scan to server Planner.move_base\n"
+        + "    connect Planner.move_base to server Behaviour.navigate\n"
+        + "    connect bridge Cloud.Planner.move_base -> Robot.Behaviour.navigate\n"
         + "}\n",
         encoding="utf-8",
     )
     with pytest.raises(ModelError) as caught:
         rm.load(tmp_path / "navigation.rm")
     assert [str(d).replace(f"{tmp_path}/", "") for d in caught.value.diagnostics] == [
-        "navigation.rm:7:5: error: Planner.cmd_vel is a Publisher, not an action server",
+        "navigation.rm:7:5: error: kind mismatch: Robot.Behaviour.navigate (navigation.tsm:20:22) "
+        "is an action client, Cloud.Planner.cmd_vel (navigation.tsm:36:19) is a topic publisher, "
+        "not an action server",
         "navigation.rm:8:5: error: Lidar.scan is a Publisher, not a service client or action "
         "client",
+        "navigation.rm:9:5: error: action connected the wrong way: Cloud.Planner.move_base "
+        "(navigation.tsm:37:25) is an action server and Robot.Behaviour.navigate "
+        "(navigation.tsm:20:22) is an action client; calls run from the client to its server: "
+        "write 'connect Robot.Behaviour.navigate to server Cloud.Planner.move_base'",
+        "navigation.rm:10:5: error: action bridged the wrong way: Cloud.Planner.move_base "
+        "(navigation.tsm:37:25) is an action server and Robot.Behaviour.navigate "
+        "(navigation.tsm:20:22) is an action client; calls run from the client to its server: "
+        "write 'connect bridge Robot.Behaviour.navigate -> Cloud.Planner.move_base'",
     ]
 
 

@@ -34,10 +34,11 @@ from spl.dsl.rm.messages import (
 from spl.dsl.rm.models import referenced_models
 from spl.dsl.rm.names import BRIDGE_FORMS, NameProblem, Names
 from spl.dsl.textx_text import model_from_text
+from spl.dsl.tsm.calling import call_problem
 from spl.dsl.tsm.data import PERIOD_RANGE, period_fits
 from spl.dsl.workspace import Workspace, text_of
 from spl.metamodels import rm as rm_metamodel, tsm as tsm_metamodel
-from spl.metamodels.interface_kinds import calling_titles, kind_of, side, with_article
+from spl.metamodels.interface_kinds import kind_of, with_article
 
 if TYPE_CHECKING:
     from spl.metamodels import fm_types, rm_types, tsm_types
@@ -45,6 +46,9 @@ if TYPE_CHECKING:
 # The one product-line check (spl check DIR, resolver/line_checks.py) this parser makes:
 # a migration must name another, existing container.
 MIGRATION_TARGET = "SPL013"
+# The statements binding a client to its server (rm.tx)
+CONNECT_SERVER = ("connect {client} to server {server}", "connected")
+CONNECT_BRIDGE = ("connect bridge {client} -> {server}", "bridged")
 
 
 @dataclass
@@ -277,23 +281,19 @@ class _Builder:
         return self.names.is_created(existing) and same_topic(existing, topic)
 
     def _service_pair(
-        self, stmt: Any, client: tsm_types.Interface, server: tsm_types.Interface
+        self, stmt: Any, client: Any, server: Any, written: tuple[str, str]
     ) -> tuple[tsm_types.ServiceClient, tsm_types.ServiceServer] | None:
-        """The client and server of a statement when their kinds and types agree, else None."""
-        callers = calling_titles()
-        if not self._typed(stmt, client, kind_of(client).calls, callers):
-            return None
-        provider = side(kind_of(client).family, True)
-        if not self._typed(stmt, server, kind_of(server) is provider, provider.title):
-            return None
-        if not self._same_type(stmt, client, server):
+        """The client and server of a statement ``written`` so, if they agree, else None."""
+        problem = call_problem(client, server, *written)
+        if problem is not None:
+            self.error(stmt, problem.message)
             return None
         return cast("tsm_types.ServiceClient", client), cast("tsm_types.ServiceServer", server)
 
     def _ConnectServerStmt(self, stmt):
         client = self.names.interface(stmt.client)
         server = self.names.interface(stmt.server)
-        pair = self._service_pair(stmt, client, server)
+        pair = self._service_pair(stmt, client, server, CONNECT_SERVER)
         if pair is None:
             return None
         client, server = pair
@@ -318,7 +318,7 @@ class _Builder:
                 targetTopic=self._topic_reference(target.container, target.topic.name, stmt),
             )
         if source.interface is not None and target.interface is not None:
-            pair = self._service_pair(stmt, source.interface, target.interface)
+            pair = self._service_pair(stmt, source.interface, target.interface, CONNECT_BRIDGE)
             if pair is None:
                 return None
             client, server = pair

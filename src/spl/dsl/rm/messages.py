@@ -10,6 +10,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, cast
 
 from spl.core.diagnostics import location_of
+from spl.dsl.tsm.calling import declared_name
 
 if TYPE_CHECKING:
     from spl.metamodels import tsm_types
@@ -72,12 +73,6 @@ def new_topic_ros_name_clash(
         f"{other.name} is ({at(other)}), but carries {topic.type}, not {other.type}: one ROS "
         "topic carries one message type"
     )
-
-
-def declared_name(interface: tsm_types.Interface) -> str:
-    """``CONTAINER.NODE.INTERFACE`` of a .tsm interface, qualified by the declaring container."""
-    node = cast("tsm_types.Node", interface.eContainer())  # a node's (the .rm names those)
-    return f"{node.eContainer().name}.{node.name}.{interface.name}"
 
 
 def not_served_here(

@@ -12,8 +12,9 @@ from collections.abc import Iterator
 from itertools import count
 from typing import TYPE_CHECKING, Any
 
+from spl.dsl.tsm.calling import call_problem
 from spl.dsl.tsm.names import Names, find_interface
-from spl.metamodels.interface_kinds import TOPIC, InterfaceKind, calling_titles, kind_of, side
+from spl.metamodels.interface_kinds import TOPIC, InterfaceKind, kind_of, side
 
 if TYPE_CHECKING:
     from spl.metamodels import tsm_types
@@ -153,21 +154,12 @@ class Bridges:
         server = self._member(containers[1], *target)
         if client is None or server is None:
             return
-        client_kind, server_kind = kind_of(client), kind_of(server)
-        if not client_kind.calls:
-            callers = calling_titles()
-            names.error(
-                source[1],
-                f"{source[0].name}.{client.name} is {client_kind.a_class}, not a {callers}",
-            )
+        problem = call_problem(client, server, "bridge {client} -> {server}")
+        if problem is not None:
+            names.error(target[1] if problem.at_server else source[1], problem.message)
             return
+        client_kind = kind_of(client)
         provider = side(client_kind.family, True)
-        if server_kind is not provider:
-            names.error(
-                target[1],
-                f"{target[0].name}.{server.name} is {server_kind.a_class}, not {provider.a_title}",
-            )
-            return
         if client.server is not None:
             if client.server.eContainer() is containers[0].endpoint:
                 first = self._from[id(client.server)][0]
@@ -181,15 +173,8 @@ class Bridges:
                     source[1],
                     f"client {source[0].name}.{client.name} is already bound to "
                     f"{client.server.eContainer().name}.{client.server.name}; declare it "
-                    f"unbound ('calls {client.name} : TYPE') to bridge it",
+                    f"unbound ('{client_kind.keyword} {client.name} : TYPE') to bridge it",
                 )
-            return
-        if client.type and server.type and client.type != server.type:
-            names.error(
-                target[1],
-                f"type mismatch: {client.name} is {client.type}, "
-                f"{target[0].name}.{server.name} is {server.type}",
-            )
             return
         stand_in = self._endpoint_interface(
             tree, containers[0], provider, endpoint_server_name(server), server

@@ -15,9 +15,10 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING, Any, cast
 
 from spl.dsl import literals, rosnames
+from spl.dsl.tsm.calling import call_problem
 from spl.dsl.tsm.names import Names, find_interface
 from spl.dsl.tsm.syntax import decode, kind
-from spl.metamodels.interface_kinds import KINDS, InterfaceKind, kind_of, side
+from spl.metamodels.interface_kinds import KINDS, InterfaceKind, kind_of
 
 if TYPE_CHECKING:
     from spl.dsl.tsm import tree as tsm_tree
@@ -176,7 +177,8 @@ def _refuse_generated_type(
     names: Names, interface_kind: InterfaceKind, interface: Any, tree: tsm_tree.TypeRef
 ) -> None:
     """A type ROS generates from the interface's own (``MoveBaseAction`` from the action
-    ``MoveBase``) is refused with the type to write instead (docs/tsm.md, "Actions")."""
+    ``MoveBase``) is refused with the type to write instead (docs/tsm.md, "Actions"); the
+    interface takes that type, so its bindings are not refused for it once more."""
     package, _, name = interface.type.partition("/")
     for ending in interface_kind.family.generated_types:
         if name.endswith(ending) and len(name) > len(ending):
@@ -187,6 +189,7 @@ def _refuse_generated_type(
                 f"message generated from {own}; write the {interface_kind.family.name}'s own "
                 f"type, {own}",
             )
+            interface.type = own
             return
 
 
@@ -248,12 +251,9 @@ def _connect_server(names: Names, client: Any, tree: tsm_tree.Calls) -> None:
     if server is None:
         names.error(server_ref, f"unknown server {server_ref.name} of node {node.name}")
         return
-    server_kind = side(client_kind.family, True)
-    if kind_of(server) is not server_kind:
-        names.error(
-            server_ref,
-            f"{node.name}.{server.name} is {kind_of(server).a_class}, not {server_kind.a_title}",
-        )
+    problem = call_problem(client, server)
+    if problem is not None:
+        names.error(server_ref, problem.message)
         return
     _bind(names, client, "server", server, server_ref, f"{node.name}.{server.name}")
 
