@@ -1,0 +1,93 @@
+"""``spl import launch FILE... -o DIR``: a product line from ROS 1 launch files.
+
+The launch files are read by roslaunch's own loader (Debian ``python3-roslaunch``) once
+per combination of the ``--arg`` values; what varies between the combinations becomes
+features, optional nodes and parameter statements (docs/import.md). Whatever could not
+be carried over is listed, located, on stderr and in ``DIR/import-report.txt``. Refused
+input (no ROS, a hostile file, a path outside the package path) writes nothing.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import click
+
+
+@click.group("import")
+def command() -> None:
+    """Start a product line from what a team already runs (docs/import.md)."""
+
+
+@command.command("launch")
+@click.argument(
+    "files",
+    metavar="FILE...",
+    nargs=-1,
+    required=True,
+    type=click.Path(exists=True, dir_okay=False, path_type=Path),
+)
+@click.option(
+    "-o",
+    "--out",
+    "out",
+    required=True,
+    type=click.Path(path_type=Path),
+    help="The folder of the new product line (new or empty).",
+)
+@click.option(
+    "--arg",
+    "arguments",
+    multiple=True,
+    metavar="NAME=V1,V2,...",
+    help="A launch argument and the values products may give it (repeatable).",
+)
+@click.option(
+    "--package-path",
+    "package_path",
+    multiple=True,
+    type=click.Path(exists=True, file_okay=False, path_type=Path),
+    help="A folder of ROS packages, for $(find pkg) (repeatable).",
+)
+@click.option(
+    "--robot",
+    "robots",
+    multiple=True,
+    metavar="NODE_PATTERN",
+    help="Nodes (ROS name, name or machine; shell pattern) that run on the robot; "
+    "the others go to the cloud. Without it, every node is on the robot.",
+)
+def launch(
+    files: tuple[Path, ...],
+    out: Path,
+    arguments: tuple[str, ...],
+    package_path: tuple[Path, ...],
+    robots: tuple[str, ...],
+) -> None:
+    """Import the ROS 1 launch FILEs into a product line in DIR.
+
+    One product per combination of the --arg values, named by the values joined with
+    '_' in the order of the --arg options (products/waffle_pi_hector.yaml).
+    """
+    from spl.importers.launch import ImportRefused, import_launch, parse_argument, write_line
+    from spl.pipeline import check_models
+
+    def errors_of(folder: Path) -> list[str]:
+        return [str(d) for d in check_models(folder, count=False)[1] if d.severity == "error"]
+
+    try:
+        parsed = [parse_argument(a) for a in arguments]
+        imported = import_launch(list(files), parsed, list(package_path), robots)
+        write_line(imported, out, errors_of)
+    except ImportRefused as exc:
+        click.echo(f"error: {exc}", err=True)
+        raise SystemExit(1) from None
+    for warning in imported.warnings:
+        click.echo(str(warning), err=True)
+    line = imported.line
+    optional = sum(n.optional for n in line.nodes)
+    click.echo(
+        f"imported {line.name}: {len(line.products)} products, {len(line.nodes)} nodes "
+        f"({optional} optional), {len(imported.warnings)} things not carried over "
+        f"(listed in {out / 'import-report.txt'}); wrote {len(imported.files)} files to {out}"
+    )
