@@ -97,7 +97,10 @@ def _testcase(result: CaseResult) -> etree._Element:
     case = etree.Element(
         "testcase", classname=_xml_text(result.classname), name=_xml_text(result.name)
     )
-    if result.outcome != "passed":
+    if result.outcome == "skipped":  # its bundle is unchanged: messages say since when
+        reason = result.messages[0] if result.messages else "skipped"
+        etree.SubElement(case, "skipped", message=_xml_text(reason))
+    elif result.outcome != "passed":
         first = result.messages[0] if result.messages else "failed"
         kind = "ModelError" if result.outcome == "failed" else "InternalError"
         if result.messages and result.messages == result.product_warnings:
@@ -136,7 +139,7 @@ def _report(
         suite = etree.SubElement(root, "testsuite", name=_xml_text(suite_name))
         for key, value in _counts(members).items():
             suite.set(key, value)
-        suite.set("skipped", "0")
+        suite.set("skipped", str(sum(1 for c in members if c.find("skipped") is not None)))
         suite.extend(members)
     return etree.tostring(root, xml_declaration=True, encoding="UTF-8", pretty_print=True)
 

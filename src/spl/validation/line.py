@@ -32,15 +32,16 @@ from typing import TYPE_CHECKING, Literal
 
 from spl import __version__
 from spl.core.cyclic_gc import without_cyclic_gc
-from spl.core.diagnostics import ModelError, counted
+from spl.core.diagnostics import ModelError
 from spl.core.lifetime import checkpointed, die_with_parent, raise_if_signalled, unwind_on_signals
 from spl.pipeline import ProductWarning, load_line
 from spl.resolver.resolution.product_line import ProductLine
 
 if TYPE_CHECKING:
     from spl.generators.bundle.inputs import BundleMemo
+    from spl.validation.bundle_changes import Version
 
-Outcome = Literal["passed", "failed", "error"]
+Outcome = Literal["passed", "failed", "error", "skipped"]
 LINE_CASE = "(product line)"  # the test case of a line whose models do not load
 
 
@@ -66,7 +67,9 @@ class CaseResult:
 
     @property
     def passed(self) -> bool:
-        return self.outcome == "passed"
+        """Nothing failed: checked and found good, or skipped as its bundle is unchanged
+        (``--changed-from``, whose ``messages`` say since when)."""
+        return self.outcome in ("passed", "skipped")
 
     @property
     def product_warnings(self) -> tuple[str, ...]:
@@ -89,6 +92,9 @@ class LoadedLine:
     name: str
     line: ProductLine | None
     problems: tuple[str, ...] = ()
+    # the version compared with (--changed-from, --since): its products whose bundles
+    # are the same are skipped
+    base: Version | None = None
 
 
 def load_lines(directories: Iterable[Path]) -> list[LoadedLine]:
@@ -209,16 +215,24 @@ class CaseChecks:
     diagrams: bool = False
     # what the run's bundles share (bundle/inputs.py): one per run; None: a bundle its own
     memo: BundleMemo | None = None
+    # the skip's reason for a product whose bundle its line's ``base`` derives alike
+    unchanged: str = "bundle unchanged"
 
 
 def run_case(
-    line: ProductLine, classname: str, case: ProductCase, checks: CaseChecks = CaseChecks()
+    line: ProductLine,
+    classname: str,
+    case: ProductCase,
+    checks: CaseChecks = CaseChecks(),
+    base: Version | None = None,
 ) -> CaseResult:
     """Resolve one product, generate its bundle in memory and validate every file;
-    then, when the files are valid, run ``checks.rehearse`` on them."""
+    then, when the files are valid, run ``checks.rehearse`` on them. With the line's
+    older version ``base``, a product whose bundle it derives alike is skipped."""
     from spl import pipeline
     from spl.generators.bundle.options import BundleOptions
     from spl.resolver.resolution.product_selection import load_selection_file, selection_from_list
+    from spl.validation.bundle_changes import Version, unchanged
 
     start = time.perf_counter()
     try:
@@ -228,6 +242,10 @@ def run_case(
             selection = selection_from_list(",".join(case.features), name="_".join(case.features))
         options = BundleOptions(render_diagrams=checks.diagrams)
         derivation = pipeline.derive(line, selection, options, checks.memo)
+        if base is not None and unchanged(
+            base, Version(line.directory, line), case, derivation, options, checks.memo
+        ):
+            return CaseResult(classname, case.name, "skipped", (checks.unchanged,))
         problems = pipeline.validate(derivation)
         checked = ""
         if checks.rehearse is not None and not problems:
@@ -271,7 +289,7 @@ def run_planned(loaded: LoadedLine, case: ProductCase, checks: CaseChecks) -> Ca
     if loaded.line is None:
         return CaseResult(loaded.name, LINE_CASE, "failed", loaded.problems)
     with without_cyclic_gc("dropped"):  # one product built, used and dropped as a whole
-        return run_case(loaded.line, loaded.name, case, checks)
+        return run_case(loaded.line, loaded.name, case, checks, loaded.base)
 
 
 def _run_in_worker(case: ProductCase) -> CaseResult:
@@ -353,47 +371,3 @@ def _results(cases: list[ProductCase], jobs: int) -> Iterator[CaseResult]:
     chunk = max(1, min(16, len(rest) // (jobs * 8)))  # products given to a worker at once
     workers = ForkedWorkers(rest, _run_in_forked_worker, _lost, jobs, _start_worker, chunk)
     yield from workers.results()
-
-
-def summary(results: list[CaseResult]) -> str:
-    """``N passed, K of them with warnings, M failed``: K counts the products with a
-    warning of their own (not one about this machine)."""
-    passed = sum(1 for r in results if r.passed)
-    warned = sum(1 for r in results if r.passed and r.product_warnings)
-    noted = f", {warned} of them with warnings" if warned else ""
-    return f"{passed} passed{noted}, {len(results) - passed} failed"
-
-
-def strict(results: list[CaseResult]) -> list[CaseResult]:
-    """``--strict``: a product that resolves with warnings of its own (an input nothing
-    feeds, SPL045, an output it cannot have, ...) fails, those warnings its failure's
-    messages (docs/ci.md)."""
-    return [
-        replace(r, outcome="failed", messages=r.product_warnings)
-        if r.passed and r.product_warnings
-        else r
-        for r in results
-    ]
-
-
-def machine_notes(results: list[CaseResult]) -> list[str]:
-    """Each warning about this machine once, with how many products it concerns
-    (``... (this machine, for 5 products)``): said once for the run, not under every
-    product's line (docs/ci.md)."""
-    products: dict[str, int] = {}
-    for result in results:
-        for text in dict.fromkeys(result.machine_warnings):
-            products[text] = products.get(text, 0) + 1
-    return [f"{text} (this machine, for {counted(n, 'product')})" for text, n in products.items()]
-
-
-def describe(result: CaseResult) -> list[str]:
-    """Plain-text lines for one result (CI logs): a status line, then its messages and
-    the product's warnings not among them (a warning is no failure, docs/ci.md)."""
-    head = {"passed": "ok  ", "failed": "FAIL", "error": "ERROR"}[result.outcome]
-    checked = f"  ({result.checked})" if result.checked else ""
-    notes = tuple(w for w in result.product_warnings if w not in result.messages)
-    return [
-        f"{head} {result.classname} :: {result.name}{checked}",
-        *(f"    {m}" for m in result.messages + notes),
-    ]

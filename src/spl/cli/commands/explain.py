@@ -3,10 +3,15 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import click
 
 from spl.cli.commands.selection_options import selection_from_options, selection_options
+
+if TYPE_CHECKING:
+    from spl.resolver.resolution.engine import Resolution
+    from spl.resolver.resolution.product_line import ProductLine
 
 
 @click.command("explain")
@@ -28,9 +33,8 @@ def command(
     interface (Container.endpoint.name) or a cloud instance by its tag
     (Container_robotID, Container_group, Container_public), deployed or not."""
     from spl import pipeline
-    from spl.dsl.fm.language import all_features
-    from spl.resolver.resolution.explanation import explanation, qualified_candidates
-    from spl.resolver.resolution.instance_explanation import instance_explanation, robot_ids
+    from spl.resolver.resolution.explanation import qualified_candidates
+    from spl.resolver.resolution.instance_explanation import robot_ids
 
     line = pipeline.load_line(directory)
     selection = selection_from_options(features, sharing, settings, capabilities)
@@ -41,6 +45,24 @@ def command(
             f"no robot {robot!r} in this product (its robots: {', '.join(known) or 'none'})",
             param_hint="--robot",
         )
+    lines = explained(line, resolution, element, robot)
+    if lines is None:
+        candidates = qualified_candidates(line.tsm, resolution.product.system, element)
+        hint = f"; did you mean {', '.join(candidates)}?" if candidates else ""
+        raise click.BadParameter(f"no element named {element!r} in {directory}{hint}")
+    for text in lines:
+        click.echo(text)
+
+
+def explained(
+    line: ProductLine, resolution: Resolution, element: str, robot: str | None = None
+) -> list[str] | None:
+    """Every line ``spl explain`` prints about ``element`` in the resolved product (``spl
+    diff`` gives a changed file's reason in these words); None when no model names it."""
+    from spl.dsl.fm.language import all_features
+    from spl.resolver.resolution.explanation import explanation
+    from spl.resolver.resolution.instance_explanation import instance_explanation
+
     lines: list[str] = []
     if element in {f.name for f in all_features(line.fm)}:
         selected = element in resolution.product.features
@@ -51,8 +73,5 @@ def command(
     about = explanation(line.tsm, resolution.product, resolution.trace, element, robot)
     instance = instance_explanation(resolution.product, element)
     if about is None and instance is None and not lines:
-        candidates = qualified_candidates(line.tsm, resolution.product.system, element)
-        hint = f"; did you mean {', '.join(candidates)}?" if candidates else ""
-        raise click.BadParameter(f"no element named {element!r} in {directory}{hint}")
-    for text in lines + (about or []) + (instance or []):
-        click.echo(text)
+        return None
+    return lines + (about or []) + (instance or [])

@@ -1,6 +1,9 @@
 """``spl validate DIR... [--all | --sample t=2] [--junit FILE] [--jobs N] [--strict]``: CI
 validation.
 
+``--changed-from OLD_DIR`` / ``--since REV``: a product whose bundle the old version of
+its line derives alike is skipped, reported as such (docs/evolution.md, "In CI").
+
 Every product of each line (its ``products/*.yaml``, plus all products or a t-wise
 sample) is resolved and its whole bundle generated in memory and validated; one JUnit
 test case per product, its warnings in its ``system-err`` and under its line. Exit 1
@@ -12,6 +15,7 @@ from __future__ import annotations
 
 import os
 import sys
+import tempfile
 from pathlib import Path
 
 import click
@@ -74,6 +78,20 @@ import click
     is_flag=True,
     help="also render each architecture.svg with Graphviz (one dot process per product)",
 )
+@click.option(
+    "--changed-from",
+    "changed_from",
+    metavar="OLD_DIR",
+    type=click.Path(exists=True, file_okay=False, path_type=Path),
+    help="check only the products whose bundle differs from the one the line in OLD_DIR "
+    "derives (one DIR); the others are reported skipped",
+)
+@click.option(
+    "--since",
+    metavar="REV",
+    help="check only the products whose bundle differs from the one each DIR derived "
+    "at git revision REV; the others are reported skipped",
+)
 def command(
     directories: tuple[Path, ...],
     all_products: bool,
@@ -85,6 +103,8 @@ def command(
     smoke: bool,
     strict: bool,
     diagrams: bool,
+    changed_from: Path | None,
+    since: str | None,
 ) -> None:
     """Resolve every product of the product lines, generate and validate all of its
     artifacts, and report one test case per product (products/*.yaml always included).
@@ -94,15 +114,8 @@ def command(
     it only with --strict; one about this machine is said once and fails nothing."""
     from spl.cli.commands.products import parse_sample
     from spl.validation.junit import junit_xml
-    from spl.validation.line import (
-        CaseChecks,
-        Shard,
-        load_lines,
-        machine_notes,
-        plan_cases,
-        plan_digest,
-        summary,
-    )
+    from spl.validation.line import CaseChecks, Shard, load_lines, plan_cases, plan_digest
+    from spl.validation.report import machine_notes, summary
 
     try:
         part = Shard.parse(shard) if shard is not None else None
@@ -110,6 +123,12 @@ def command(
         raise click.BadParameter(str(exc), param_hint="--shard") from None
     if scheduler is not None and jobs != 1:
         raise click.UsageError("give one of --jobs and --scheduler")
+    if changed_from is not None and since is not None:
+        raise click.UsageError("give one of --changed-from and --since")
+    if changed_from is not None and len(directories) != 1:
+        raise click.UsageError("--changed-from OLD_DIR compares one line DIR")
+    if scheduler is not None and (changed_from is not None or since is not None):
+        raise click.UsageError("--changed-from and --since run on this machine (--jobs)")
     # the workers of a cluster rehearse with their own ROS 1
     rehearse = _rehearsal() if smoke and scheduler is None else None
     if smoke:  # the rehearsals' processes are stopped on Ctrl-C and SIGTERM alike
@@ -122,6 +141,8 @@ def command(
     mode = "all" if all_products else "sample" if t is not None else "listed"
     jobs = jobs or os.cpu_count() or 1
     lines = load_lines(directories)
+    scratch = tempfile.TemporaryDirectory(prefix="spl-validate-")  # the old versions' copies
+    unchanged = _compare_with(lines, changed_from, since, Path(scratch.name))
     try:
         cases = plan_cases(lines, mode, t or 2)
     except ValueError as exc:  # too many combinations for t
@@ -129,9 +150,11 @@ def command(
     plan = plan_digest(lines, cases)
     if part is not None:
         cases = part.of(cases)
-    run = _runner(lines, cases, jobs, scheduler, CaseChecks(rehearse, diagrams), smoke)
+    checks = CaseChecks(rehearse, diagrams, unchanged=unchanged)
+    run = _runner(lines, cases, jobs, scheduler, checks, smoke)
     try:
-        results = _progress(run, len(cases), strict)
+        with scratch:
+            results = _progress(run, len(cases), strict)
     except KeyboardInterrupt:  # workers and rehearsals have stopped what they started
         click.echo("\nvalidate: interrupted; no report written", err=True)
         sys.exit(130)
@@ -173,7 +196,7 @@ def _progress(run, total: int, strict: bool) -> list:
     """Run the cases with a progress bar on a terminal (then the lines of the products
     that failed or have warnings), one line per product otherwise; ``strict``: a product
     with warnings of its own fails."""
-    from spl.validation.line import describe, strict as failing_on_warnings
+    from spl.validation.report import describe, strict as failing_on_warnings
 
     judged = failing_on_warnings if strict else list
     if sys.stderr.isatty():
@@ -205,3 +228,48 @@ def _rehearsal():
     except RosMissing as exc:
         click.echo(f"error: {exc}", err=True)
         sys.exit(2)
+
+
+def _compare_with(lines, changed_from: Path | None, since: str | None, scratch: Path) -> str:
+    """Give each loaded line the old version its products are compared with; the reason
+    an unchanged product is skipped. An old version that cannot be read or loaded skips
+    nothing: said on stderr, and every product of that line is checked."""
+    from spl import pipeline
+    from spl.core.diagnostics import ModelError
+    from spl.validation.bundle_changes import Version
+    from spl.validation.versions import VersionProblem, load_revision
+
+    if changed_from is None and since is None:
+        return "bundle unchanged"
+    for loaded in lines:
+        if loaded.line is None:
+            continue
+        try:
+            if changed_from is not None:
+                loaded.base = Version(changed_from, pipeline.load_line(changed_from))
+            else:
+                assert since is not None
+                loaded.base = load_revision(loaded.directory, since, scratch)
+                if loaded.base is None:
+                    click.echo(
+                        f"note: {loaded.directory} is not in {since}: every product is checked",
+                        err=True,
+                    )
+        except VersionProblem as exc:
+            click.echo(f"error: {exc}", err=True)
+            sys.exit(1)
+        except ModelError as exc:
+            click.echo(
+                f"note: the old version of {loaded.directory} does not load: every product "
+                "is checked",
+                err=True,
+            )
+            for diagnostic in exc.diagnostics:
+                click.echo(f"  {diagnostic}", err=True)
+        if loaded.base is not None:
+            loaded.base.line.formula.backbone()  # computed once, inherited by every worker
+    return (
+        f"bundle unchanged since {since}"
+        if since is not None
+        else f"bundle unchanged from {changed_from}"
+    )
