@@ -79,7 +79,7 @@ class Propagator:
         self.base.update({var[name]: False for name in dead})
         self.everything = (1 << (self.n + 1)) - 2  # bits 1..n
         self.models: list[int] = []
-        for sample in formula.samples[-8:]:
+        for sample in formula.recent:
             self._keep(sample)
         self.remembered: OrderedDict[frozenset[int], Propagation] = OrderedDict()
 

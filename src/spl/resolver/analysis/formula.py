@@ -13,14 +13,21 @@ needs 706 models and 197 ms with CaDiCaL against 118 models and 56 ms with Gluco
 (``bench/fm_analysis.py --solver cadical195`` runs the comparison end to end).
 
 Everything is computed from one :class:`FeatureModelFormula`, which owns one solver and
-every model it found, and keeps each answer; the operations are modules of their own
+keeps each answer; the operations are modules of their own
 (:mod:`spl.resolver.analysis.operations`): backbone (core and dead features), false-optional
 features, exact product counting. Each later operation starts from what the earlier
 ones left: the models found filter its candidates before the solver is asked.
+
+Memory is bounded by the model, not by the number of solver models found: a model is
+folded, as it is found, into what the operations need of it (the literals every model
+so far agrees on, the optional features no model so far has shown absent beside their
+parent, the last few models for the configurator) and dropped. Keeping every model
+took 2.2 GB on an 18,616-feature model (docs/performance.md, "Analysis memory").
 """
 
 from __future__ import annotations
 
+from collections import deque
 from collections.abc import Iterator
 from typing import TYPE_CHECKING
 
@@ -29,7 +36,7 @@ from pysat.solvers import Solver
 from spl.core.cyclic_gc import without_cyclic_gc
 from spl.resolver.analysis.cnf import FeatureModelCNF, encode
 from spl.resolver.analysis.operations.backbone import backbone
-from spl.resolver.analysis.operations.false_optional import false_optional
+from spl.resolver.analysis.operations.false_optional import false_optional, optional_features
 from spl.resolver.analysis.operations.product_count import (
     COUNT_CACHED_CLAUSES,
     COUNT_SECONDS,
@@ -41,6 +48,8 @@ if TYPE_CHECKING:
     from spl.dsl.fm.plain import FmModel
 
 SOLVER_NAME = "glucose4"
+# Models the configurator starts from (spl.resolver.analysis.configuration.Propagator).
+RECENT_MODELS = 8
 
 
 class FeatureModelFormula:
@@ -55,8 +64,13 @@ class FeatureModelFormula:
         self._satisfiable: bool | None = None
         self._backbone: tuple[frozenset[str], frozenset[str]] | None = None
         self._false_optional: list[str] | None = None
-        # every model found so far (``model[v - 1]`` is ``v`` or ``-v``)
-        self.samples: list[list[int]] = []
+        # the feature part of the latest models found (``model[v - 1]`` is ``v`` or ``-v``)
+        self.recent: deque[list[int]] = deque(maxlen=RECENT_MODELS)
+        # feature literals every model found so far has (None: no model yet)
+        self.agreed: set[int] | None = None
+        # optional feature -> parent, for features no model found so far has shown absent
+        # with their parent present (None: no model yet); see operations.false_optional
+        self.unrefuted: dict[int, int] | None = None
 
     # --- plumbing -------------------------------------------------------------------
     def close(self) -> None:
@@ -69,10 +83,20 @@ class FeatureModelFormula:
         self.close()
 
     def sample(self) -> list[int]:
-        """The solver's current model, remembered so later operations can filter their
-        candidates with it before asking the solver."""
-        model = self.solver.get_model()
-        self.samples.append(model)
+        """The feature part of the solver's current model, folded into what later
+        operations filter their candidates with before asking the solver."""
+        model = self.solver.get_model()[: self.cnf.num_features]
+        self.recent.append(model)
+        if self.agreed is None:
+            self.agreed = set(model)
+            self.unrefuted = optional_features(self.cnf)
+        else:
+            self.agreed = {lit for lit in self.agreed if model[abs(lit) - 1] == lit}
+        pending = self.unrefuted
+        if pending:
+            self.unrefuted = {
+                f: p for f, p in pending.items() if not (model[p - 1] > 0 and model[f - 1] < 0)
+            }
         return model
 
     def names(self, variables: set[int] | list[int]) -> list[str]:

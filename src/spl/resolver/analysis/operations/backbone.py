@@ -30,8 +30,7 @@ def backbone(formula: FeatureModelFormula) -> tuple[frozenset[str], frozenset[st
     if not formula.satisfiable():
         return frozenset(), frozenset(cnf.names)
     solver = formula.solver
-    samples = formula.samples
-    candidates = {lit for lit in samples[0][:n] if all(m[abs(lit) - 1] == lit for m in samples)}
+    candidates = set(formula.agreed or ())  # what every model found so far agrees on
     for _ in range(3):  # a few unconstrained flips first: cheap and they remove most
         before = len(candidates)
         solver.set_phases([-lit for lit in candidates])

@@ -12,7 +12,23 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
+    from spl.resolver.analysis.cnf import FeatureModelCNF
     from spl.resolver.analysis.formula import FeatureModelFormula
+
+
+def optional_features(cnf: FeatureModelCNF) -> dict[int, int]:
+    """Variable -> parent's variable of every feature that may be false-optional by the
+    tree alone: modelled as optional, and some constraint touches its subtree. Every
+    model found removes those it shows absent beside their parent
+    (``FeatureModelFormula.unrefuted``)."""
+    var, parent_of = cnf.var, cnf.parent
+    return {
+        var[name]: var[parent]
+        for name in cnf.names[1:]
+        if (parent := parent_of.get(name)) is not None
+        and name not in cnf.modelled_mandatory
+        and name not in cnf.free_optional
+    }
 
 
 def false_optional(formula: FeatureModelFormula) -> list[str]:
@@ -26,8 +42,11 @@ def false_optional(formula: FeatureModelFormula) -> list[str]:
     core, dead = formula.backbone()
     if not formula.satisfiable():
         return []
-    candidates: list[tuple[int, int]] = []
     result: list[int] = []
+    # a model found so far with the parent and without the feature disproves it: those
+    # left are the candidates (each model was folded in as it was found)
+    unrefuted = formula.unrefuted or {}
+    pending: list[tuple[int, int]] = []
     for name in cnf.names[1:]:
         parent = cnf.parent.get(name)
         if parent is None or name in cnf.modelled_mandatory or parent in dead:
@@ -35,14 +54,9 @@ def false_optional(formula: FeatureModelFormula) -> list[str]:
         if name in core:  # in every product, so in every product with its parent
             result.append(cnf.var[name])
             continue
-        if parent in core or name in cnf.free_optional:
+        if parent in core or cnf.var[name] not in unrefuted:
             continue  # a product with the parent lacks the (non-core) feature
-        candidates.append((cnf.var[name], cnf.var[parent]))
-    # a model found so far with the parent and without the feature disproves it; the
-    # list shrinks fast, so filtering model by model costs little
-    pending = candidates
-    for m in formula.samples:
-        pending = [(f, p) for f, p in pending if not (m[p - 1] > 0 and m[f - 1] < 0)]
+        pending.append((cnf.var[name], cnf.var[parent]))
     solver = formula.solver
     while pending:
         f, p = pending.pop(0)
