@@ -55,7 +55,7 @@ def command() -> None:
     multiple=True,
     metavar="NODE_PATTERN",
     help="Nodes (ROS name, name or machine; shell pattern) that run on the robot; "
-    "the others go to the cloud. Without it, every node is on the robot.",
+    "the others go to the cloud. Without it, every node is in one cloud container.",
 )
 def launch(
     files: tuple[Path, ...],

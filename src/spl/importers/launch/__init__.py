@@ -64,7 +64,7 @@ def import_launch(
 
     def is_robot(node: LoadedNode) -> bool:
         if not robot_patterns:
-            return True
+            return False
         names = (node.ros_name, node.name, node.machine)
         return any(fnmatch.fnmatchcase(n, p) for p in robot_patterns for n in names if n)
 
