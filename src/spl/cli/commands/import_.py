@@ -69,13 +69,20 @@ def launch(
     One product per combination of the --arg values, named by the values joined with
     '_' in the order of the --arg options (products/waffle_pi_hector.yaml).
     """
-    from spl.importers.launch import ImportRefused, import_launch, parse_argument, write_line
+    from spl.importers.launch import (
+        ImportRefused,
+        import_launch,
+        parse_argument,
+        refuse_existing,
+        write_line,
+    )
     from spl.pipeline import check_models
 
     def errors_of(folder: Path) -> list[str]:
         return [str(d) for d in check_models(folder, count=False)[1] if d.severity == "error"]
 
     try:
+        refuse_existing(out)
         parsed = [parse_argument(a) for a in arguments]
         imported = import_launch(list(files), parsed, list(package_path), robots)
         write_line(imported, out, errors_of)

@@ -36,7 +36,14 @@ from spl.importers.launch.reading import (
 from spl.importers.launch.values import feature_name
 from spl.importers.launch.variability import ImportedLine, build_line
 
-__all__ = ["ImportRefused", "LaunchImport", "import_launch", "parse_argument", "write_line"]
+__all__ = [
+    "ImportRefused",
+    "LaunchImport",
+    "import_launch",
+    "parse_argument",
+    "refuse_existing",
+    "write_line",
+]
 
 REPORT = "import-report.txt"
 
@@ -87,8 +94,7 @@ def write_line(
     checked there (``check`` gives the errors of a line folder), then renamed into place.
     ``out`` must not exist or be empty: an imported line is a starting point that will
     be edited, never overwritten."""
-    if out.exists() and (not out.is_dir() or any(out.iterdir())):
-        raise ImportRefused(f"{out} exists and is not an empty folder; import into a new one")
+    refuse_existing(out)
     parent = out.parent if str(out.parent) else Path(".")
     parent.mkdir(parents=True, exist_ok=True)
     staging = Path(tempfile.mkdtemp(prefix=f".{out.name}.", dir=parent))
@@ -107,6 +113,12 @@ def write_line(
     except BaseException:
         shutil.rmtree(staging, ignore_errors=True)
         raise
+
+
+def refuse_existing(out: Path) -> None:
+    """Refused: ``out`` exists and is not an empty folder (checked before loading too)."""
+    if out.exists() and (not out.is_dir() or any(out.iterdir())):
+        raise ImportRefused(f"{out} exists and is not an empty folder; import into a new one")
 
 
 def _umask() -> int:

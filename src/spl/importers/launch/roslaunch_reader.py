@@ -94,6 +94,7 @@ class ImportLoader(xmlloader.XmlLoader):
         self.files = 0
         self.depth = 0
         self.node_lines = {}
+        self.ignore_unset_args = False  # roslaunch's command line sets it so
 
     # -- files ------------------------------------------------------------------------
     def _checked_path(self, filename, what):
@@ -206,7 +207,10 @@ class ImportLoader(xmlloader.XmlLoader):
         self.depth += 1
         try:
             if self.depth > MAX_DEPTH:
-                raise Refused(f"includes nested more than {MAX_DEPTH} deep (a cycle?)")
+                filename, line = self.where[-1] if self.where else (context.filename, 0)
+                raise Refused(
+                    f"{filename}:{line}: includes nested more than {MAX_DEPTH} deep (a cycle?)"
+                )
             return super()._include_tag(tag, context, ros_config, default_machine, is_core, verbose)
         finally:
             self.depth -= 1
@@ -234,6 +238,11 @@ class ImportLoader(xmlloader.XmlLoader):
                 self._warn(*where, f"<{tag.tagName}{_named(tag)}> left out: {exc}")
             except Refused:
                 raise
+            except xmlloader.ArgException as exc:
+                raise Refused(
+                    f"{where[0]}:{where[1]}: <{tag.tagName}{_named(tag)}> needs arg '{exc}', "
+                    "which is not set (an argument of the file given: --arg NAME=VALUE)"
+                ) from None
             except RLException as exc:
                 raise Refused(f"{where[0]}:{where[1]}: {_first_line(exc)}") from None
             finally:
