@@ -4,7 +4,7 @@ read back by roslaunch's own loader; ROS 2 remaps the action's one name; Zenoh l
 in action_clients where goals are sent and action_servers where they are served;
 Rapyuta carries the five topics across the bridge, goal and cancel towards the server,
 status, feedback and result back. (``spl smoke`` rehearses them with actionlib:
-tests/cli/test_smoke_actions.py, tests/live/test_smoke_actions.py.)"""
+tests/cli/test_smoke_action_plan.py, tests/live/test_smoke_actions.py.)"""
 
 from __future__ import annotations
 

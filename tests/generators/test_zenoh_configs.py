@@ -157,8 +157,8 @@ def test_paper_product_allow_lists_derived_by_hand():
 
 
 def names_outside(system, robot) -> set[str]:
-    """ROS names of the topics and services nodes of other containers use, and of the
-    robot's topics an endpoint connection takes elsewhere (under another name)."""
+    """ROS names of the topics, services and actions nodes of other containers use, and
+    of the robot's topics an endpoint connection takes elsewhere (under another name)."""
     T = tsm()
     names = set()
     for connection in system.connections:
@@ -173,8 +173,12 @@ def names_outside(system, robot) -> set[str]:
             for interface in node.interfaces:
                 if isinstance(interface, T.Publisher | T.Subscriber) and interface.topic:
                     names.add(topic_ros_name(interface.topic))
-                elif isinstance(interface, T.ServiceServer) and interface.rosName:
+                elif isinstance(interface, T.ServiceServer | T.ActionServer) and interface.rosName:
                     names.add(interface.rosName)
+                elif isinstance(interface, T.ServiceClient | T.ActionClient) and interface.server:
+                    # a server elsewhere, e.g. on the robot, called through an endpoint's
+                    # stand-in named as it is
+                    names |= {interface.server.rosName} - {None}
     return names
 
 
@@ -203,6 +207,7 @@ def test_every_product_configuration_reads_back_with_documented_keys(directory):
         for out_kind, in_kind in (
             ("publishers", "subscribers"),
             ("service_clients", "service_servers"),
+            ("action_clients", "action_servers"),
         ):
             sent = {key for d in places.values() for key in keys(d, out_kind)}
             received = {key for d in places.values() for key in keys(d, in_kind)}

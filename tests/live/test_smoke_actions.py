@@ -3,7 +3,8 @@
 
 Across a bridge, the mission's goals on the rover reach the planner in the cloud and
 its feedback and result come back, through both endpoints; after the planner migrates
-onto the rover, they meet there without any endpoint. Where the Python that runs the
+onto the rover, the mission's goals meet it there without any endpoint, and the cloud
+explorer's, rewired by the migration, cross down to it. Where the Python that runs the
 stand-ins has no actionlib, the rest of the graph is still rehearsed and the actions
 are named in one warning.
 """
@@ -43,16 +44,23 @@ def test_goals_cross_the_bridge_and_feedback_and_results_come_back(tmp_path) -> 
     assert served.startswith("provides action (") and "(0 goals" not in served
 
 
-def test_after_the_migration_the_goals_stay_on_the_rover(tmp_path) -> None:
-    status, report = smoke_json(product("onboard_slam", tmp_path))
+def test_after_the_migration_goals_meet_on_the_rover_and_cross_down_to_it(tmp_path) -> None:
+    status, report = smoke_json(product("onboard_explore", tmp_path))
     assert status == 0 and report["passed"], report["failures"]
     rows = rows_by_interface(report)
+    # the mission's goals meet the migrated planner on the rover, no endpoint between
     navigate = rows["Rover.Mission.navigate"]
     assert navigate["expected"] == f"result and feedback from {PLANNER}"
     assert navigate["seen"].startswith(f"result from {PLANNER} (")
-    # nothing of the action crosses: no endpoint interface stands in for it
-    assert not [key for key in rows if "move_base" in key and ".endpoint." in key]
-    assert rows["Rover.Planner.param controller_frequency"]["seen"] == "10.0"
+    # the cloud explorer's client, rewired by the migration, reaches it through the
+    # cloud's stand-in and the rover's relay, and is answered from the rover
+    explorer = rows["NavCloud.Explorer.navigate"]
+    assert explorer["seen"].startswith(f"result from Rover.{PLANNER} (")
+    assert f"feedback from Rover.{PLANNER} (" in explorer["seen"]
+    assert rows["NavCloud.endpoint.srv_Planner_move_base"]["ok"]
+    assert rows["Rover.endpoint.cli_Planner_move_base"]["seen"].startswith(
+        f"result from {PLANNER} ("
+    )
 
 
 HIDE_ACTIONLIB = """

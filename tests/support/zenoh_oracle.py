@@ -7,7 +7,7 @@ processes: a bridge never takes back its own data) exchange what one routes out 
 other routes in under one key. Read so, a set of bridges is *exact* for the crossings of
 the flow table (by places and ROS names) when it delivers every crossing once and
 nothing else, no place routes in through one bridge a name another of its bridges routes
-out, and no called service key is served in two places.
+out, and no called service or action key is served in two places.
 
 :func:`brute_force` tries every choice of namespaces over the candidates the manual
 names: for a robot's bridge, and for one end of a crossing between cloud instances (the
@@ -30,8 +30,9 @@ from spl.resolver.architecture.placement import Placement
 from spl.resolver.architecture.product import ResolvedProduct
 from spl.resolver.architecture.wiring import Wiring
 
-OUT = {"topic": "publishers", "service": "service_clients"}
-IN = {"topic": "subscribers", "service": "service_servers"}
+OUT = {"topic": "publishers", "service": "service_clients", "action": "action_clients"}
+IN = {"topic": "subscribers", "service": "service_servers", "action": "action_servers"}
+CALLED = ("service", "action")  # a key of these is answered by one place
 Delivery = tuple[str, str, str, str, str]  # kind, source place, name, target place, name
 VALID = re.compile(r"(/[A-Za-z][A-Za-z0-9_]*)*")
 
@@ -76,12 +77,14 @@ def behaviour(bridges: list[Bridge]) -> tuple[Counter, set, set]:
         if one.place == other.place:
             for kind in OUT:
                 echoes |= {(one.place, n) for n in one.names(IN[kind]) & other.names(OUT[kind])}
-    servers, callers = defaultdict(set), set()
-    for bridge in bridges:
-        for name in bridge.names(IN["service"]):
-            servers[bridge.namespace + name].add(bridge.place)
-        callers |= {bridge.namespace + name for name in bridge.names(OUT["service"])}
-    served = {key for key in callers if len(servers[key]) > 1}
+    served = set()
+    for kind in CALLED:
+        servers, callers = defaultdict(set), set()
+        for bridge in bridges:
+            for name in bridge.names(IN[kind]):
+                servers[bridge.namespace + name].add(bridge.place)
+            callers |= {bridge.namespace + name for name in bridge.names(OUT[kind])}
+        served |= {key for key in callers if len(servers[key]) > 1}
     return delivered, echoes, served
 
 
