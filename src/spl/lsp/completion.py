@@ -24,12 +24,13 @@ from spl.lsp.occurrences import (
     TSM_CALL_STATEMENTS,
     TSM_MEMBER_HEADS,
     TSM_NODE_HEADS,
-    TSM_STATEMENTS,
     TSM_TOP_HEADS,
     TSM_TOPIC_STATEMENTS,
+    tsm_statement_before,
 )
 from spl.lsp.symbols import Decl, SymbolIndex
 from spl.lsp.tokens import Token, Tokens
+from spl.metamodels.interface_kinds import KINDS as INTERFACE_KINDS, InterfaceKind, kind_of, side
 
 _WORD_BEFORE = re.compile(r"[A-Za-z_][A-Za-z0-9_]*(?:\.[A-Za-z_][A-Za-z0-9_]*)*\.?\Z|\Z")
 KINDS = {
@@ -43,6 +44,7 @@ KINDS = {
     "attribute": types.CompletionItemKind.Field,
     "data": types.CompletionItemKind.Struct,
     "transform": types.CompletionItemKind.Function,
+    "type": types.CompletionItemKind.TypeParameter,
 }
 # The keywords offered where a statement starts, from the grammars (dsl/*.tx): at the top
 # of a .rm (``when`` and the header's words), and in a .tsm every word of the runs that
@@ -54,6 +56,24 @@ RM_TOP = [
 TSM_TOP = list(dict.fromkeys(word for run in TSM_TOP_HEADS for word in run))
 TSM_MEMBERS = list(dict.fromkeys(word for run in TSM_MEMBER_HEADS for word in run))
 TSM_NODE = list(dict.fromkeys(word for run in TSM_NODE_HEADS for word in run))
+# Where a statement starts, the words that open one and each run of several words whole
+# (``provides``, ``provides action``); after a run's first word, the words that may follow
+# it (``action``).
+OPENINGS = {
+    heads: [
+        *(word for word in words if any(run[0] == word for run in heads)),
+        *(" ".join(run) for run in heads if len(run) > 1),
+    ]
+    for heads, words in (
+        (TSM_TOP_HEADS, TSM_TOP),
+        (TSM_MEMBER_HEADS, TSM_MEMBERS),
+        (TSM_NODE_HEADS, TSM_NODE),
+    )
+}
+# The interface kind of each .tsm statement opening one (``calls action``: an action client).
+STATEMENT_KINDS = {kind.keyword: kind for kind in INTERFACE_KINDS}
+# A ROS type being typed before the cursor (``move_base_msgs/Mo``).
+_TYPE_BEFORE = re.compile(r"[A-Za-z0-9_]+(?:/[A-Za-z0-9_]*)?\Z|\Z")
 # The operators of a .fm constraint.
 FM_OPERATORS = list(grammar.words_of("fm", "Constraint"))
 # What may be typed next inside a .rm statement, by rm.tx.
@@ -85,7 +105,13 @@ def complete(
         decls, keywords = _fm(before, index)
     else:
         decls, keywords = [], []
-    return _items(decls, keywords)
+    items = _items(decls, keywords)
+    typed_type = _TYPE_BEFORE.search(tokens.text, max(0, offset - 200), offset)
+    start = typed_type.start() if typed_type else offset
+    for item in items:
+        if item.kind == KINDS["type"]:  # replaces ``package/`` too, not the word after it
+            item.text_edit = types.TextEdit(tokens.lines.range(start, offset), item.label)
+    return items
 
 
 def _items(decls: list[Decl], keywords: list[str]) -> list[types.CompletionItem]:
@@ -218,23 +244,84 @@ def _connect(
 def _tsm(
     before: list[Token], qualifier: list[str], index: SymbolIndex
 ) -> tuple[list[Decl], list[str]]:
-    if qualifier:
-        return _members(qualifier, index), []
     last = before[-1] if before else None
-    statement = _statement(before, TSM_STATEMENTS)
+    statement = tsm_statement_before(before)
+    kind = STATEMENT_KINDS.get(statement or "")
+    if qualifier:
+        found = _members(qualifier, index)
+        wanted = _server_wanted(before, statement, kind, index)
+        if wanted is not None:
+            return [d for d in found if d.kind == "interface" and kind_of(d.element) is wanted], []
+        return found, []
     if last is not None and last.text in ("->", "<-") and statement is not None:
         container = _container_at(before)
-        if statement.text in TSM_TOPIC_STATEMENTS:
+        if statement in TSM_TOPIC_STATEMENTS:
             return [d for (c, _), d in index.topics.items() if c == container], []
-        if statement.text in TSM_CALL_STATEMENTS:
-            return [d for (c, _), d in index.members.items() if c == container], []
-        if statement.text == "bridge":
+        if statement in TSM_CALL_STATEMENTS and kind is not None:
+            provider = side(kind.family, True)
+            return [
+                d for (c, _), d in index.members.items() if c == container and _has(d, provider)
+            ], []
+        if statement == "bridge":
             return [*index.containers.values(), *_nodes(index)], []
+    if last is not None and last.text == ":" and kind is not None:
+        return _types(kind, index), []
     if last is not None and last.is_word("bridge"):
         return [*index.containers.values(), *_nodes(index)], []
     depth = _depth(before)
-    keywords = TSM_TOP if depth <= 0 else TSM_MEMBERS if depth == 1 else TSM_NODE
-    return [], keywords
+    heads = TSM_TOP_HEADS if depth <= 0 else TSM_MEMBER_HEADS if depth == 1 else TSM_NODE_HEADS
+    if last is not None and last.kind == "name" and _opens(before):
+        follow = [run[1] for run in heads if len(run) > 1 and run[0] == last.text]
+        if follow:
+            return [], follow
+    return [], OPENINGS[heads]
+
+
+def _server_wanted(
+    before: list[Token], statement: str | None, kind: InterfaceKind | None, index: SymbolIndex
+) -> InterfaceKind | None:
+    """After ``->`` of a client's statement or of a bridge from a client, the kind of
+    server it may call (an action client's, an action server): only those are offered."""
+    if not before or before[-1].text != "->":
+        return None
+    if statement == "bridge" and len(before) >= 2:
+        sources = index.node_items(before[-2].parts, "interface")[-1]
+        kind = kind_of(sources[0].element) if sources and sources[0].element else None
+    if kind is None or not kind.calls:
+        return None
+    return side(kind.family, True)
+
+
+def _has(decl: Decl, provider: InterfaceKind) -> bool:
+    """Whether node ``decl`` has an interface of kind ``provider``."""
+    return any(kind_of(i) is provider for i in getattr(decl.element, "interfaces", ()))
+
+
+def _types(kind: InterfaceKind, index: SymbolIndex) -> list[Decl]:
+    """The types the line gives interfaces of ``kind``'s family (and, for a topic's
+    family, its topics): an action client is offered the action types."""
+    found = {
+        d.element.type
+        for d in index.node_members.values()
+        if d.kind == "interface" and d.element is not None and d.element.type
+        if kind_of(d.element).family is kind.family
+    }
+    if kind.on_topic:
+        found |= {d.element.type for d in index.topics.values() if d.element is not None}
+    return [Decl("type", (t,), "", 0, 0) for t in sorted(t for t in found if t)]
+
+
+def _opens(before: list[Token]) -> bool:
+    """Whether the last token may open a statement: nothing, a brace or the end of
+    another statement is before it, not a word that wants a name (``node``)."""
+    if len(before) < 2:
+        return True
+    previous = before[-2]
+    if previous.text in ("{", "}"):
+        return True
+    return previous.kind in ("name", "string", "type", "number") and (
+        previous.text not in grammar.keywords("tsm")
+    )
 
 
 def _container_at(before: list[Token]) -> str | None:

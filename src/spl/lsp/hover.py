@@ -131,7 +131,8 @@ def _interface_line(interface: Any) -> str:
 
 
 def _interface(interface: Any, index: SymbolIndex) -> list[str]:
-    return [_interface_line(interface), f"of node `{interface.eContainer().name}`"]
+    title = kind_of(interface).title
+    return [_interface_line(interface), f"{title} of node `{interface.eContainer().name}`"]
 
 
 def _topic(topic: Any, index: SymbolIndex) -> list[str]:

@@ -33,12 +33,41 @@ TSM_STATEMENTS = frozenset(run[-1] for run in _TSM_HEADS) - {"system", "namespac
 # A .rm statement is opened by the first word of its run (``connect bridge``), as is an
 # element (``when``): rm.tx's.
 RM_STATEMENTS = frozenset(run[0] for run in grammar.heads("rm", "Element", "Statement"))
+# The statements opened by a run of two statement words (``provides action``, ``calls
+# action``): the second word alone opens none, and is a name where no name follows it.
+TSM_RUNS = frozenset(
+    " ".join(run) for run in _TSM_HEADS if len(run) == 2 and run[0] in TSM_STATEMENTS
+)
 # The .tsm statements whose arrow names a topic of their container (an interface bound to a
 # topic, a writer's or reader's records), and those whose arrow names the server called.
 TSM_TOPIC_STATEMENTS = frozenset({k.keyword for k in KINDS if k.on_topic} | {"writer", "reader"})
 TSM_CALL_STATEMENTS = frozenset(k.keyword for k in KINDS if k.calls)
 # Every keyword of fm.tx and capability.tx, and the literals true and false.
 FM_KEYWORDS = grammar.keywords("fm") | set(grammar.literal_words("fm", "BoolWord"))
+
+
+def tsm_statement(tokens: list[Token], i: int) -> str:
+    """The statement the statement word ``tokens[i]`` opens: the run it closes
+    (``calls action``) where a name follows it, else its own word (``provides action :
+    T`` is a service named ``action``)."""
+    word, first = tokens[i].text, tokens[i - 1].text if i > 0 else ""
+    after = tokens[i + 1] if i + 1 < len(tokens) else None
+    run = f"{first} {word}"
+    if run not in TSM_RUNS:
+        return word
+    return run if after is None or after.kind == "name" else first
+
+
+def tsm_statement_before(tokens: list[Token]) -> str | None:
+    """The statement the end of ``tokens`` stands in (:func:`tsm_statement`), or None
+    where a block opens or closes first."""
+    for i in range(len(tokens) - 1, -1, -1):
+        token = tokens[i]
+        if token.kind == "name" and token.text in TSM_STATEMENTS:
+            return tsm_statement(tokens, i)
+        if token.text in ("{", "}"):
+            return None
+    return None
 
 
 @dataclass(frozen=True)
@@ -120,7 +149,7 @@ class _TsmWalk(_Walk):
             self.container = token.text
             return
         if token.text in TSM_STATEMENTS:
-            self.statement = token.text
+            self.statement = tsm_statement(self.tokens, i)
             return
         parts, index = token.parts, self.index
         follows = before.text if before is not None else ""
