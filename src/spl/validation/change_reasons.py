@@ -46,6 +46,20 @@ class Cause:
     reason: str
 
 
+@dataclass(frozen=True)
+class TemplateEdit:
+    """What the edit did to the template, found once for the pair of versions:
+    ``changed`` (:func:`template_changes`) and where ``new`` writes each element."""
+
+    changed: dict[str, str]
+    written: dict[str, str]
+
+    @classmethod
+    def of(cls, old: tsm_types.System, new: tsm_types.System) -> TemplateEdit:
+        written = {n.name: str(location_of(n.element) or "") for n in named_elements(new)}
+        return cls(template_changes(old, new), written)
+
+
 def template_changes(old: tsm_types.System, new: tsm_types.System) -> dict[str, str]:
     """The template elements of ``new`` that ``old`` lacks or defines otherwise (source
     locations aside), the innermost of each nesting (a parameter rather than its node),
@@ -75,7 +89,7 @@ def causes(
     old: Derivation,
     new: Derivation,
     new_line: ProductLine,
-    changed_template: dict[str, str],
+    template: TemplateEdit,
     explain: Explain,
 ) -> list[Cause]:
     """What differs for one product between its two derivations, in explain's words:
@@ -89,13 +103,19 @@ def causes(
         if _key(entry) not in old_keys:
             found.setdefault(entry.subject, Cause(entry.subject, str(entry)))
     present = {named.name for named in named_elements(after.product.system)}
-    for name, where in changed_template.items():
+    for name, where in template.changed.items():
         if name in present and name not in found:
             found[name] = Cause(name, _explained(new_line, after, name, explain, where))
     for entry in before.trace.entries:
         if _key(entry) not in new_keys and entry.subject not in found:
+            # the decision is gone: the element as it stands now, where the template
+            # writes it, and what was decided before
+            lines = explain(new_line, after, entry.subject) or [
+                f"{entry.subject}: not in this product"
+            ]
+            where = template.written.get(entry.subject, "")
+            said = f"{lines[0]} ({where})" if where else lines[0]
             was = f"{entry.decision}: {LOCATED.sub('', entry.reason)}"
-            said = _explained(new_line, after, entry.subject, explain, "")
             found[entry.subject] = Cause(entry.subject, f"{said}; was {was}")
     for feature in _features(before, after):
         if feature not in found:

@@ -24,7 +24,7 @@ from spl.validation.bundle_changes import (
     product_name,
     whole_product,
 )
-from spl.validation.change_reasons import Explain, causes, file_reasons, template_changes
+from spl.validation.change_reasons import Explain, TemplateEdit, causes, file_reasons
 from spl.validation.line import LoadedLine, ProductCase, plan_cases
 
 if TYPE_CHECKING:
@@ -80,7 +80,7 @@ def compare_lines(
         loaded = LoadedLine(version.directory, version.line.name, version.line)
         for case in plan_cases([loaded], mode, t):
             planned.setdefault(_identity(version, case), case)
-    changed_template = template_changes(old.line.tsm, new.line.tsm)
+    template = TemplateEdit.of(old.line.tsm, new.line.tsm)
     result = LineChanges()
     for identity, case in planned.items():
         features = identity[1] if identity[0] == "product" else None
@@ -98,9 +98,7 @@ def compare_lines(
                 result.unchanged += 1
             else:
                 entry = _named(new, case, after)
-                found = causes(
-                    before.derivation, after.derivation, new.line, changed_template, explain
-                )
+                found = causes(before.derivation, after.derivation, new.line, template, explain)
                 files_before = before.derivation.bundle.files
                 files_after = after.derivation.bundle.files
                 reasons = file_reasons(files_before, files_after, paths, found)
