@@ -50,10 +50,13 @@ def test_ci_script_runs_the_readme_test_command_then_validates_every_line() -> N
 
 
 def test_ci_installs_what_spl_smoke_asks_for_and_smokes_every_listed_product() -> None:
-    from spl.smoke.processes import ROS_MISSING
+    from spl.smoke.processes import ACTIONLIB_MISSING, ROS_MISSING
 
     script = (ROOT / ".ci" / "run").read_text(encoding="utf-8")
     (install,) = [line for line in script.splitlines() if "apt-get install" in line]
-    packages = ROS_MISSING.split("apt-get install ", 1)[1].split()
+    packages = [
+        *ROS_MISSING.split("apt-get install ", 1)[1].split(),
+        *ACTIONLIB_MISSING.split("apt-get install ", 1)[1].split(),  # actions in spl smoke
+    ]
     assert set(packages) | {"graphviz", "postgresql"} <= set(install.split())
     assert re.search(r"spl validate product_lines/\*/ --smoke .*--junit", script)
