@@ -1,13 +1,15 @@
 """``spl lsp`` knows actions (docs/tsm.md, "Actions"; docs/editors.md), driven over stdio by
 a real LSP client: go to definition and references lead from a client's ``-> NODE.SERVER``
 and a bridge to the action server; completion offers the action types of the line after
-``calls action X :``, after ``->`` only the nodes serving an action and their action
-servers, and the two-word statements; hover says an action interface as its statement;
-a client bound to a server of another kind is the diagnostic ``spl check`` gives."""
+``calls action X :``, after ``->`` (and in an .rm connect) only the nodes serving an action
+and their action servers, and the two-word statements; hover says an action interface as
+its statement; a client bound to a server of another kind is the diagnostic ``spl check``
+gives."""
 
 from __future__ import annotations
 
 import json
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -20,6 +22,8 @@ from pytest_lsp import LanguageClient
 from support.lsp_client import SERVER, change, close, diagnostics, open_file, position_of, start
 
 ROOT = Path(__file__).resolve().parents[2]
+NAVIGATION = ROOT / "tests" / "models" / "navigation"
+MIGRATE = "    migrate Planner to Robot\n"
 pytestmark = pytest.mark.asyncio(loop_scope="module")
 
 TEXT = """\
@@ -214,3 +218,31 @@ async def test_a_client_bound_to_a_service_is_spl_checks_diagnostic(
     change(client, nav, TEXT, 2)
     await diagnostics(client, nav, lambda d: d == [])
     close(client, nav)
+
+
+async def test_an_rm_connect_of_an_action_client_is_offered_action_servers(
+    client: LanguageClient, tmp_path: Path
+):
+    line = tmp_path / "navigation"
+    shutil.copytree(NAVIGATION, line)
+    rm = line / "navigation.rm"
+    text = rm.read_text(encoding="utf-8")
+    open_file(client, rm)
+    await diagnostics(client, rm, lambda d: d == [])
+    versions = iter(range(2, 100))
+
+    async def labels(typed: str) -> set[str]:
+        edited = text.replace(MIGRATE, MIGRATE + f"    {typed}\n")
+        change(client, rm, edited, next(versions))
+        result = await client.text_document_completion_async(
+            types.CompletionParams(document(rm), position_of(edited, typed, shift=len(typed)))
+        )
+        return {item.label for item in result.items}
+
+    # of the line's four nodes, the one serving an action, then its action server only
+    assert await labels("connect Behaviour.navigate to server ") == {"Planner"}
+    assert await labels("connect Behaviour.navigate to server Planner.") == {"move_base"}
+    assert await labels("connect bridge Behaviour.navigate -> Planner.") == {"move_base"}
+    # a topic's interface is not a client: every node, every member
+    assert {"scan", "cmd_vel", "move_base"} <= await labels("connect Lidar.scan to server Planner.")
+    close(client, rm)

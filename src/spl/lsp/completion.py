@@ -187,9 +187,13 @@ def _rm(
         ):
             return [], AFTER_WHEN_FEATURE
         return [], RM_TOP
-    if qualifier:
-        return _members(qualifier, index), []
     statement = _statement(before, RM_STATEMENTS)
+    if qualifier:
+        found = _members(qualifier, index)
+        wanted = _rm_server_wanted(before, statement, index)
+        if wanted is not None:
+            return [d for d in found if d.kind == "interface" and kind_of(d.element) is wanted], []
+        return found, []
     last = before[-1] if before else None
     word = last.text if last is not None else ""
     kind = statement.text if statement is not None else None
@@ -235,10 +239,28 @@ def _connect(
             index.topics.values()
         ), []
     if word == "server":
-        return _nodes(index), []
+        wanted = _rm_server_wanted(before, statement, index)
+        return [d for d in _nodes(index) if wanted is None or _has(d, wanted)], []
     if len(tail) == 2:
         return [], AFTER_CONNECT_INTERFACE
     return [], []
+
+
+def _rm_server_wanted(
+    before: list[Token], statement: Token | None, index: SymbolIndex
+) -> InterfaceKind | None:
+    """After ``connect CLIENT to server`` or ``connect bridge CLIENT ->``, the kind of
+    server the client may call: only those are offered."""
+    if statement is None or not statement.is_word("connect") or not before:
+        return None
+    tail = before[before.index(statement) :]
+    bridge = len(tail) > 1 and tail[1].is_word("bridge")
+    client = tail[2 if bridge else 1] if len(tail) > (2 if bridge else 1) else None
+    if client is None or not (before[-1].is_word("server") or (bridge and before[-1].text == "->")):
+        return None
+    found = index.node_items(client.parts, "interface")[-1]
+    kind = kind_of(found[0].element) if found and found[0].element is not None else None
+    return side(kind.family, True) if kind is not None and kind.calls else None
 
 
 def _tsm(
