@@ -43,7 +43,7 @@ def folder_at_revision(directory: Path, revision: str, into: Path) -> Path | Non
     tree = f"{commit}:{prefix.rstrip('/')}" if prefix else commit
     if _git(directory, "cat-file", "-t", tree) != "tree":
         return None
-    archive = _run(directory, "archive", "--format=tar", tree)
+    archive = _run(Path(top), "archive", "--format=tar", tree)  # from the top: a tree by its path
     if archive.returncode != 0:
         raise VersionProblem(f"git archive of {directory} at {revision!r} failed")
     target = Path(into) / directory.resolve().name
