@@ -35,7 +35,7 @@ def tsm_text(line: ImportedLine, sources: list[str]) -> str:
         for number, node in enumerate(nodes):
             if number or nodes[0].namespace:
                 out.append("")
-            out.append(f"{INDENT}// {node.file}:{node.line}")
+            out.append(f"{INDENT}// {node.source}")
             optional = "optional " if node.optional else ""
             out.append(f"{INDENT}{optional}node {node.name} {{")
             package, executable = node.implementation

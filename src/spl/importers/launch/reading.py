@@ -17,6 +17,7 @@ import re
 import shlex
 import shutil
 import subprocess
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -70,8 +71,9 @@ class LoadedNode:
     args: tuple[str, ...]  # shlex tokens, as roslaunch passes them to the process
     remaps: tuple[tuple[str, str], ...]
     machine: str
-    file: str
+    file: str  # as the warnings show it: relative to the working folder, when under it
     line: int
+    source: str  # the file relative to the package path folder holding it, for the .tsm
     unsupported: tuple[str, ...]  # settings no .tsm statement holds (env, respawn, ...)
 
     @property
@@ -161,14 +163,19 @@ def load_combinations(
             raise ImportRefused(f"{ROS_MISSING} ({python}: {last})")
         raise ImportRefused(f"roslaunch's loader failed: {last}")
     answer = json.loads(done.stdout)
+    here = str(Path.cwd().resolve()) + os.sep
+
+    def shown(text: str) -> str:
+        return text.replace(here, "")
+
     if "refused" in answer:
-        raise ImportRefused(answer["refused"])
+        raise ImportRefused(shown(answer["refused"]))
     loaded: list[Combination] = []
     warnings: dict[Warning_, None] = {}
     for values, result in zip(combinations, answer["combinations"], strict=True):
         nodes = []
         for raw in result["nodes"]:
-            node = _node(raw)
+            node = _node(raw, shown, [str(p.resolve()) for p in package_path] or roots)
             nodes.append(node)
             for setting in node.unsupported:
                 warning = Warning_(
@@ -176,10 +183,19 @@ def load_combinations(
                 )
                 warnings[warning] = None
         for raw in result["warnings"]:
-            warnings[Warning_(raw["file"], raw["line"], _one_line(raw["message"]))] = None
+            message = shown(_one_line(raw["message"]))
+            warnings[Warning_(shown(raw["file"]), raw["line"], message)] = None
         places = {k: (f, n) for k, (f, n) in result["param_lines"].items()}
         loaded.append(Combination(tuple(values), tuple(nodes), result["params"], places))
     return loaded, sorted(warnings, key=lambda w: (w.file, w.line, w.message))
+
+
+def _relative(path: str, roots: list[str]) -> str:
+    """``path`` under the deepest package path folder holding it (else its name)."""
+    holding = [r for r in roots if path.startswith(r.rstrip(os.sep) + os.sep)]
+    if not holding:
+        return Path(path).name
+    return path[len(max(holding, key=len).rstrip(os.sep)) + 1 :]
 
 
 def _one_line(message: str) -> str:
@@ -187,7 +203,7 @@ def _one_line(message: str) -> str:
     return " ".join(message.split())
 
 
-def _node(raw: dict[str, Any]) -> LoadedNode:
+def _node(raw: dict[str, Any], shown: Callable[[str], str], roots: list[str]) -> LoadedNode:
     try:
         args = tuple(shlex.split(raw["args"]))
     except ValueError:
@@ -203,6 +219,7 @@ def _node(raw: dict[str, Any]) -> LoadedNode:
         name=raw["name"], namespace=raw["namespace"], package=raw["package"],
         executable=raw["type"], args=args,
         remaps=tuple((source, target) for source, target in raw["remaps"]),
-        machine=raw["machine"], file=raw["file"], line=raw["line"],
+        machine=raw["machine"], file=shown(raw["file"]), line=raw["line"],
+        source=_relative(raw["file"], roots),
         unsupported=tuple(unsupported),
     )  # fmt: skip

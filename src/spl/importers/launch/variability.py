@@ -40,6 +40,7 @@ class ImportedNode:
     implementation: tuple[str, str]
     args: str
     parameters: list[NodeParameter]
+    source: str  # file:line of the <node>, relative to its package path folder
     file: str
     line: int
 
@@ -125,9 +126,9 @@ def build_line(
         args = Split(arguments, {c: _args_text(n) for c, n in seen.items()})
         if not args.constant:
             line.warnings.append(Warning_(first.file, first.line, (
-                f"node {ros_name}: its args differ between combinations; a .rm cannot set a "
-                f"node's args, so every product has those of {'_'.join(next(iter(seen)))}: "
-                f"{_args_text(first)!r}")))  # fmt: skip
+                f"node {ros_name}: its args differ between combinations; a .rm cannot set "
+                f"a node's args, so every product has those of {'_'.join(next(iter(seen)))}"
+            )))  # fmt: skip
         parameters, left_out = node_parameters(
             ros_name, {c: by_combination[c] for c in seen}, arguments
         )
@@ -135,7 +136,8 @@ def build_line(
         imported = ImportedNode(
             container=container, namespace=namespace, robot=robot, name=first.name,
             optional=not presence.constant, implementation=(first.package, first.executable),
-            args=_args_text(first), parameters=parameters, file=first.file, line=first.line,
+            args=_args_text(first), parameters=parameters, source=f"{first.source}:{first.line}",
+            file=first.file, line=first.line,
         )  # fmt: skip
         line.nodes.append(imported)
         if not presence.constant:
