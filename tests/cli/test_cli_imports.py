@@ -83,8 +83,8 @@ def test_help_still_lists_every_command() -> None:
     )
     assert done.returncode == 0
     listed = {line.split()[0] for line in done.stdout.split("Commands:")[1].splitlines() if line}
-    modules = {  # a command's module is named like it, with _ for -
-        p.stem.replace("_", "-")
+    modules = {  # a command's module is named like it, with _ for - (import_: a keyword)
+        p.stem.rstrip("_").replace("_", "-")
         for p in (ROOT / "src" / "spl" / "cli" / "commands").glob("*.py")
         if not p.stem.startswith("_")
     }

@@ -71,8 +71,10 @@ class SplGroup(click.Group):
         if known is not None:
             return known
         modules = _command_modules()
-        # the module named like the command first; any other only if it is not there
-        for module_name in sorted(modules, key=lambda m: m != cmd_name.replace("-", "_")):
+        # the module named like the command first (a Python keyword gets a trailing _:
+        # `spl import` is import_.py); any other only if it is not there
+        wanted = cmd_name.replace("-", "_")
+        for module_name in sorted(modules, key=lambda m: m.rstrip("_") != wanted):
             command = _load_command(module_name)
             if command is not None and command.name == cmd_name:
                 self.add_command(command)
