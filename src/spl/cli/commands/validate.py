@@ -2,7 +2,8 @@
 validation.
 
 ``--changed-from OLD_DIR`` / ``--since REV``: a product whose bundle the old version of
-its line derives alike is skipped, reported as such (docs/evolution.md, "In CI").
+its line derives alike is skipped, reported as such (docs/evolution.md, "In CI:
+re-checking only what changed").
 
 Every product of each line (its ``products/*.yaml``, plus all products or a t-wise
 sample) is resolved and its whole bundle generated in memory and validated; one JUnit
