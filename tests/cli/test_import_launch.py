@@ -227,3 +227,49 @@ def test_without_ros_it_says_so_in_one_line(package_path, tmp_path, monkeypatch)
     assert status == 1
     assert stderr == "error: roslaunch not found: apt-get install ros-core python3-roslaunch\n"
     assert not (tmp_path / "line").exists()
+
+
+MACHINES = """<launch>
+  <machine name="turtlebot" address="192.0.2.10" env-loader="/opt/ros/env.sh" user="pi"/>
+  <node pkg="demo" type="driver" name="driver" machine="turtlebot"/>
+  <node pkg="demo" type="planner" name="planner"/>
+  <group ns="arm"><node pkg="demo" type="ctl" name="controller" machine="turtlebot"/></group>
+</launch>
+"""
+
+
+def test_robot_patterns_and_machines_split_robot_and_cloud(package_path, tmp_path):
+    launch = write_launch(package_path, "machines.launch", MACHINES)
+    out = tmp_path / "line"
+    status, _, stderr = run_import(launch, package_path, out, "--robot", "turtlebot")
+    assert status == 0, stderr
+    assert stderr == (
+        f"{launch}:2: warning: machine turtlebot (192.0.2.10) left out: a container says "
+        "where nodes run (--robot may name the machine)\n"
+    )
+    tsm = (out / "machines.tsm").read_text()
+    robot, arm, cloud = tsm.split("container ")[1:]
+    assert robot.startswith("Robot {") and "node driver" in robot and "planner" not in robot
+    assert arm.startswith("Robot_arm {") and 'namespace "/arm"' in arm
+    assert "node controller" in arm
+    assert cloud.startswith("Cloud {") and "node planner" in cloud
+    # no argument: one product, selecting the root
+    assert (out / "products" / "machines.yaml").read_text() == (
+        "product: machines\nfeatures: [machines]\n"
+    )
+    assert [d for d in check_models(out, count=False)[1] if d.severity == "error"] == []
+    generated = product_launch_files(out, out / "products" / "machines.yaml", tmp_path / "b")
+    original, imported = load_with_roslaunch(
+        [{"files": [str(launch)]}, {"files": [str(f) for f in generated]}], [package_path]
+    )
+    assert differences(original, imported) == set()
+    assert set(original["nodes"]) == {"/driver", "/planner", "/arm/controller"}
+
+
+def test_without_robot_patterns_every_node_is_in_one_cloud_container(package_path, tmp_path):
+    launch = write_launch(package_path, "machines.launch", MACHINES)
+    status, _, stderr = run_import(launch, package_path, tmp_path / "line")
+    assert status == 0, stderr
+    tsm = (tmp_path / "line" / "machines.tsm").read_text()
+    assert "robot container" not in tsm
+    assert "cloud container Cloud {" in tsm and "cloud container Cloud_arm {" in tsm

@@ -73,8 +73,6 @@ def fm_text(line: ImportedLine, sources: list[str]) -> str:
         out.append(f"{INDENT}mandatory {line.groups[index]} xor {{ {' '.join(members)} }}")
     for feature in line.combination_features.values():
         out.append(f"{INDENT}optional {feature}")
-    if not any(len(a.values) > 1 for a in line.arguments) and not line.combination_features:
-        out.append(f"{INDENT}optional Unused    // no argument was given more than one value")
     out.append("}")
     if fixed:
         out.insert(2, f"// fixed for every product: {' '.join(fixed)}")
@@ -126,7 +124,8 @@ def product_files(line: ImportedLine) -> dict[str, str]:
     files = {}
     for name, values, features in line.products:
         given = " ".join(f"{a.name}:={v}" for a, v in zip(line.arguments, values, strict=True))
-        text = f"# {given}\nproduct: {name}\nfeatures: [{', '.join(features)}]\n"
+        text = f"product: {name}\nfeatures: [{', '.join(features)}]\n"
+        text = f"# {given}\n{text}" if given else text
         files[f"products/{name}.yaml"] = text
     return files
 

@@ -182,6 +182,11 @@ def load_combinations(
                     node.file, node.line, f"node {node.ros_name}: {setting} left out"
                 )
                 warnings[warning] = None
+        for machine in result["machines"]:
+            file, number = machine["place"]
+            warnings[Warning_(shown(file), number, (
+                f"machine {machine['name']} ({machine['address']}) left out: a container "
+                "says where nodes run (--robot may name the machine)"))] = None  # fmt: skip
         for raw in result["warnings"]:
             message = shown(_one_line(raw["message"]))
             warnings[Warning_(shown(raw["file"]), raw["line"], message)] = None

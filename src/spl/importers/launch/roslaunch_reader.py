@@ -94,6 +94,7 @@ class ImportLoader(xmlloader.XmlLoader):
         self.files = 0
         self.depth = 0
         self.node_lines = {}
+        self.machine_places = {}
         self.ignore_unset_args = False  # roslaunch's command line sets it so
 
     # -- files ------------------------------------------------------------------------
@@ -202,6 +203,12 @@ class ImportLoader(xmlloader.XmlLoader):
         if node is not None:
             self.node_lines[id(node)] = _line(tag)  # a roslaunch Node has __slots__
         return node
+
+    def _machine_tag(self, tag, context, ros_config, verbose=True):
+        found = super()._machine_tag(tag, context, ros_config, verbose=verbose)
+        if found is not None:
+            self.machine_places[found[0].name] = (context.filename, _line(tag))
+        return found
 
     def _include_tag(self, tag, context, ros_config, default_machine, is_core, verbose):
         self.depth += 1
@@ -333,7 +340,11 @@ def load(files, arguments, roots, max_bytes):
             )
         else:
             params[key] = value
-    machines = {m.name: m.address for m in config.machines.values()}
+    machines = [
+        {"name": name, "address": config.machines[name].address, "place": list(place)}
+        for name, place in reader.machine_places.items()
+        if name in config.machines
+    ]
     return {
         "nodes": nodes,
         "params": params,

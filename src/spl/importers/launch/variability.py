@@ -165,6 +165,7 @@ def build_line(
         ]
         if values in line.combination_features:
             chosen.append(line.combination_features[values])
+        chosen = chosen or [name]  # a product selects a feature: the root, when no other
         varying = [v for a, v in zip(arguments, values, strict=True) if len(a.values) > 1]
         line.products.append(("_".join(varying) or name, values, chosen))
     return line
