@@ -20,6 +20,7 @@ ROOT = Path(__file__).resolve().parents[2]
 MAPPING = ROOT / "product_lines" / "mapping3d"
 WAREHOUSE = ROOT / "tests" / "models" / "line_checks" / "warehouse"
 LOCATED_ERROR = re.compile(r"^\S.*:\d+:\d+: error: ", re.M)
+SCHEMA = etree.XMLSchema(etree.parse(str(ROOT / "tests" / "junit" / "junit.xsd")))
 
 
 def spl(*args: str | Path):
@@ -79,13 +80,17 @@ def test_a_folder_against_its_last_commit_is_the_folders_compared(tmp_path: Path
     assert f"{line}/mapping.tsm:31:" in reason  # the parameter, where the new version writes it
 
     assert products("--rev", "HEAD", line)["changed"] == []
-    edit_camera(line, "/dev/video9", was="/dev/video7")  # not committed: the work tree is the new version
+    # not committed: the work tree is the new version
+    edit_camera(line, "/dev/video9", was="/dev/video7")
     assert {p["product"] for p in products("--rev", "HEAD", line, "--all")["changed"]} == changed
 
     junit = tmp_path / "report.xml"
     result = spl("validate", line, "--all", "--since", "HEAD~1", "--junit", junit)
     assert result.exit_code == 0, result.output
-    cases = list(etree.parse(str(junit)).getroot().iter("testcase"))
+    report = etree.parse(str(junit))
+    assert SCHEMA.validate(report), SCHEMA.error_log
+    cases = list(report.getroot().iter("testcase"))
+    assert report.getroot()[0].get("skipped") == str(len(cases) - len(changed))
     ran = {c.get("name") for c in cases if c.find("skipped") is None}
     assert ran == changed
     skips = {c.find("skipped").get("message") for c in cases if c.find("skipped") is not None}
@@ -189,3 +194,25 @@ def test_the_report_for_people_groups_files_by_reason(tmp_path: Path) -> None:
     assert lines[start + 2] == (
         "      manifest.json, resolved.tsm, resolved.xmi, ros1/Robot.launch, ros2/Robot.launch.xml"
     )
+
+
+def test_json_and_a_sample(tmp_path: Path) -> None:
+    """``--json`` carries the feature model's comparison as ``spl diff`` of the two .fm
+    files prints it; a t-wise sample's changed products are among ``--all``'s."""
+    new = shutil.copytree(MAPPING, tmp_path / "mapping3d")
+    edit_camera(new, "/dev/video7")
+    result = spl("diff", MAPPING, new, "--json", "--sample", "t=1")
+    assert result.exit_code == 0, result.stderr
+    report = json.loads(result.stdout)
+    assert set(report) == {"feature_model", "old", "new", "products"}
+    assert (report["old"], report["new"]) == (str(MAPPING), str(new))
+    models = spl("diff", MAPPING / "mapping.fm", new / "mapping.fm", "--json")
+    assert report["feature_model"] == json.loads(models.stdout)
+    assert set(report["products"]) == {"added", "removed", "unchanged", "changed"}
+    sampled = {p["product"] for p in report["products"]["changed"]}
+    every = {p["product"] for p in products(MAPPING, new, "--all")["changed"]}
+    listed = {p["product"] for p in products(MAPPING, new)["changed"]}
+    assert listed < sampled <= every
+    for product in report["products"]["changed"]:
+        assert set(product) == {"product", "features", "files"}
+        assert all(set(f) == {"path", "reason"} for f in product["files"])

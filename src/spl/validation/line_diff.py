@@ -12,7 +12,6 @@ derived once, and each version's models were loaded once by the caller.
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
@@ -68,11 +67,10 @@ def compare_lines(
     explain: Explain,
     options: BundleOptions,
     memo: BundleMemo | None = None,
-    on_product: Callable[[], None] | None = None,
 ) -> LineChanges:
     """Every planned product of both versions compared (module docstring); ``mode`` and
     ``t`` as ``spl validate`` plans (``listed``, ``all``, ``sample``); ``explain`` says
-    a changed file's reason; ``on_product`` is told each product compared."""
+    a changed file's reason."""
     sides = _Side(old), _Side(new)
     planned: dict[Identity, ProductCase] = {}
     for index in (1, 0):  # the new version's products first, in its plan's order
@@ -104,8 +102,6 @@ def compare_lines(
                 reasons = file_reasons(files_before, files_after, paths, found)
                 entry["files"] = [{"path": p, "reason": reasons[p]} for p in paths]
                 result.changed.append(entry)
-        if on_product is not None:
-            on_product()
     return result
 
 
