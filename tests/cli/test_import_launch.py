@@ -210,6 +210,8 @@ def test_an_existing_folder_is_never_overwritten(package_path, tmp_path):
         ("model", "--arg 'model': expected NAME=V1,V2,... with a launch arg name"),
         ("model=a,b,a", "--arg model: a value is given twice"),
         ("model=a b", "--arg model: value 'a b' is not a plain word"),
+        # roslaunch ignores an argument no file declares: every product would be one
+        ("modle=a,b", '--arg modle: no launch file given declares <arg name="modle">'),
     ],
 )
 def test_a_malformed_arg_is_refused(package_path, tmp_path, option, message):

@@ -95,6 +95,7 @@ class ImportLoader(xmlloader.XmlLoader):
         self.depth = 0
         self.node_lines = {}
         self.machine_places = {}
+        self.declared = set()
         self.ignore_unset_args = False  # roslaunch's command line sets it so
 
     # -- files ------------------------------------------------------------------------
@@ -175,6 +176,8 @@ class ImportLoader(xmlloader.XmlLoader):
             raise
 
     def _arg_tag(self, tag, context, ros_config, verbose=True):
+        if self.depth == 0:  # an argument of a file given, which --arg may set
+            self.declared.add(tag.getAttribute("name"))
         try:
             return super()._arg_tag(tag, context, ros_config, verbose=verbose)
         except LeftOut:
@@ -305,6 +308,11 @@ def load(files, arguments, roots, max_bytes):
             raise
         except RLException as exc:
             raise Refused(f"{filename}: {_first_line(exc)}") from None
+    unknown = [name for name, _ in arguments if name not in reader.declared]
+    if unknown:  # roslaunch ignores it: every product would be the same
+        raise Refused(
+            f'--arg {unknown[0]}: no launch file given declares <arg name="{unknown[0]}">'
+        )
     warnings = reader.warnings
     nodes = []
     for node in config.nodes:
