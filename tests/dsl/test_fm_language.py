@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import re
 from pathlib import Path
 
 import pytest
@@ -287,32 +286,33 @@ def test_spl_check_reports_a_summary_or_every_error(tmp_path: Path) -> None:
 def test_a_constraint_too_deep_for_the_readers_is_refused_by_every_format(
     tmp_path: Path, fm_op: str, uvl_op: str, xml_tag: str | None
 ) -> None:
-    # was: an internal error (RecursionError) from a chain of 900 operators, a flat
-    # `A or B or ...` as much as nested parentheses: every reader makes chains binary
+    # was: an internal error (RecursionError) from a chain of 900 operators; then a
+    # refusal of every chain over 200. A chain of one `and` or `or` is now read whatever
+    # its length (balanced); other operators nested that deep are refused, located
     from spl.dsl.interop.featureide import read_featureide
     from spl.dsl.interop.uvl import read_uvl
 
-    too_deep = f"constraint nested 899 operators deep (at most {MAX_FORMULA_DEPTH})"
+    too_deep = (
+        f"constraint nested 899 operators deep (at most {MAX_FORMULA_DEPTH}, a chain of one "
+        "'and' or 'or' counting as a balanced tree): split it into several constraints"
+    )
+    associative = fm_op in ("or", "and")
     chain = f" {fm_op} ".join(["A", "B"] * 450)
-    assert error_list(
-        f"feature model M root R {{ optional A optional B }} constraints {{\n  {chain}\n}}"
-    ) == [
-        (
-            2,
-            3,
-            f"{too_deep}: split it into several constraints, or group a long chain with "
-            "parentheses",
-        )
-    ]
+    fm_text = f"feature model M root R {{ optional A optional B }} constraints {{\n  {chain}\n}}"
     uvl = tmp_path / "m.uvl"
     uvl.write_text("features\n\tR\n\t\toptional\n\t\t\tA\n\t\t\tB\nconstraints\n\t"
                    + f" {uvl_op} ".join(["A", "B"] * 450) + "\n")  # fmt: skip
-    with pytest.raises(ModelError) as refused:
-        read_uvl(uvl)
-    assert [str(d) for d in refused.value.diagnostics] == [
-        f"{uvl}:7:2: error: {too_deep}: split it into several constraints, or group a long "
-        "chain with parentheses"
-    ]
+    if associative:
+        expected = {frozenset({"R", "A", "B"})} | (
+            {frozenset({"R", "A"}), frozenset({"R", "B"})} if fm_op == "or" else set()
+        )
+        assert products(fm.parse_text(fm_text)) == expected
+        assert products(read_uvl(uvl)) == expected
+    else:
+        assert error_list(fm_text) == [(2, 3, too_deep)]
+        with pytest.raises(ModelError) as refused:
+            read_uvl(uvl)
+        assert [str(d) for d in refused.value.diagnostics] == [f"{uvl}:7:2: error: {too_deep}"]
     if xml_tag is not None:  # FeatureIDE's n-ary <disj>/<conj> are read as chains too
         xml = tmp_path / "m.xml"
         operands = "<var>A</var><var>B</var>" * 450
@@ -321,8 +321,36 @@ def test_a_constraint_too_deep_for_the_readers_is_refused_by_every_format(
             f"</struct><constraints><rule><{xml_tag}>{operands}</{xml_tag}></rule>"
             "</constraints></featureModel>"
         )
-        with pytest.raises(ModelError, match=re.escape(too_deep)):
-            read_featureide(xml)
+        assert products(read_featureide(xml)) == expected
+
+
+def test_chains_of_thousands_and_deep_parentheses_read_in_uvl(tmp_path: Path) -> None:
+    """What the community writes is read: a 5,000-way `|`, the same `&` negated, and a
+    pair inside 400 parentheses, and they mean what they say."""
+    from spl.dsl.interop.uvl import read_uvl_plain
+    from spl.resolver.analysis.formula import FeatureModelFormula
+
+    names = [f"F{i}" for i in range(5000)]
+    uvl = tmp_path / "chains.uvl"
+    uvl.write_text(
+        "features\n\tR\n\t\toptional\n"
+        + "".join(f"\t\t\t{name}\n" for name in names)
+        + "constraints\n\t"
+        + " | ".join(names)
+        + "\n\t!("
+        + " & ".join(names)
+        + ")\n\t"
+        + "(" * 400
+        + "!F0 | F1 | F0"
+        + ")" * 400
+        + "\n\t!F4999\n"
+    )
+    model = read_uvl_plain(uvl)
+    assert len(model.constraints) == 4
+    with FeatureModelFormula(model) as formula:
+        assert formula.satisfiable()
+        assert formula.dead_features() == ["F4999"]  # only the unit constraint kills one
+        assert formula.core_features() == ["R"]
 
 
 def test_the_deepest_constraint_allowed_goes_through_every_format(tmp_path: Path) -> None:

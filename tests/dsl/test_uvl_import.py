@@ -187,7 +187,8 @@ def test_hostile_nesting_is_a_located_error() -> None:
     with pytest.raises(ModelError) as info:
         parse_uvl(deep, "deep.uvl")
     assert [str(d) for d in info.value.diagnostics] == [
-        "deep.uvl:1:1: error: the model is nested too deeply (features or parentheses)"
+        "deep.uvl:6:2: error: constraint nested 5000 operators deep (at most 200, a chain of "
+        "one 'and' or 'or' counting as a balanced tree): split it into several constraints"
     ]
 
 

@@ -34,6 +34,7 @@ from spl.dsl.fm.vocabulary import (
     OPERATORS as OPERATORS,
     RESERVED_WORDS as RESERVED_WORDS,
     SHARING_MODES as SHARING_MODES,
+    balanced,
     canonical_value,
     formula_too_deep,
     is_feature_name as is_feature_name,
@@ -140,6 +141,7 @@ class _Builder:
         self.F = fm_metamodel()
         self.positions = Positions(text, filename)
         self.features: dict[str, Any] = {}
+        self.balance = False  # build and/or chains balanced (a constraint too deep left-deep)
 
     # -- locations -------------------------------------------------------------------
     def loc(self, node: Any) -> Location:
@@ -163,8 +165,14 @@ class _Builder:
         model = self.locate(F.FeatureModel(name=tree.name), self.loc(tree))
         model.root = self.feature(tree.root)
         for constraint_tree in tree.constraints:
+            reported = len(self.sink.diagnostics)
             formula = self.formula(constraint_tree.formula)
             refused = formula_too_deep(formula)
+            if refused and len(self.sink.diagnostics) == reported:
+                self.balance = True  # built left-deep; with its chains balanced it may fit
+                formula = self.formula(constraint_tree.formula)
+                self.balance = False
+                refused = formula_too_deep(formula)
             if refused:
                 self.sink.error(self.loc(constraint_tree), refused)
                 continue
@@ -339,6 +347,9 @@ class _Builder:
                     _IMPLICATION_OPERATORS[symbols[index]], operands[index], right, node.rest[index]
                 )
             return right
+        if self.balance and operator in ("and", "or"):  # (vocabulary.MAX_FORMULA_DEPTH)
+            operands = [result] + [self.formula(tail.operand) for tail in node.rest]
+            return balanced(operands, lambda a, b: self.binary(operator, a, b, node))
         for tail in node.rest:
             result = self.binary(cast(str, operator), result, self.formula(tail.operand), tail)
         return result

@@ -8,7 +8,8 @@ either import.
 from __future__ import annotations
 
 import re
-from typing import Any
+from collections.abc import Callable
+from typing import Any, TypeVar
 
 from spl.core.diagnostics import Diagnostic, Location
 from spl.dsl import grammar_keywords, literals
@@ -58,13 +59,66 @@ def canonical_value(type_name: str, text: str) -> str | None:
 
 
 # Operators on the longest path of one constraint from its root to a feature. Every
-# reader refuses deeper constraints: a chain of 900 `or`s is 900 levels (the readers make
-# binary operators left-associative), and the encodings, printers and checks that walk
-# formulas recursively would each run out of Python's stack on it. The deepest constraint
-# of the community corpus (the Linux kernel models) is 28 levels. A FeatureIDE export
-# nests one element per level below <featureModel><constraints><rule>, and lxml reads
-# no XML deeper than 256 elements.
+# reader refuses deeper constraints: the encodings, printers and checks walk formulas
+# recursively and would each run out of Python's stack. A chain of one `and` or `or`
+# operator is no limit: the readers make binary operators left-associative, and a
+# constraint that would be too deep so is built with each such chain (across
+# parentheses too) as a balanced tree instead, 14 levels for 10,000 operands
+# (docs/fm.md, "Limits"). The deepest constraint of the community corpus (the Linux
+# kernel models) is 28 levels. A FeatureIDE export nests one element per level below
+# <featureModel><constraints><rule>, and lxml reads no XML deeper than 256 elements.
 MAX_FORMULA_DEPTH = 200
+
+Joined = TypeVar("Joined")
+
+
+def balanced(operands: list[Joined], join: Callable[[Joined, Joined], Joined]) -> Joined:
+    """``operands`` joined by an associative operator as a balanced tree (depth
+    ceil(log2 n)), in their order: ``join(join(a, b), join(c, d))``. No recursion."""
+    level = operands
+    while len(level) > 1:
+        paired = [join(level[i], level[i + 1]) for i in range(0, len(level) - 1, 2)]
+        if len(level) % 2:
+            paired.append(level[-1])
+        level = paired
+    return level[0]
+
+
+def balanced_chains(tree: tuple) -> tuple:
+    """A tuple formula tree (:mod:`spl.dsl.fm.plain`) meaning the same, each maximal chain
+    of one ``and`` or ``or`` operator rebuilt as a :func:`balanced` tree (the new nodes
+    are located where the chain's top operator was). No recursion: any depth is."""
+    done: list[tuple] = []
+    work: list[tuple[tuple, int]] = [(tree, -1)]  # (node, -1: to visit | operands to join)
+    while work:
+        node, count = work.pop()
+        head = node[0]
+        if count >= 0:  # the operands are built: the last ``count`` of ``done``
+            parts = done[len(done) - count :]
+            del done[len(done) - count :]
+            if head in ("and", "or"):
+                done.append(balanced(parts, _joining(node)))
+            elif head == "not":
+                done.append((head, parts[0], *node[2:]))
+            else:
+                done.append((head, parts[0], parts[1], *node[3:]))
+        elif head == "ref":
+            done.append(node)
+        elif head == "not":
+            work.extend([(node, 1), (node[1], -1)])
+        else:
+            operands = [node[1], node[2]]
+            if head in ("and", "or"):  # the whole chain, in order, as one node's operands
+                operands, stack = [], [node]
+                while stack:
+                    part = stack.pop()
+                    if part[0] == head:
+                        stack.extend((part[2], part[1]))
+                    else:
+                        operands.append(part)
+            work.append((node, len(operands)))
+            work.extend((operand, -1) for operand in reversed(operands))
+    return done[0]
 
 
 def formula_too_deep(formula: Any) -> str | None:
@@ -90,6 +144,11 @@ def formula_too_deep(formula: Any) -> str | None:
     if deepest <= MAX_FORMULA_DEPTH:
         return None
     return (
-        f"constraint nested {deepest} operators deep (at most {MAX_FORMULA_DEPTH}): split it "
-        "into several constraints, or group a long chain with parentheses"
+        f"constraint nested {deepest} operators deep (at most {MAX_FORMULA_DEPTH}, a chain of "
+        "one 'and' or 'or' counting as a balanced tree): split it into several constraints"
     )
+
+
+def _joining(chain: tuple) -> Callable[[tuple, tuple], tuple]:
+    """Joins two operands with the operator (and location) of ``chain``'s top node."""
+    return lambda left, right: (chain[0], left, right, *chain[3:])

@@ -23,7 +23,13 @@ from typing import Any
 from lxml import etree
 
 from spl.core.diagnostics import Diagnostic, DiagnosticSink, Location, ModelError
-from spl.dsl.fm.vocabulary import SHARING_MODES, canonical_value, formula_too_deep, too_deep
+from spl.dsl.fm.vocabulary import (
+    SHARING_MODES,
+    balanced,
+    canonical_value,
+    formula_too_deep,
+    too_deep,
+)
 from spl.dsl.interop.interchange import (
     CAPABILITY,
     ORIGINAL_NAME,
@@ -81,6 +87,7 @@ class _Reader:
         self.sink = DiagnosticSink()
         self.F = fm_metamodel()
         self.features: dict[str, Any] = {}
+        self.balance = False  # build <conj>/<disj> balanced (a constraint too deep left-deep)
 
     def loc(self, element: Any) -> Location:
         return Location(self.filename, element.sourceline or 0, 1)
@@ -129,6 +136,11 @@ class _Reader:
                 continue
             formula = self.formula(parts[0])
             refused = formula_too_deep(formula) if formula is not None else None
+            if refused:  # built left-deep; with its <conj>/<disj> balanced it may fit
+                self.balance = True
+                formula = self.formula(parts[0])
+                self.balance = False
+                refused = formula_too_deep(formula)
             if refused:
                 self.error(rule, refused)
             elif formula is not None:
@@ -249,11 +261,17 @@ class _Reader:
         parts = [self.formula(operand) for operand in operands]
         if any(part is None for part in parts):
             return None
+
+        def join(left: Any, right: Any) -> Any:
+            binary = self.locate(F.BinaryFormula(operator=operator), element)
+            binary.left, binary.right = left, right
+            return binary
+
+        if self.balance and operator in ("and", "or"):
+            return balanced(parts, join)
         result = parts[0]
         for part in parts[1:]:
-            binary = self.locate(F.BinaryFormula(operator=operator), element)
-            binary.left, binary.right = result, part
-            result = binary
+            result = join(result, part)
         return result
 
 

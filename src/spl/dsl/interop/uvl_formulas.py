@@ -1,10 +1,13 @@
-"""Constraints of a UVL file: the grammar's ``constraint`` rule, read by precedence climbing.
+"""Constraints of a UVL file: the grammar's ``constraint`` rule, read by operator precedence.
 
 A mixin of :class:`spl.dsl.interop.uvl_reader.UvlReader` (which owns the tokens, the position
 and the diagnostics): ``! > & > | > => > <=>``, binary operators left-associative, as
 the reference grammar's alternatives order them; a constraint ends at its line break
 (inside parentheses line breaks are not tokens). A formula is a tuple tree
-(:mod:`spl.dsl.fm.plain`) naming features by their identifiers.
+(:mod:`spl.dsl.fm.plain`) naming features by their identifiers. The reader keeps its
+own stacks instead of recursing, so no nesting or chain length runs out of Python's
+stack; a constraint too deep for the rest of the toolchain is rebuilt with its ``&``
+and ``|`` chains balanced before it is refused (docs/fm.md, "Limits").
 """
 
 from __future__ import annotations
@@ -13,7 +16,7 @@ from collections.abc import Callable
 from typing import ClassVar, NoReturn
 
 from spl.dsl.fm.plain import Constraint, Source
-from spl.dsl.fm.vocabulary import formula_too_deep
+from spl.dsl.fm.vocabulary import balanced_chains, formula_too_deep
 
 # Tokens only an equation (arithmetic or attribute constraint) holds.
 _ARITHMETIC = frozenset(
@@ -38,6 +41,10 @@ _ARITHMETIC = frozenset(
         "ceil",
     )
 )
+
+
+# "!" binds tighter than every binary operator (their precedences are 0 to 3).
+_NOT = 4
 
 
 class Syntax(Exception):
@@ -76,13 +83,16 @@ class FormulaReader:
                 if kind in _ARITHMETIC:
                     self.error(at, "arithmetic and attribute constraints are not supported")
                     raise Syntax
-            formula = self.formula(0)
+            formula = self.formula()
             if self.index != end:
                 self.fail("expected an operator (! & | => <=>)")
         except Syntax:
             formula = None
         self.index = end + 1 if tokens[end][0] == "NL" else end
         refused = formula_too_deep(formula) if formula is not None else None
+        if refused and formula is not None:  # built left-deep; its chains balanced may fit
+            formula = balanced_chains(formula)
+            refused = formula_too_deep(formula)
         if refused:
             self.error(position, refused)
             formula = None
@@ -91,24 +101,51 @@ class FormulaReader:
             return None
         return Constraint(self.source, position, formula)
 
-    def formula(self, level: int) -> tuple:
-        """Precedence climbing: ! > & > | > => > <=>, binary operators left-associative."""
-        left = self.unary()
+    def formula(self) -> tuple:
+        """Operator precedence with explicit stacks (no recursion: any nesting reads):
+        ! > & > | > => > <=>, binary operators left-associative."""
         tokens = self.tokens
         binary = self._BINARY
+        operands: list[tuple] = []
+        # pending operators: (kind, precedence, position); "(" has none, "!" binds most
+        pending: list[tuple[str, int, int]] = []
+
+        def reduce(precedence: int) -> None:
+            """Apply pending operators binding at least this tightly (to the last "(")."""
+            while pending and pending[-1][0] != "(" and pending[-1][1] >= precedence:
+                kind, _, position = pending.pop()
+                if kind == "not":
+                    operands.append(("not", operands.pop(), position))
+                else:
+                    right = operands.pop()
+                    operands.append((kind, operands.pop(), right, position))
+
         while True:
             kind, _, position = tokens[self.index]
-            entry = binary.get(kind)
-            if entry is None or entry[1] < level:
-                return left
-            self.index += 1
-            left = (entry[0], left, self.formula(entry[1] + 1), position)
+            while kind == "!" or kind == "(":  # prefixes of an operand
+                pending.append(("not", _NOT, position) if kind == "!" else ("(", -1, position))
+                self.index += 1
+                kind, _, position = tokens[self.index]
+            operands.append(self.reference_to_feature())
+            while True:
+                kind = tokens[self.index][0]
+                entry = binary.get(kind)
+                if entry is not None:
+                    reduce(entry[1])
+                    pending.append((entry[0], entry[1], tokens[self.index][2]))
+                    self.index += 1
+                    break
+                reduce(0)
+                if not pending:
+                    return operands[0]
+                self.expect(")", "')'")  # what is left open is a parenthesis
+                pending.pop()
 
-    def unary(self) -> tuple:
+    def reference_to_feature(self) -> tuple:
         tokens = self.tokens
         index = self.index
         kind, text, position = tokens[index]
-        if kind == "id" or kind == "qid":  # the most frequent case first, inline
+        if kind == "id" or kind == "qid":
             if tokens[index + 1][0] == ".":
                 self.error(position, "a dotted reference (an imported feature) is not supported")
                 raise Syntax
@@ -120,12 +157,4 @@ class FormulaReader:
                 self.failed_names = True
                 identifier = name
             return ("ref", identifier, position)
-        if kind == "!":
-            self.index = index + 1
-            return ("not", self.unary(), position)
-        if kind == "(":
-            self.index = index + 1
-            inner = self.formula(0)
-            self.expect(")", "')'")
-            return inner
         self.fail("expected a feature, ! or (")

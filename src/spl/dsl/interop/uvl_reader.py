@@ -44,6 +44,10 @@ _UNCLOSED = {
     "'": "a string is closed on its line and is not empty",
 }
 _PLAIN_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
+# Features nested deeper are refused, located (docs/fm.md, "Limits"): the tree's readers
+# and writers recurse once or twice a level. The deepest of the community models spl
+# is measured on (automotive01) is 13 levels.
+MAX_TREE_DEPTH = 300
 
 
 class UvlReader(FormulaReader):
@@ -58,6 +62,7 @@ class UvlReader(FormulaReader):
         self.features: list[tuple[Feature, str]] = []  # (feature, original name), pre-order
         self.identifiers: dict[str, str] = {}
         self.failed_names = False  # the constraint being read names an unknown feature
+        self.depth = 0  # features open around the one being read
 
     # -- plumbing --------------------------------------------------------------------
     def error(self, position: int, message: str) -> None:
@@ -185,6 +190,14 @@ class UvlReader(FormulaReader):
         if tokens[self.index][0] not in _NAMES:
             self.fail("expected a feature name")
         parts, position = self.reference()
+        self.depth += 1
+        if self.depth > MAX_TREE_DEPTH:
+            self.error(
+                position,
+                f"feature {'.'.join(parts)} is nested {self.depth} levels deep (at most "
+                f"{MAX_TREE_DEPTH}): the readers and writers of the tree would run out of stack",
+            )
+            raise Syntax
         if len(parts) > 1:
             self.error(position, "a dotted feature name (an imported feature) is not supported")
         original = ".".join(parts)
@@ -204,6 +217,7 @@ class UvlReader(FormulaReader):
                 if tokens[self.index][0] == "DEDENT":
                     self.index += 1
                     break
+        self.depth -= 1
         return feature
 
     def group(self) -> Group:
