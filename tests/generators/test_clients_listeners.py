@@ -73,8 +73,6 @@ def test_a_reader_nothing_in_the_model_listens_to_waits_for_one_subscriber() -> 
     # and writers carry no wait: they publish nothing
     files = clients.generate(resolved)
     writer = files["clients/ros1/position_writer/src/position_writer/store_client.py"]
-    assert b"class Listeners" not in writer
-    assert (
-        b"class Listeners"
-        in files["clients/ros1/position_reader/src/position_reader/store_client.py"]
-    )
+    assert b"import Listeners" not in writer and b'"Listeners"' not in writer
+    reader = files["clients/ros1/position_reader/src/position_reader/store_client.py"]
+    assert b"from .runtime.reading import Listeners, PollingReader" in reader

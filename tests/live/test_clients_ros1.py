@@ -13,7 +13,7 @@ from pathlib import Path
 import pytest
 import yaml
 
-from spl.generators.clients import generator as clients
+from spl.generators.clients import generator as clients, runtime as clients_runtime
 from spl.generators.ros1 import launch_files as ros1
 from spl.resolver.resolution.engine import resolve
 from spl.resolver.resolution.product_line import load_product_line
@@ -30,6 +30,7 @@ def product():
     return resolve(line, selection_from_list("Positions,Follow,Embedded")).product
 
 
+RUNTIME = [p.name for p in Path(clients_runtime.__file__).parent.glob("*.py")]
 PACKAGES = {
     "position_writer": "writer_node",
     "position_reader": "reader_node",
@@ -69,6 +70,8 @@ def test_catkin_builds_and_installs_every_generated_package(workspace: Path) -> 
             "store_client.py",
             f"{module}.py",
         }
+        # the clients' runtime, installed with the node as its subpackage
+        assert {p.name for p in (modules / "runtime").glob("*.py")} == set(RUNTIME)
         manifest = (installed / "share" / package / "package.xml").read_text()
         assert '<package format="3">' in manifest and "<exec_depend>rospy</exec_depend>" in manifest
 
@@ -87,11 +90,8 @@ def test_the_nodes_are_rospy_nodes_and_compile_with_the_ros_python(workspace: Pa
     assert "rclpy" not in writer
     # the subscribing reader (CommandReader, `subscribe` in the .tsm) carries the WebSocket feed
     reader = (workspace / "src/command_reader/src/command_reader/store_client.py").read_text()
-    assert (
-        "class Feed" in reader
-        and "class Feed"
-        not in (workspace / "src/position_reader/src/position_reader/store_client.py").read_text()
-    )
+    polling = (workspace / "src/position_reader/src/position_reader/store_client.py").read_text()
+    assert "from .runtime.feed import Feed" in reader and ".runtime.feed" not in polling
 
 
 def test_roslaunch_starts_them_with_the_store_url_argument_and_their_parameters(

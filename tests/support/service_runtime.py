@@ -131,6 +131,17 @@ def request(
 
 
 def load_module(path: Path, name: str) -> ModuleType:
+    """The module at ``path`` under ``name``; a module of a package (a client's
+    store_client.py imports its runtime/ relatively) is loaded inside its package, which
+    gets the name ``name`` + ``_package``, so that two bundles' packages never meet."""
+    if (path.parent / "__init__.py").is_file():
+        package = f"{name}_package"
+        spec = importlib.util.spec_from_file_location(
+            package, path.parent / "__init__.py", submodule_search_locations=[str(path.parent)]
+        )
+        sys.modules[package] = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(sys.modules[package])
+        name = f"{package}.{path.stem}"
     spec = importlib.util.spec_from_file_location(name, path)
     module = importlib.util.module_from_spec(spec)
     sys.modules[name] = module

@@ -8,12 +8,16 @@ retries with back-off, idempotent writes) that the tests run against the real
 generated service: ``clients/ros1/<package>/``, a catkin package with a rospy node
 (the ROS 1 launch files start it, and ``spl smoke`` runs it), and
 ``clients/ros2/<package>/``, an ament_python package with an rclpy node. The message
-class comes from the topic the node's ``records`` interface is connected to.
+class comes from the topic the node's ``records`` interface is connected to. What is
+the same in every node is :mod:`spl.generators.clients.runtime`, copied byte for byte
+into each package as ``<package>/runtime/`` (docs/services.md, "Robot-side writers and
+readers"); ``store_client`` holds the product's names and passes them to it.
 """
 
 from __future__ import annotations
 
 import re
+from importlib.resources import files as package_files
 from typing import TYPE_CHECKING, cast
 
 from spl.core.diagnostics import Diagnostic, ModelError, location_of
@@ -28,6 +32,7 @@ from spl.resolver.resolution.data_clients import client_package_name, client_pac
 if TYPE_CHECKING:
     from spl.metamodels import tsm_types
 
+RUNTIME = "spl.generators.clients.runtime"  # shipped as <package>/runtime/
 ROS_PACKAGE = re.compile(r"[a-z][a-z0-9_]*\Z")
 MESSAGE_TYPE = re.compile(r"([A-Za-z][A-Za-z0-9_]*)/(?:msg/)?([A-Za-z][A-Za-z0-9_]*)\Z")
 ROS2_TOP = ("package.xml", "setup.py", "setup.cfg", "README.md")
@@ -99,6 +104,16 @@ def package_of(node: tsm_types.Node, generated: dict[int, str]) -> str:
     return generated.get(id(node)) or client_package_name(node.name)
 
 
+def runtime_files() -> dict[str, bytes]:
+    """The clients' runtime modules by file name, as they are in spl (copied, not
+    rendered, as the service generator copies the services' runtime)."""
+    found = {}
+    for entry in package_files(RUNTIME).iterdir():
+        if entry.name.endswith(".py") and entry.is_file():
+            found[entry.name] = entry.read_bytes()
+    return dict(sorted(found.items()))
+
+
 def generate_client(
     container: tsm_types.Container,
     node: tsm_types.Writer | tsm_types.Reader,
@@ -162,6 +177,7 @@ def generate_client(
         "__init__.py": render("clients/__init__.py.j2", **context),
         "store_client.py": render("clients/store_client.py.j2", **context),
     }
+    shared |= {f"runtime/{name}": data for name, data in runtime_files().items()}
     ros2, ros1 = f"clients/ros2/{package}", f"clients/ros1/{package}"
     files = {f"{ros2}/{name}": render(f"clients/ros2/{name}.j2", **context) for name in ROS2_TOP}
     files[f"{ros2}/resource/{package}"] = b""
