@@ -189,6 +189,11 @@ def model_summary(path: Path, workspace: Workspace | None = None) -> str:
         from spl.dsl.tsm import language as tsm
 
         return tsm.summary(tsm.check_file(path, workspace=workspace))
+    if path.suffix.lower() in (".uvl", ".xml"):  # a feature model as spl analyze reads it
+        from spl.dsl.fm import language as fm
+        from spl.dsl.interop.formats import load_feature_model
+
+        return fm.summary(load_feature_model(path, workspace))
     language, model = parse_model(path, workspace)
     return language.summary(model)
 

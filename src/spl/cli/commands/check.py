@@ -22,7 +22,8 @@ from spl.core.diagnostics import ModelError
 @click.argument("target", type=click.Path(exists=True, path_type=Path))
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object instead of text.")
 def command(target: Path, as_json: bool) -> None:
-    """Parse and check a model file (.tsm, .fm, .rm) or a product-line folder.
+    """Parse and check a model file (.tsm, .fm, .rm; a .uvl or FeatureIDE .xml feature
+    model) or a product-line folder.
 
     Every problem is printed as FILE:LINE:COL: SEVERITY: MESSAGE [CODE]; the exit
     status is 1 when any error was found (warnings and infos exit 0).
