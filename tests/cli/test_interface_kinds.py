@@ -34,6 +34,21 @@ TESTED = NAMES | {"Interface"}
 # what a kind or family is called where a name stands for it (a flow's kind, a planned
 # stand-in's role)
 KIND_WORDS = {f.name for f in FAMILIES} | {k.smoke_role for k in KINDS if k.smoke_role is not None}
+# what names one kind wherever it stands: its statement's keyword and rule, its title
+STATEMENT_WORDS = {k.keyword for k in KINDS} | {k.rule for k in KINDS} | {k.title for k in KINDS}
+# the registry's families by their constants
+FAMILY_NAMES = {"TOPIC", "SERVICE", "ACTION"}
+# what a kind or family is asked by, compared with what names one
+ASKED_BY = {"kind", "family", "keyword", "rule", "title", "eclass", "name", "smoke_role"}
+
+
+def _constants(node: ast.AST) -> list[object]:
+    """The constants ``node`` is, or holds (``x in ('a', 'b')``)."""
+    if isinstance(node, ast.Constant):
+        return [node.value]
+    if isinstance(node, (ast.Tuple, ast.List, ast.Set)):
+        return [e.value for e in node.elts if isinstance(e, ast.Constant)]
+    return []
 
 
 def test_every_interface_class_of_the_metamodel_has_one_kind() -> None:
@@ -65,14 +80,16 @@ def _asks_a_class(node: ast.AST) -> str | None:
         return f"the class name {node.value!r}"
     if isinstance(node, ast.Compare):
         sides = [node.left, *node.comparators]
-        kinds = [s for s in sides if isinstance(s, ast.Attribute) and s.attr == "kind"]
-        named = [
-            s for s in sides
-            if (isinstance(s, ast.Constant) and s.value in KIND_WORDS)
-            or (isinstance(s, ast.Name) and s.id in {"TOPIC", "SERVICE", "ACTION"})
-        ]  # fmt: skip
-        if kinds and named:
+        asked = [s for s in sides if isinstance(s, ast.Attribute) and s.attr in ASKED_BY]
+        words = {c for s in sides for c in _constants(s) if isinstance(c, str)}
+        if any(isinstance(s, ast.Name) and s.id in FAMILY_NAMES for s in sides):
+            return f"a family compared: {ast.unparse(node)}"
+        if words & STATEMENT_WORDS or (asked and words & KIND_WORDS):
             return f"a kind compared: {ast.unparse(node)}"
+    if isinstance(node, ast.Dict):  # a table of the kinds, by keyword or rule
+        keys = {c for k in node.keys if k is not None for c in _constants(k)}
+        if keys & STATEMENT_WORDS:
+            return f"a table of kinds: {sorted(str(k) for k in keys & STATEMENT_WORDS)}"
     return None
 
 
@@ -97,7 +114,14 @@ def test_the_scan_sees_what_it_forbids() -> None:
         "flow.kind == TOPIC\n"
         "crossing.kind != 'service'\n"
         "planned.kind == 'client'\n"
+        "crossing.family is ACTION\n"
+        "kind.family.name in ('action', 'service')\n"
+        "word == 'calls'\n"
+        "rule in ('Provides', 'ProvidesAction')\n"
+        "rules = {'param': p, 'publishes': q}\n"
         "token.kind == 'name'\n"  # not an interface's kind
+        "decl.kind in ('node', 'store')\n"
+        "rules = {'param': p, 'node': q}\n"
     )
     seen = [w for n in ast.walk(ast.parse(planted)) if (w := _asks_a_class(n)) is not None]
-    assert len(seen) == 6, seen
+    assert len(seen) == 11, seen

@@ -44,6 +44,9 @@ READERS = {
         "tsm/interface_reader.py",
         "tsm/expression_reader.py",
         "tsm/tree.py",
+        # the interface statements' keywords, which interface_reader.py reads from the
+        # registry of interface kinds (docs/architecture.md, "Interface kinds")
+        "../metamodels/interface_kinds.py",
     ],
     "fm": ["fm/reader.py"],
     "rm": ["rm/reader.py"],

@@ -1,82 +1,79 @@
-"""The fast reader's statements of a node's interfaces, one per kind of ``tsm.tx``
-(``Publishes``, ``Subscribes``, ``ProvidesAction``, ``Provides``, ``CallsAction``,
-``Calls``; docs/architecture.md, "Interface kinds"), read as textX reads them
+"""The fast reader's statements of a node's interfaces, read as textX reads them
 (``spl.dsl.tsm.reader`` says how, and when it leaves a text to textX).
+
+Every interface statement of ``tsm.tx`` has one of three shapes, and its kind in the
+registry says which (docs/architecture.md, "Interface kinds"): a server is bound to
+nothing (``KEYWORD name ':' TypeRef ('name' Str)?``); any other kind names what it is
+bound to after its arrow, a topic of its container or ``NODE.SERVER``
+(``KEYWORD name ((':' TypeRef (ARROW TARGET)?) | (ARROW TARGET))``), and an input of
+those may say what feeds it from outside (``('external' Str)?``). So a kind's statement
+is read from its registry entry (its keyword, rule, arrow and side), and a new kind
+needs its rule's class in ``tree.py`` and nothing here.
 """
 
 from __future__ import annotations
 
 from typing import Any
 
+from spl.dsl.tsm import tree
 from spl.dsl.tsm.expression_reader import ExpressionReader
-from spl.dsl.tsm.tree import (
-    IDENT,
-    ROS_TYPE,
-    Calls,
-    CallsAction,
-    Provides,
-    ProvidesAction,
-    Publishes,
-    Ref,
-    Subscribes,
-    TypeRef,
-)
+from spl.dsl.tsm.tree import IDENT, ROS_TYPE, Ref, TypeRef
+from spl.metamodels.interface_kinds import KINDS, InterfaceKind
+
+# The kinds whose statement a word opens, each with the words of its keyword after that
+# one and its rule's class in the reader's tree, the longer keywords first: textX tries
+# an action statement before the service's (tsm.tx, ``NodeMember``).
+OPENED_BY: dict[str, list[tuple[InterfaceKind, list[str], Any]]] = {}
+for _kind in sorted(KINDS, key=lambda k: -len(k.keyword.split())):
+    _first, *_rest = _kind.keyword.split()
+    OPENED_BY.setdefault(_first, []).append((_kind, _rest, getattr(tree, _kind.rule)))
 
 
 class InterfaceReader(ExpressionReader):
-    """``publishes``, ``subscribes``, ``provides [action]`` and ``calls [action]``."""
+    """A node's interface statements, one rule per kind of the registry."""
 
-    def publishes(self, start: int) -> Any:
-        return self.interface(start, "publishes", Publishes, "->", self.ref)
-
-    def subscribes(self, start: int) -> Any:
-        return self.interface(start, "subscribes", Subscribes, "<-", self.ref)
-
-    def calls(self, start: int) -> Any:
-        return self.interface(start, "calls", Calls, "->", self.qref, CallsAction)
-
-    def action(self) -> bool:
-        """Whether ``action NAME`` is next, then read up to the name: textX tries the
-        action statement first (tsm.tx, ``NodeMember``) and it fails before the name
-        where ``action`` is a service's or client's own name (``provides action : T``)."""
-        start = self.pos
-        if self.word()[1] == "action":
-            self.keyword("action")
-            if IDENT.match(self.text, self.skip()):
-                return True
-        self.pos = start
-        return False
-
-    def interface(
-        self, start: int, keyword: str, rule: Any, arrow: str, target: Any, action: Any = None
-    ) -> Any:
-        """``KEYWORD name ((':' TypeRef (ARROW TARGET)?) | (ARROW TARGET)) ('external'
-        Str)?``, or the ``action`` rule's ``KEYWORD 'action' name ...``."""
-        self.keyword(keyword)
-        if action is not None and self.action():
-            rule = action
+    def interface(self, start: int) -> Any:
+        """The statement at ``start``, of the first kind whose keyword it begins with."""
+        kind, rule = self.opened_kind()
         name = self.name()
-        kind = found = None
+        if kind.binds is None:
+            self.punct(":")
+            served = TypeRef(*self.match(ROS_TYPE))
+            return rule(start, name, served, self.optional_string("name"))
+        arrow = kind.arrow or ""
+        target = self.ref if kind.on_topic else self.qref
+        kind_type: TypeRef | None = None
+        found = None
         if self.at(":"):
             self.punct(":")
-            kind = TypeRef(*self.match(ROS_TYPE))
+            kind_type = TypeRef(*self.match(ROS_TYPE))
             if self.at(arrow):
                 self.punct(arrow)
                 found = target()
         else:
             self.punct(arrow)
             found = target()
-        if rule is Publishes:
-            return rule(start, name, kind, found)
-        return rule(start, name, kind, found, self.optional_string("external"))
+        if kind.provides:  # an output: nothing outside feeds it
+            return rule(start, name, kind_type, found)
+        return rule(start, name, kind_type, found, self.optional_string("external"))
+
+    def opened_kind(self) -> tuple[InterfaceKind, Any]:
+        """The kind whose keyword comes next, and its rule's class, read up to the name: a
+        keyword of several words (``provides action``) is one only where a name follows
+        it, as textX's statement fails before the name where ``action`` is a service's
+        own name (``provides action : T``)."""
+        at, first = self.word()
+        for kind, rest, rule in OPENED_BY[first]:
+            self.pos = at + len(first)
+            for word in rest:
+                word_at, found = self.word()
+                if found != word:
+                    break
+                self.pos = word_at + len(word)
+            else:  # a one-word keyword is the last tried: its name is read next
+                if not rest or IDENT.match(self.text, self.skip()):
+                    return kind, rule
+        raise tree.Refused
 
     def ref(self) -> Any:
         return self.name(Ref)
-
-    def provides(self, start: int) -> Any:
-        self.keyword("provides")
-        rule = ProvidesAction if self.action() else Provides
-        name = self.name()
-        self.punct(":")
-        kind = TypeRef(*self.match(ROS_TYPE))
-        return rule(start, name, kind, self.optional_string("name"))

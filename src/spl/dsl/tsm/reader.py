@@ -31,7 +31,7 @@ from __future__ import annotations
 
 from typing import Any, cast
 
-from spl.dsl.tsm.interface_reader import InterfaceReader
+from spl.dsl.tsm.interface_reader import OPENED_BY, InterfaceReader
 from spl.dsl.tsm.tree import (
     BOOLEAN,
     IDENT,
@@ -348,10 +348,6 @@ _MEMBERS = {
     "reader": _Reader.reader,
     "store": _Reader.store,
 }
-_NODE_MEMBERS = {
-    "param": _Reader.parameter,
-    "publishes": _Reader.publishes,
-    "subscribes": _Reader.subscribes,
-    "provides": _Reader.provides,
-    "calls": _Reader.calls,
-}
+# A node's parameters, and the interface statements of the registry's kinds by the word
+# that opens each (interface_reader.OPENED_BY).
+_NODE_MEMBERS = {"param": _Reader.parameter, **dict.fromkeys(OPENED_BY, _Reader.interface)}
