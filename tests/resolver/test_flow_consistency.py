@@ -13,6 +13,12 @@ of two or more robots and cloud nodes of every sharing mode (tests/random_lines.
 - the smoke plan expects the table's sources and servers, and its relays, followed
   message by message as the stand-ins follow them, bring every publisher's data to
   exactly the subscribers the table feeds (no ROS started).
+
+The fleets have actions too (robot clients sending goals to cloud servers through action
+bridges, migrations moving either end): the table's action flows are the model's
+client-to-server reachability, Rapyuta carries each as its five topics in their
+directions, Zenoh pairs action_clients with action_servers, and the smoke plan's
+stand-ins carry each goal along the route to its server and the answers back.
 """
 
 from __future__ import annotations
@@ -28,6 +34,7 @@ from hypothesis import event, given, settings, strategies as st, target
 
 from spl.generators.bundle.options import BundleOptions
 from spl.generators.bundle.writer import build_bundle, write_bundle
+from spl.metamodels.interface_kinds import ACTION
 from spl.resolver.architecture.flows import SERVICE, TOPIC, FlowTable
 from spl.resolver.architecture.placement import Placement
 from spl.resolver.architecture.product import ResolvedProduct
@@ -83,7 +90,8 @@ def reachability(system: Any) -> set[tuple[str, str, str]]:
         for subscriber in interfaces:
             if subscriber.eClass.name == "Subscriber" and id(subscriber.topic) in reached:
                 found.add((TOPIC, name(publisher), name(subscriber)))
-    for client in (i for i in interfaces if i.eClass.name == "ServiceClient" and i.server):
+    calling = {"ServiceClient": SERVICE, "ActionClient": ACTION}
+    for client in (i for i in interfaces if i.eClass.name in calling and i.server):
         server, seen = client.server, set()
         while server is not None and server.eContainer().eClass.name == "Endpoint":
             if id(server) in seen or id(server) not in calls_after:
@@ -92,7 +100,7 @@ def reachability(system: Any) -> set[tuple[str, str, str]]:
             seen.add(id(server))
             server = calls_after[id(server)].server
         if server is not None:
-            found.add((SERVICE, name(client), name(server)))
+            found.add((calling[client.eClass.name], name(client), name(server)))
     return found
 
 
@@ -165,6 +173,25 @@ def expected_deliveries(product: ResolvedProduct) -> set[Delivery]:
     return found
 
 
+ACTION_TOPICS = (("goal", True), ("cancel", True), ("status", False), ("feedback", False),
+                 ("result", False))  # actionlib's, and whether the client sends it  # fmt: skip
+
+
+def as_topics(deliveries: set[Delivery]) -> set[Delivery]:
+    """The deliveries a Rapyuta configuration makes of ``deliveries``: an action's five
+    topics under its names, goals and cancels from the client's place, the rest back."""
+    found = set()
+    for kind, source, a, into, b in deliveries:
+        if kind != ACTION:
+            found.add((kind, source, a, into, b))
+            continue
+        for part, sent in ACTION_TOPICS:
+            ends = ((source, f"{a}/{part}"), (into, f"{b}/{part}"))
+            (p, x), (q, y) = ends if sent else ends[::-1]
+            found.add((TOPIC, p, x, q, y))
+    return found
+
+
 def rapyuta_deliveries(files: dict[str, Any]) -> set[Delivery]:
     documents = [json.loads(d) for p, d in files.items() if p.startswith("rapyuta/")]
     interfaces = {
@@ -182,7 +209,10 @@ def rapyuta_deliveries(files: dict[str, Any]) -> set[Delivery]:
 
 def zenoh_deliveries(files: dict[str, Any]) -> set[Delivery]:
     """Pairs of bridges of two places whose keys (namespace + name) meet."""
-    lists = {"publishers": [], "subscribers": [], "service_clients": [], "service_servers": []}
+    lists: dict[str, list] = {
+        k: [] for k in ("publishers", "subscribers", "service_clients", "service_servers",
+                        "action_clients", "action_servers")
+    }  # fmt: skip
     for path, data in files.items():
         if not path.startswith("zenoh/") or not path.endswith(".json5"):
             continue
@@ -195,7 +225,8 @@ def zenoh_deliveries(files: dict[str, Any]) -> set[Delivery]:
                 lists[kind].append((place, ros_name, plugin.get("namespace", "") + ros_name))
     found = set()
     for kind, out, into in ((TOPIC, "publishers", "subscribers"),
-                            (SERVICE, "service_clients", "service_servers")):  # fmt: skip
+                            (SERVICE, "service_clients", "service_servers"),
+                            (ACTION, "action_clients", "action_servers")):  # fmt: skip
         for source, a, key in lists[out]:
             for place, b, other in lists[into]:
                 if key == other and source != place:
@@ -210,8 +241,10 @@ def check_smoke_plan(product: ResolvedProduct, folder: Path) -> None:
     table = FlowTable.of(product.system)
     fed: dict[str, set[str]] = defaultdict(set)
     for flow in table:
-        if flow.kind == SERVICE:
+        if flow.kind != TOPIC:
             assert by_id[name(flow.source)].server == name(flow.target)
+            if flow.kind == ACTION:
+                follow_goals(plan, by_id[name(flow.source)], by_id[name(flow.target)])
         else:
             fed[name(flow.target)].add(name(flow.source))
     for interface in by_id.values():
@@ -250,9 +283,32 @@ def check_smoke_plan(product: ResolvedProduct, folder: Path) -> None:
             )
 
 
+def follow_goals(plan: Any, client: Any, server: Any) -> None:
+    """A goal the client sends, carried as the stand-ins carry it: from the endpoint
+    standing in for the server where it is (same ROS name) to that stand-in's peer, and
+    so on, must reach the server's container under the server's name; the answers go
+    back to every stand-in it passed (each relay lists it among its peers)."""
+    endpoints = {c.name: c.endpoint for c in plan.containers if c.endpoint is not None}
+    where, ros_name, passed = client.container, client.ros_name, set()
+    while (where, ros_name) != (server.container, server.ros_name):
+        assert (where, ros_name) not in passed, "a goal went round in a circle"
+        passed.add((where, ros_name))
+        endpoint = endpoints[where]
+        (stand_in,) = [
+            i
+            for i in endpoint.interfaces
+            if i.kind.serves and i.kind.family is ACTION and i.ros_name == ros_name
+        ]
+        peer_container, peer_name = stand_in.forward
+        (relay,) = [i for i in endpoints[peer_container].interfaces if i.name == peer_name]
+        assert (stand_in.container, stand_in.name) in relay.peers, "no way back for answers"
+        assert relay.server == server.id
+        where, ros_name = relay.container, relay.ros_name
+
+
 @st.composite
 def fleets_and_selections(draw):
-    spec = draw(fleet_specs())
+    spec = draw(fleet_specs(actions=True))
     selected = draw(st.sets(st.sampled_from(spec.features()))) if spec.elements else set()
     return spec, selected
 
@@ -267,11 +323,12 @@ def test_every_output_carries_exactly_the_flow_table(case):
         product = resolve(line, selection).product
         table = {(f.kind, name(f.source), name(f.target)) for f in product.flows}
         assert table == reachability(product.system)
+        event(f"action flows: {min(sum(f.kind == ACTION for f in product.flows), 3)}")
 
         bundle = build_bundle(product, BundleOptions(render_diagrams=False))
         files = bundle.files
         expected = expected_deliveries(product)
-        assert rapyuta_deliveries(files) == expected
+        assert rapyuta_deliveries(files) == as_topics(expected)
         event(f"{len(expected)} deliveries between places")
         target(float(len(expected)))  # steer towards products whose data crosses places
         if "zenoh/" in bundle.skipped:  # the bundle says why Zenoh cannot carry it

@@ -29,6 +29,7 @@ ROS_TOPICS = {
 }
 TOPIC_NAMES = ("Scan", "Pose", "Data", "Goal")
 SERVICE_TYPES = ("nav_msgs/GetPlan", "std_srvs/Trigger")
+ACTION_TYPE = "move_base_msgs/MoveBase"
 
 
 @dataclass
@@ -44,7 +45,7 @@ class Topic:
 
 @dataclass
 class Interface:
-    kind: str  # publishes | subscribes | provides | calls
+    kind: str  # publishes | subscribes | provides | calls | provides action | calls action
     name: str
     type: str
     topic: str | None = None  # publishes/subscribes: a topic of the node's container
@@ -192,13 +193,15 @@ def line_specs(draw) -> LineSpec:
 
 
 @st.composite
-def fleet_specs(draw) -> LineSpec:
+def fleet_specs(draw, actions: bool = False) -> LineSpec:
     """A line of 2-3 robots and 1-3 clouds that exchange data: every container has topics
     of some shared ROS names, robot and cloud topics of one ROS name are bridged up, down
     or not at all (and clouds among themselves now and then), cloud nodes get a sharing
     mode, robot clients call cloud servers through service bridges, and a few elements
     migrate nodes or require optional ones. Fan-out, fan-in, private partitions used by
-    several robots and flows between robots through the cloud are common."""
+    several robots and flows between robots through the cloud are common. With
+    ``actions``, cloud nodes may serve an action and robot nodes call one, through action
+    bridges as services do (without, the draws are those of a line with none)."""
     robots = draw(st.integers(2, 3))
     clouds = draw(st.integers(1, 3))
     containers = {f"Robot{i}": "robot" for i in range(robots)}
@@ -216,12 +219,16 @@ def fleet_specs(draw) -> LineSpec:
             if kind == "cloud":
                 node.sharing = draw(st.sampled_from(["private", "protected", "public"]))
             kinds = ["publishes", "subscribes"] + (["provides"] if kind == "cloud" else ["calls"])
+            if actions:
+                kinds.append(f"{kinds[-1]} action")
             for k in range(draw(st.integers(1, 3))):
                 what = draw(st.sampled_from(kinds))
-                name = f"{what[0]}{k}"
+                name = f"{what[0]}{'a' if what.endswith('action') else ''}{k}"
                 if what in ("publishes", "subscribes"):
                     topic = draw(st.sampled_from(local))
                     node.interfaces.append(Interface(what, name, topic.type, topic=topic.name))
+                elif what.endswith("action"):
+                    node.interfaces.append(Interface(what, name, ACTION_TYPE))
                 else:
                     node.interfaces.append(Interface(what, name, SERVICE_TYPES[0]))
             nodes.append(node)
@@ -247,15 +254,17 @@ def fleet_specs(draw) -> LineSpec:
                 bridge = ((a.container, a.name), (b.container, b.name))
                 if not _returns_to_a_container(_bridge_graph([*bridges, bridge])):
                     bridges.append(bridge)
-    servers = [
-        (n.container, n.name, i.name) for n in nodes for i in n.interfaces if i.kind == "provides"
-    ]
     service_bridges = []
-    for node in nodes:
-        for client in (i for i in node.interfaces if i.kind == "calls"):
-            if servers and draw(st.booleans()):
-                server = draw(st.sampled_from(servers))
-                service_bridges.append(((node.container, node.name, client.name), server))
+    for provides in ("provides", "provides action"):  # an action is bridged as a service
+        servers = [
+            (n.container, n.name, i.name) for n in nodes for i in n.interfaces if i.kind == provides
+        ]
+        calls = provides.replace("provides", "calls")
+        for node in nodes:
+            for client in (i for i in node.interfaces if i.kind == calls):
+                if servers and draw(st.booleans()):
+                    server = draw(st.sampled_from(servers))
+                    service_bridges.append(((node.container, node.name, client.name), server))
     elements: list[Element] = []
     for node in draw(st.lists(st.sampled_from(nodes), max_size=2, unique_by=lambda n: n.name)):
         targets = [c for c in containers if c != node.container]
@@ -292,9 +301,11 @@ def tsm_text(spec: LineSpec) -> str:
                     lines.append(f"        publishes {i.name} -> {i.topic}")
                 elif i.kind == "subscribes":
                     lines.append(f"        subscribes {i.name} <- {i.topic}")
-                elif i.kind == "provides":
+                elif i.kind.startswith("provides"):
                     ros = f"/{node.name.lower()}/{i.name}"
-                    lines.append(f'        provides {i.name} : {i.type} name "{ros}"')
+                    lines.append(f'        {i.kind} {i.name} : {i.type} name "{ros}"')
+                elif i.kind == "calls action":
+                    lines.append(f"        calls action {i.name} : {i.type}")
                 elif i.server is not None:
                     lines.append(f"        calls {i.name} -> {i.server[0]}.{i.server[1]}")
                 else:
