@@ -120,6 +120,7 @@ def test_what_is_not_carried_over_is_a_located_warning_and_no_command_runs(packa
   <node pkg="demo" type="t" name="g" respawn="true"><env name="A" value="1"/></node>
   <node pkg="demo" type="t" name="h"><param name="c" command="touch {marker}"/></node>
   <param name="global" value="1"/>
+  <node pkg="demo" type="t" name="topic"/>
 </launch>
 """)  # fmt: skip
     out = tmp_path / "line"
@@ -137,13 +138,14 @@ def test_what_is_not_carried_over_is_a_located_warning_and_no_command_runs(packa
         f"{launch}:6: warning: node /g: respawn left out",
         f"{launch}:7: warning: <param name=\"c\" command=...> left out",
         f"{launch}:8: warning: parameter /global left out: it is private to no node",
+        f"{launch}:9: warning: node /topic left out: its name is not an identifier, or a word",
     ]  # fmt: skip
     lines = stderr.splitlines()
     assert len(lines) == len(expected)
     for line, start in zip(lines, expected, strict=True):
         assert line.startswith(start), line
     assert (out / "import-report.txt").read_text().splitlines()[1:] == lines
-    assert "2 nodes (0 optional), 8 things not carried over" in stdout
+    assert "2 nodes (0 optional), 9 things not carried over" in stdout
 
 
 ALIASES = "a: &a [x, x, x, x, x, x, x, x, x, x]\n" + "".join(
@@ -169,6 +171,8 @@ ALIASES = "a: &a [x, x, x, x, x, x, x, x, x, x]\n" + "".join(
           "a.yaml": ALIASES}, "a rosparam value of more than 200000 items (YAML aliases?)"),
         ({"syntax.launch": '<launch>\n<node pkg="p" type="t" name="n"'},
          "syntax.launch: invalid launch XML: unclosed token: line 2, column 0"),
+        ({"bool.launch": '<launch><arg name="a" default="maybe"/>\n<group if="$(arg a)"/>'
+          "</launch>"}, "bool.launch:2: maybe is not a 'bool' type"),
         ({"unset.launch": '<launch><arg name="x"/>\n<node pkg="p" type="t" name="$(arg x)"/>'
           "</launch>"}, "unset.launch:2: <node name=\"$(arg x)\"> needs arg 'x', which is not set"),
     ],
@@ -275,3 +279,17 @@ def test_without_robot_patterns_every_node_is_in_one_cloud_container(package_pat
     tsm = (tmp_path / "line" / "machines.tsm").read_text()
     assert "robot container" not in tsm
     assert "cloud container Cloud {" in tsm and "cloud container Cloud_arm {" in tsm
+
+
+def test_two_combinations_named_alike_are_refused(package_path, tmp_path):
+    launch = write_launch(package_path, "two.launch", (
+        '<launch><arg name="a" default="x"/><arg name="b" default="z"/></launch>'))  # fmt: skip
+    out = tmp_path / "line"
+    status, _, stderr = run_import(launch, package_path, out, "--arg", "a=x_y,x",
+                                   "--arg", "b=z,y_z")  # fmt: skip
+    assert status == 1
+    assert stderr == (
+        "error: the combinations x_y z and x y_z would both be the product x_y_z "
+        "(values joined with _)\n"
+    )
+    assert not out.exists()

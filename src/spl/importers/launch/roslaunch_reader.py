@@ -253,7 +253,7 @@ class ImportLoader(xmlloader.XmlLoader):
                     f"{where[0]}:{where[1]}: <{tag.tagName}{_named(tag)}> needs arg '{exc}', "
                     "which is not set (an argument of the file given: --arg NAME=VALUE)"
                 ) from None
-            except RLException as exc:
+            except (RLException, ValueError) as exc:  # ValueError: a value of the wrong type
                 raise Refused(f"{where[0]}:{where[1]}: {_first_line(exc)}") from None
             finally:
                 if self.where and self.where[-1] == where:

@@ -16,8 +16,20 @@ from collections.abc import Callable, Hashable, Sequence
 from dataclasses import dataclass, field
 from typing import Any, TypeVar
 
-from spl.importers.launch.reading import Argument, Combination, LoadedNode, Warning_
-from spl.importers.launch.values import MISSING, NodeParameter, feature_name, node_parameters
+from spl.importers.launch.reading import (
+    Argument,
+    Combination,
+    ImportRefused,
+    LoadedNode,
+    Warning_,
+)
+from spl.importers.launch.values import (
+    MISSING,
+    NodeParameter,
+    feature_name,
+    is_name,
+    node_parameters,
+)
 
 T = TypeVar("T", bound=Hashable)
 
@@ -113,6 +125,11 @@ def build_line(
     by_combination = {c.values: c for c in combinations}
     for ros_name, seen in appearances.items():
         first = next(iter(seen.values()))
+        if not is_name(first.name):
+            line.warnings.append(Warning_(first.file, first.line, (
+                f"node {ros_name} left out: its name is not an identifier, or a word of "
+                "spl's languages")))  # fmt: skip
+            continue
         robot = is_robot(first)
         namespace = first.namespace.strip("/")
         container = ("Robot" if robot else "Cloud") + (
@@ -168,6 +185,14 @@ def build_line(
         chosen = chosen or [name]  # a product selects a feature: the root, when no other
         varying = [v for a, v in zip(arguments, values, strict=True) if len(a.values) > 1]
         line.products.append(("_".join(varying) or name, values, chosen))
+    line.warnings.sort(key=lambda w: (w.file, w.line, w.message))
+    named: dict[str, tuple[str, ...]] = {}
+    for product, values, _ in line.products:
+        if named.setdefault(product, values) != values:
+            raise ImportRefused(
+                f"the combinations {' '.join(named[product])} and {' '.join(values)} would "
+                f"both be the product {product} (values joined with _)"
+            )
     return line
 
 
