@@ -216,3 +216,21 @@ def test_json_and_a_sample(tmp_path: Path) -> None:
     for product in report["products"]["changed"]:
         assert set(product) == {"product", "features", "files"}
         assert all(set(f) == {"path", "reason"} for f in product["files"])
+
+
+def test_since_reads_each_line_at_the_revision_of_its_own(tmp_path: Path) -> None:
+    """Two lines with one folder name: each is compared with its own old version (its
+    copy read out of git is its own, though the folder names are the same)."""
+    repo = tmp_path / "repo"
+    first = shutil.copytree(MAPPING, repo / "a" / "mapping3d")
+    second = shutil.copytree(MAPPING, repo / "b" / "mapping3d")
+    (second / "products" / "youbot_stereo_room.yaml").unlink()
+    git(repo, "init", "-q")
+    git(repo, "add", ".")
+    git(repo, "commit", "-q", "-m", "two lines")
+    junit = tmp_path / "report.xml"
+    result = spl("validate", first, second, "--since", "HEAD", "--junit", junit)
+    assert result.exit_code == 0, result.output
+    suites = etree.parse(str(junit)).getroot()
+    # one suite (the lines have one name): every product of both skipped
+    assert [(s.get("tests"), s.get("skipped")) for s in suites] == [("9", "9")]

@@ -242,7 +242,7 @@ def _compare_with(lines, changed_from: Path | None, since: str | None, scratch: 
 
     if changed_from is None and since is None:
         return "bundle unchanged"
-    for loaded in lines:
+    for index, loaded in enumerate(lines):
         if loaded.line is None:
             continue
         try:
@@ -250,7 +250,8 @@ def _compare_with(lines, changed_from: Path | None, since: str | None, scratch: 
                 loaded.base = Version(changed_from, pipeline.load_line(changed_from))
             else:
                 assert since is not None
-                loaded.base = load_revision(loaded.directory, since, scratch)
+                # a copy of its own: two lines may have one folder name
+                loaded.base = load_revision(loaded.directory, since, scratch / str(index))
                 if loaded.base is None:
                     click.echo(
                         f"note: {loaded.directory} is not in {since}: every product is checked",
