@@ -121,6 +121,8 @@ def test_what_is_not_carried_over_is_a_located_warning_and_no_command_runs(packa
   <node pkg="demo" type="t" name="h"><param name="c" command="touch {marker}"/></node>
   <param name="global" value="1"/>
   <node pkg="demo" type="t" name="topic"/>
+  <node pkg="Bad-Pkg" type="t" name="bad"/>
+  <node pkg="demo" type="t" name="quoted" args="--title 'a b'"/>
 </launch>
 """)  # fmt: skip
     out = tmp_path / "line"
@@ -139,13 +141,16 @@ def test_what_is_not_carried_over_is_a_located_warning_and_no_command_runs(packa
         f"{launch}:7: warning: <param name=\"c\" command=...> left out",
         f"{launch}:8: warning: parameter /global left out: it is private to no node",
         f"{launch}:9: warning: node /topic left out: its name is not an identifier, or a word",
+        f"{launch}:10: warning: node /bad left out: 'Bad-Pkg' is not a valid ROS package name",
+        f"{launch}:11: warning: node /quoted: args '--title a b' left out: an argument holds "
+        "blanks",
     ]  # fmt: skip
     lines = stderr.splitlines()
     assert len(lines) == len(expected)
     for line, start in zip(lines, expected, strict=True):
         assert line.startswith(start), line
     assert (out / "import-report.txt").read_text().splitlines()[1:] == lines
-    assert "2 nodes (0 optional), 9 things not carried over" in stdout
+    assert "3 nodes (0 optional), 11 things not carried over" in stdout
 
 
 ALIASES = "a: &a [x, x, x, x, x, x, x, x, x, x]\n" + "".join(

@@ -29,7 +29,7 @@ from spl.importers.launch.reading import (
     Argument,
     ImportRefused,
     LoadedNode,
-    Warning_,
+    Omission,
     load_combinations,
     parse_argument,
 )
@@ -54,7 +54,7 @@ class LaunchImport:
     files: dict[str, str]  # path in the output folder -> text
 
     @property
-    def warnings(self) -> list[Warning_]:
+    def warnings(self) -> list[Omission]:
         return self.line.warnings
 
 
@@ -65,7 +65,8 @@ def import_launch(
     robot_patterns: Sequence[str] = (),
 ) -> LaunchImport:
     """The files of the product line the launch files describe (nothing is written)."""
-    stem = re.sub(r"[^A-Za-z0-9_]", "_", files[0].name.split(".")[0]) or "imported"
+    stem = re.sub(r"[^A-Za-z0-9_]", "_", files[0].name.split(".")[0])
+    stem = stem if re.match(r"[A-Za-z]", stem) else f"line_{stem}"  # also the endpoint user
     name = feature_name(stem, set(), f"{stem}_line")
     combinations, warnings = load_combinations(files, arguments, package_path)
 

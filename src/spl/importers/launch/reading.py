@@ -48,7 +48,7 @@ class Argument:
 
 
 @dataclass(frozen=True)
-class Warning_:
+class Omission:
     """Something the import could not carry over, where it was written."""
 
     file: str
@@ -123,7 +123,7 @@ def roslaunch_python() -> str:
 
 def load_combinations(
     files: list[Path], arguments: list[Argument], package_path: list[Path]
-) -> tuple[list[Combination], list[Warning_]]:
+) -> tuple[list[Combination], list[Omission]]:
     """Every combination of the arguments' values, loaded by roslaunch's loader, and
     what it left out (each warning once, in file and line order)."""
     if len({a.name for a in arguments}) != len(arguments):
@@ -171,25 +171,25 @@ def load_combinations(
     if "refused" in answer:
         raise ImportRefused(shown(answer["refused"]))
     loaded: list[Combination] = []
-    warnings: dict[Warning_, None] = {}
+    warnings: dict[Omission, None] = {}
     for values, result in zip(combinations, answer["combinations"], strict=True):
         nodes = []
         for raw in result["nodes"]:
             node = _node(raw, shown, [str(p.resolve()) for p in package_path] or roots)
             nodes.append(node)
             for setting in node.unsupported:
-                warning = Warning_(
+                warning = Omission(
                     node.file, node.line, f"node {node.ros_name}: {setting} left out"
                 )
                 warnings[warning] = None
         for machine in result["machines"]:
             file, number = machine["place"]
-            warnings[Warning_(shown(file), number, (
+            warnings[Omission(shown(file), number, (
                 f"machine {machine['name']} ({machine['address']}) left out: a container "
                 "says where nodes run (--robot may name the machine)"))] = None  # fmt: skip
         for raw in result["warnings"]:
             message = shown(_one_line(raw["message"]))
-            warnings[Warning_(shown(raw["file"]), raw["line"], message)] = None
+            warnings[Omission(shown(raw["file"]), raw["line"], message)] = None
         places = {k: (f, n) for k, (f, n) in result["param_lines"].items()}
         loaded.append(Combination(tuple(values), tuple(nodes), result["params"], places))
     return loaded, sorted(warnings, key=lambda w: (w.file, w.line, w.message))

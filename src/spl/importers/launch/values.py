@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING, Any
 
 from spl.dsl.grammar_keywords import keywords
 from spl.dsl.literals import ROS_INT_MAX, problem_yaml
-from spl.importers.launch.reading import Argument, Combination, Warning_
+from spl.importers.launch.reading import Combination, Omission
 
 if TYPE_CHECKING:
     from collections.abc import Mapping
@@ -110,11 +110,10 @@ def literal(value: Any, kind: str) -> str | None:
 
 
 def node_parameters(
-    ros_name: str, combinations: Mapping[tuple[str, ...], Combination], arguments: list[Argument]
-) -> tuple[list[NodeParameter], list[Warning_]]:
+    ros_name: str, combinations: Mapping[tuple[str, ...], Combination]
+) -> tuple[list[NodeParameter], list[Omission]]:
     """The ``.tsm`` parameters of one node, from its private parameters in every
     combination that has it, and what could not be carried over."""
-    del arguments
     prefix = f"{ros_name}/"
     per_name: dict[str, dict[tuple[str, ...], Any]] = {}
     places: dict[str, tuple[str, int]] = {}
@@ -135,20 +134,22 @@ def node_parameters(
             branch[leaf] = value
         for top, value in tree.items():
             per_name.setdefault(top, {})[values] = value
-    parameters, warnings = [], []
+    parameters: list[NodeParameter] = []
+    warnings: list[Omission] = []
     for name in sorted(per_name):
         seen = per_name[name]
         kinds = {_kind(v) for v in seen.values()}
         kind = kinds.pop() if len(kinds) == 1 else "yaml"
-        literals = {c: literal(seen[c], kind) if c in seen else MISSING for c in combinations}
+        written = {c: literal(seen[c], kind) if c in seen else MISSING for c in combinations}
+        literals = {c: text for c, text in written.items() if text is not None}
         file, line = places[name]
-        if not is_name(name) or None in literals.values():
+        if not is_name(name) or len(literals) < len(written):
             reason = "its name is not an identifier" if not is_name(name) else (
                 "its value has no literal in the .tsm (control characters, a null or an "
                 "empty mapping)")  # fmt: skip
-            warnings.append(Warning_(file, line, f"parameter {prefix}{name} left out: {reason}"))
+            warnings.append(Omission(file, line, f"parameter {prefix}{name} left out: {reason}"))
             continue
         known = set(literals.values())
         default = known.pop() if len(known) == 1 and MISSING not in known else None
-        parameters.append(NodeParameter(name, kind, default, literals))  # type: ignore[arg-type]
+        parameters.append(NodeParameter(name, kind, default, literals))
     return parameters, warnings

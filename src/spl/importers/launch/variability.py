@@ -16,12 +16,13 @@ from collections.abc import Callable, Hashable, Sequence
 from dataclasses import dataclass, field
 from typing import Any, TypeVar
 
+from spl.dsl import rosnames
 from spl.importers.launch.reading import (
     Argument,
     Combination,
     ImportRefused,
     LoadedNode,
-    Warning_,
+    Omission,
 )
 from spl.importers.launch.values import (
     MISSING,
@@ -74,7 +75,7 @@ class ImportedLine:
     nodes: list[ImportedNode]
     blocks: dict[Condition, Statements]
     products: list[tuple[str, tuple[str, ...], list[str]]]  # name, values, features
-    warnings: list[Warning_]
+    warnings: list[Omission]
 
 
 class Split:
@@ -109,7 +110,7 @@ def build_line(
     name: str,
     arguments: list[Argument],
     combinations: list[Combination],
-    warnings: list[Warning_],
+    warnings: list[Omission],
     is_robot: Callable[[LoadedNode], bool],
 ) -> ImportedLine:
     features, groups = _argument_features(arguments, name)
@@ -125,11 +126,18 @@ def build_line(
     by_combination = {c.values: c for c in combinations}
     for ros_name, seen in appearances.items():
         first = next(iter(seen.values()))
-        if not is_name(first.name):
-            line.warnings.append(Warning_(first.file, first.line, (
-                f"node {ros_name} left out: its name is not an identifier, or a word of "
-                "spl's languages")))  # fmt: skip
+        problem = _problem_of(first, [n for n in seen.values()])
+        if problem:
+            line.warnings.append(
+                Omission(first.file, first.line, f"node {ros_name} left out: {problem}")
+            )
             continue
+        args_text = _args_text(first)
+        args_problem = _args_problem(first, args_text)
+        if args_problem:
+            line.warnings.append(Omission(first.file, first.line, (
+                f"node {ros_name}: args {args_text[:80]!r} left out: {args_problem}")))  # fmt: skip
+            args_text = ""
         robot = is_robot(first)
         namespace = first.namespace.strip("/")
         container = ("Robot" if robot else "Cloud") + (
@@ -142,18 +150,16 @@ def build_line(
         )
         args = Split(arguments, {c: _args_text(n) for c, n in seen.items()})
         if not args.constant:
-            line.warnings.append(Warning_(first.file, first.line, (
+            line.warnings.append(Omission(first.file, first.line, (
                 f"node {ros_name}: its args differ between combinations; a .rm cannot set "
                 f"a node's args, so every product has those of {'_'.join(next(iter(seen)))}"
             )))  # fmt: skip
-        parameters, left_out = node_parameters(
-            ros_name, {c: by_combination[c] for c in seen}, arguments
-        )
+        parameters, left_out = node_parameters(ros_name, {c: by_combination[c] for c in seen})
         line.warnings.extend(left_out)
         imported = ImportedNode(
             container=container, namespace=namespace, robot=robot, name=first.name,
             optional=not presence.constant, implementation=(first.package, first.executable),
-            args=_args_text(first), parameters=parameters, source=f"{first.source}:{first.line}",
+            args=args_text, parameters=parameters, source=f"{first.source}:{first.line}",
             file=first.file, line=first.line,
         )  # fmt: skip
         line.nodes.append(imported)
@@ -194,6 +200,27 @@ def build_line(
                 f"both be the product {product} (values joined with _)"
             )
     return line
+
+
+def _problem_of(first: LoadedNode, appearances: list[LoadedNode]) -> str | None:
+    """Why a node cannot be written in a .tsm (docs/tsm.md, "Names and safety"), if so."""
+    if not is_name(first.name):
+        return "its name is not an identifier, or a word of spl's languages"
+    for node in appearances:
+        problem = rosnames.problem_package(node.package) or rosnames.problem_executable(
+            node.executable
+        )
+        if problem:
+            return problem
+    return None
+
+
+def _args_problem(node: LoadedNode, text: str) -> str | None:
+    """Why the node's command line cannot be a .tsm ``args`` string, if so: the string
+    is split at blanks, so an argument holding one (``'a b'``) would become two."""
+    if any(not token or any(c.isspace() for c in token) for token in node.args):
+        return "an argument holds blanks, which a .tsm args string cannot quote"
+    return rosnames.problem_args(text) if text else None
 
 
 def _args_text(node: LoadedNode) -> str:
@@ -272,6 +299,6 @@ def _unplaced_parameters(
                 continue
             seen.add(key)
             file, number = combination.param_places.get(key, ("", 0))
-            line.warnings.append(Warning_(file, number, (
+            line.warnings.append(Omission(file, number, (
                 f"parameter {key} left out: it is private to no node the launch files "
                 "start, and a .tsm parameter belongs to a node")))  # fmt: skip
