@@ -6,6 +6,12 @@ In a .rm: node names after ``require``, ``migrate``, ``implementation``,
 members of X (a node's interfaces or parameters, a container's nodes and topics, a
 feature's attributes). In a .tsm, topics after ``->``/``<-``; in a .fm, features in
 constraints. The text need not parse: this reads tokens only.
+
+Where a client's server is named (a client's ``->``, a bridge from a client, ``connect
+CLIENT to server``), only the nodes serving the client's kind and their servers of that
+kind are offered, asked of the registry (docs/architecture.md, "Interface kinds"); after
+an interface statement's ``:``, the types the line gives that kind's family (docs/tsm.md,
+"Actions": an action client is offered action types).
 """
 
 from __future__ import annotations
