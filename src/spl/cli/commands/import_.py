@@ -4,7 +4,8 @@ The launch files are read by roslaunch's own loader (Debian ``python3-roslaunch`
 per combination of the ``--arg`` values; what varies between the combinations becomes
 features, optional nodes and parameter statements (docs/import.md). Whatever could not
 be carried over is listed, located, on stderr and in ``DIR/import-report.txt``. Refused
-input (no ROS, a hostile file, a path outside the package path) writes nothing.
+input (a hostile file, a path outside the package path: exit 1) and a missing ROS (exit
+2) write nothing.
 """
 
 from __future__ import annotations
@@ -71,6 +72,7 @@ def launch(
     """
     from spl.importers.launch import (
         ImportRefused,
+        RosMissing,
         import_launch,
         parse_argument,
         refuse_existing,
@@ -88,7 +90,8 @@ def launch(
         write_line(imported, out, errors_of)
     except ImportRefused as exc:
         click.echo(f"error: {exc}", err=True)
-        raise SystemExit(1) from None
+        # a missing program is exit 2, refused input 1 (docs/commands.md)
+        raise SystemExit(2 if isinstance(exc, RosMissing) else 1) from None
     for warning in imported.warnings:
         click.echo(str(warning), err=True)
     line = imported.line

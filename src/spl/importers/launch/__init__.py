@@ -30,6 +30,7 @@ from spl.importers.launch.reading import (
     ImportRefused,
     LoadedNode,
     Omission,
+    RosMissing,
     load_combinations,
     parse_argument,
 )
@@ -39,6 +40,7 @@ from spl.importers.launch.variability import ImportedLine, build_line
 __all__ = [
     "ImportRefused",
     "LaunchImport",
+    "RosMissing",
     "import_launch",
     "parse_argument",
     "refuse_existing",

@@ -34,6 +34,11 @@ class ImportRefused(Exception):
     """The input is refused as a whole: nothing is written (exit status 1)."""
 
 
+class RosMissing(ImportRefused):
+    """roslaunch is not installed: a program the command cannot do without (exit status
+    2, as docs/commands.md says of ``spl smoke``)."""
+
+
 @dataclass(frozen=True)
 class Argument:
     """A launch argument and the values each product may give it, in the order given."""
@@ -109,7 +114,7 @@ def roslaunch_python() -> str:
     """The interpreter roslaunch runs with (its ``#!`` line): the one that imports it."""
     roslaunch = shutil.which("roslaunch")
     if roslaunch is None:
-        raise ImportRefused(ROS_MISSING)
+        raise RosMissing(ROS_MISSING)
     with open(roslaunch, "rb") as stream:
         first = stream.readline().decode("utf-8", "replace")
     words = first[2:].split() if first.startswith("#!") else []
@@ -117,7 +122,7 @@ def roslaunch_python() -> str:
         found = shutil.which(words[1])
         return found if found else ""
     if not words:
-        raise ImportRefused(ROS_MISSING)
+        raise RosMissing(ROS_MISSING)
     return words[0]
 
 
@@ -155,12 +160,14 @@ def load_combinations(
             [python, "-I", str(READER)], input=json.dumps(request), capture_output=True,
             text=True, env=environment, timeout=600,
         )  # fmt: skip
-    except (OSError, subprocess.TimeoutExpired) as exc:
-        raise ImportRefused(f"roslaunch's loader could not run: {exc}") from None
+    except OSError as exc:
+        raise RosMissing(f"{ROS_MISSING} ({python}: {exc.strerror})") from None
+    except subprocess.TimeoutExpired:
+        raise ImportRefused("roslaunch's loader did not answer within 600 s") from None
     if done.returncode != 0 or not done.stdout:
         last = (done.stderr.strip().splitlines() or ["no output"])[-1]
         if "No module named" in last:
-            raise ImportRefused(f"{ROS_MISSING} ({python}: {last})")
+            raise RosMissing(f"{ROS_MISSING} ({python}: {last})")
         raise ImportRefused(f"roslaunch's loader failed: {last}")
     answer = json.loads(done.stdout)
     here = str(Path.cwd().resolve()) + os.sep
