@@ -87,7 +87,7 @@ def launch(
         refuse_existing(out)
         parsed = [parse_argument(a) for a in arguments]
         imported = import_launch(list(files), parsed, list(package_path), robots)
-        write_line(imported, out, errors_of)
+        write_line(imported.files, out, errors_of)
     except ImportRefused as exc:
         click.echo(f"error: {exc}", err=True)
         # a missing program is exit 2, refused input 1 (docs/commands.md)
@@ -100,4 +100,70 @@ def launch(
         f"imported {line.name}: {len(line.products)} products, {len(line.nodes)} nodes "
         f"({optional} optional), {len(imported.warnings)} things not carried over "
         f"(listed in {out / 'import-report.txt'}); wrote {len(imported.files)} files to {out}"
+    )
+
+
+@command.command("graph")
+@click.option(
+    "-o",
+    "--out",
+    "out",
+    required=True,
+    type=click.Path(path_type=Path),
+    help="The folder of the new product line (new or empty); its name names the line.",
+)
+@click.option(
+    "--master",
+    default=None,
+    metavar="URI",
+    help="The ROS master to read (default: $ROS_MASTER_URI, else http://localhost:11311/).",
+)
+@click.option(
+    "--package-path",
+    "package_path",
+    multiple=True,
+    type=click.Path(exists=True, file_okay=False, path_type=Path),
+    help="A folder of ROS packages, where the nodes' executables are (repeatable).",
+)
+@click.option(
+    "--robot",
+    "robots",
+    multiple=True,
+    metavar="NODE_PATTERN",
+    help="Nodes (ROS name or name; shell pattern) that run on the robot.",
+)
+def graph(
+    out: Path, master: str | None, package_path: tuple[Path, ...], robots: tuple[str, ...]
+) -> None:
+    """Import the ROS 1 graph a running master knows into a product line in DIR.
+
+    Its topics with their types, publishers and subscribers, and its services with their
+    types; one product.
+    """
+    import os
+    import re
+
+    from spl.importers.graph import GraphUnreadable, import_graph
+    from spl.importers.launch import ImportRefused, refuse_existing, write_line
+    from spl.importers.launch.values import feature_name
+    from spl.pipeline import check_models
+
+    uri = master or os.environ.get("ROS_MASTER_URI") or "http://localhost:11311/"
+    stem = re.sub(r"[^A-Za-z0-9_]", "_", out.resolve().name)
+    name = feature_name(stem if re.match(r"[A-Za-z]", stem) else f"line_{stem}", set(), "graph")
+    try:
+        refuse_existing(out)
+        imported = import_graph(uri, name, list(package_path), robots)
+        write_line(imported.files, out, lambda folder: [
+            str(d) for d in check_models(folder, count=False)[1] if d.severity == "error"
+        ])  # fmt: skip
+    except (ImportRefused, GraphUnreadable) as exc:
+        click.echo(f"error: {exc}", err=True)
+        raise SystemExit(1) from None
+    for warning in imported.warnings:
+        click.echo(warning, err=True)
+    click.echo(
+        f"imported {name}: 1 product, {imported.nodes} nodes, {len(imported.warnings)} things "
+        f"not carried over (listed in {out / 'import-report.txt'}); wrote "
+        f"{len(imported.files)} files to {out}"
     )

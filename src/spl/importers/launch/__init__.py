@@ -91,7 +91,7 @@ def import_launch(
 
 
 def write_line(
-    imported: LaunchImport, out: Path, check: Callable[[Path], list[str]] | None = None
+    files: dict[str, str], out: Path, check: Callable[[Path], list[str]] | None = None
 ) -> None:
     """The line's files in ``out``, all or none: written into a fresh sibling folder,
     checked there (``check`` gives the errors of a line folder), then renamed into place.
@@ -102,7 +102,7 @@ def write_line(
     parent.mkdir(parents=True, exist_ok=True)
     staging = Path(tempfile.mkdtemp(prefix=f".{out.name}.", dir=parent))
     try:
-        for relative, text in imported.files.items():
+        for relative, text in files.items():
             target = staging / relative
             target.parent.mkdir(parents=True, exist_ok=True)
             target.write_text(text, encoding="utf-8")

@@ -1,0 +1,159 @@
+"""``spl import graph`` from a live ROS 1 graph: a real roscore and rospy nodes the test
+starts (a talker, a listener, a node serving a service and listening too), read
+through the master's API into a line that ``spl check`` passes, that resolves, and
+whose product ``spl smoke`` brings up green with the real ROS 1.
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import socket
+import subprocess
+import time
+import uuid
+import xmlrpc.client
+from collections.abc import Callable
+
+import pytest
+
+from spl.pipeline import check_models
+
+from support.launch_round_trip import ros_python, stub_packages
+from support.smoke_runs import TAG, leftovers, smoke_json, spl_command, write_product
+
+NODES = {
+    "talker.py": """import rospy
+from std_msgs.msg import String
+rospy.init_node("talker")
+pub = rospy.Publisher("chatter", String, queue_size=10)
+rate = rospy.Rate(5)
+while not rospy.is_shutdown():
+    pub.publish(String("hello"))
+    rate.sleep()
+""",
+    "listener.py": """import rospy
+from std_msgs.msg import String
+rospy.init_node("listener")
+rospy.Subscriber("chatter", String, lambda message: None)
+rospy.spin()
+""",
+    "resetter.py": """import rospy
+from roscpp.srv import Empty, EmptyResponse
+from std_msgs.msg import String
+rospy.init_node("resetter")
+rospy.Service("reset", Empty, lambda request: EmptyResponse())
+rospy.Subscriber("chatter", String, lambda message: None)
+rospy.spin()
+""",
+}
+EXPECTED = {"/talker", "/listener", "/resetter"}
+
+
+def free_port() -> int:
+    with socket.socket() as probe:
+        probe.bind(("127.0.0.1", 0))
+        return probe.getsockname()[1]
+
+
+def wait_for(what: str, ready: Callable[[], bool], deadline: float = 120.0) -> None:
+    """Polls ``ready()`` until it holds; fails after ``deadline`` seconds."""
+    end = time.monotonic() + deadline
+    while not ready():
+        assert time.monotonic() < end, f"{what} not ready after {deadline} s"
+        time.sleep(0.2)
+
+
+def graph_state(master: str) -> tuple[set[str], set[str]] | None:
+    """The nodes publishing or subscribing, and the services, or None while there is
+    no master."""
+    try:
+        _, _, (pubs, subs, srvs) = xmlrpc.client.ServerProxy(master).getSystemState("/test")
+    except OSError:
+        return None
+    nodes = {n for _, names in pubs + subs for n in names}
+    return nodes, {s for s, _ in srvs}
+
+
+@pytest.fixture(scope="module")
+def live_graph(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("graph")
+    packages = stub_packages(folder / "packages", "chatter_demo")
+    scripts = packages / "chatter_demo" / "scripts"
+    scripts.mkdir()
+    for name, text in NODES.items():
+        (scripts / name).write_text(text)
+    port = free_port()
+    master = f"http://127.0.0.1:{port}/"
+    tag = uuid.uuid4().hex
+    env = {**os.environ, "ROS_MASTER_URI": master, "ROS_HOME": str(folder / "ros"), TAG: tag}
+    started = [subprocess.Popen(["roscore", "-p", str(port)], env=env, cwd=folder,
+                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)]  # fmt: skip
+    try:
+        wait_for("roscore", lambda: graph_state(master) is not None)
+        for name in NODES:
+            started.append(subprocess.Popen([ros_python(), str(scripts / name)], env=env,
+                                            cwd=folder, stdout=subprocess.DEVNULL))  # fmt: skip
+
+        def registered() -> bool:
+            state = graph_state(master)
+            return state is not None and state[0] >= EXPECTED and "/reset" in state[1]
+
+        wait_for("the nodes", registered)
+        yield master, packages, folder
+    finally:
+        for process in reversed(started):
+            process.send_signal(signal.SIGINT)
+        for process in started:
+            try:
+                process.wait(timeout=60)
+            except subprocess.TimeoutExpired:
+                process.kill()
+        # roscore ends its rosmaster and rosout on SIGINT: nothing of this graph is left
+        assert leftovers(tag, wait=30) == []
+
+
+def run(*args: str, master: str) -> subprocess.CompletedProcess:
+    return subprocess.run([*spl_command(), "import", "graph", *args], capture_output=True,
+                          text=True, env={**os.environ, "ROS_MASTER_URI": master},
+                          timeout=300)  # fmt: skip
+
+
+def test_a_live_graph_imports_resolves_and_smokes_green(live_graph, tmp_path):
+    master, packages, _ = live_graph
+    out = tmp_path / "chatter"
+    done = run("-o", str(out), "--package-path", str(packages), master=master)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.startswith("imported chatter: 1 product, 3 nodes, 0 things")
+    tsm = (out / "chatter.tsm").read_text()
+    for line in [
+        'topic chatter : std_msgs/String name "/chatter"',
+        "node talker {\n        implementation chatter_demo/talker.py\n"
+        "        publishes chatter -> chatter\n    }",
+        "node listener {\n        implementation chatter_demo/listener.py\n"
+        "        subscribes chatter <- chatter\n    }",
+        'provides reset : roscpp/Empty name "/reset"',
+    ]:
+        assert line in tsm
+    assert [d for d in check_models(out, count=False)[1] if d.severity == "error"] == []
+    bundle = write_product(out, out / "products" / "chatter.yaml", tmp_path / "bundle")
+    status, report = smoke_json(bundle)
+    assert status == 0 and report["passed"], report["failures"]
+
+
+def test_without_the_package_path_nodes_are_left_out_reported(live_graph, tmp_path):
+    master, _, _ = live_graph
+    done = run("-o", str(tmp_path / "line"), master=master)
+    assert done.returncode == 0, done.stderr
+    lines = done.stderr.splitlines()
+    assert len(lines) == 3
+    assert all(" left out: its package is not known" in line for line in lines)
+
+
+def test_no_master_is_one_line_and_nothing_written(tmp_path):
+    master = f"http://127.0.0.1:{free_port()}/"
+    done = run("-o", str(tmp_path / "line"), master=master)
+    assert done.returncode == 1
+    assert done.stderr.startswith(f"error: {master}: getSystemState failed: ")
+    assert len(done.stderr.splitlines()) == 1
+    assert not (tmp_path / "line").exists()
