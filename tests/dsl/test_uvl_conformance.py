@@ -106,6 +106,7 @@ PIECES = (
 SEMANTIC = (
     *("unknown feature", "duplicate feature", "bad cardinality", "sharing must", "attribute"),
     "abstract takes",
+    *("imported model", "import cycle", "only the root feature"),  # composition
 )
 
 

@@ -160,8 +160,10 @@ class _Converter:
         self.source = source
         self.features: dict[str, fm_types.Feature] = {}
 
-    def locate(self, element: Located_, position: int) -> Located_:
-        where = self.source.location(position)
+    def locate(self, element: Located_, position: int, source: Source | None = None) -> Located_:
+        """Locate ``element`` in ``source`` (an imported UVL file's elements are located
+        in it), the model's file by default."""
+        where = (source or self.source).location(position)
         element.srcFile, element.srcLine, element.srcCol = where.file, where.line, where.col
         return element
 
@@ -170,26 +172,28 @@ class _Converter:
         model = self.locate(F.FeatureModel(name=plain.name), plain.position)
         model.root = self.feature(cast(Feature, plain.root))  # a model read has its root
         for constraint in plain.constraints:
-            element = self.locate(F.Constraint(), constraint.position)
-            element.formula = self.formula(constraint.formula)
+            element = self.locate(F.Constraint(), constraint.position, constraint.source)
+            element.formula = self.formula(constraint.formula, constraint.source)
             model.constraints.append(element)
         return model
 
     def feature(self, plain: Feature) -> fm_types.Feature:
         F = self.F
-        feature = self.locate(F.Feature(name=plain.name), plain.position)
+        feature = self.locate(F.Feature(name=plain.name), plain.position, plain.source)
         self.features[plain.name] = feature
         if plain.abstract:
             feature.abstract = True
         for attribute in plain.attributes:
-            element = self.locate(F.Attribute(name=attribute.name), attribute.position)
+            element = self.locate(
+                F.Attribute(name=attribute.name), attribute.position, attribute.source
+            )
             element.type = cast(
                 "fm_types.AttributeType", F.AttributeType.getEEnumLiteral(attribute.type)
             )
             element.value = attribute.value
             feature.attributes.append(element)
         if plain.sharing is not None:
-            config = self.locate(F.SharingConfig(), plain.sharing.position)
+            config = self.locate(F.SharingConfig(), plain.sharing.position, plain.source)
             config.mode = cast(
                 "fm_types.SharingMode", F.SharingMode.getEEnumLiteral(plain.sharing.mode)
             )
@@ -200,9 +204,9 @@ class _Converter:
             )
 
             type_name, text, position = plain.capability
-            add_capabilities(feature, type_name, text, self.source.location(position))
+            add_capabilities(feature, type_name, text, plain.source.location(position))
         for plain_group in plain.groups:
-            group = self.locate(F.Group(), plain_group.position)
+            group = self.locate(F.Group(), plain_group.position, plain_group.source)
             group.kind = cast("fm_types.GroupKind", F.GroupKind.getEEnumLiteral(plain_group.kind))
             if plain_group.kind == "cardinality":
                 group.lower, group.upper = plain_group.lower, plain_group.upper
@@ -211,12 +215,13 @@ class _Converter:
             feature.groups.append(group)
         return feature
 
-    def formula(self, tree: tuple) -> fm_types.Formula:
+    def formula(self, tree: tuple, source: Source) -> fm_types.Formula:
         F = self.F
         head = tree[0]
         if head == "ref":
-            return self.locate(F.FeatureRef(feature=self.features[tree[1]]), tree[2])
+            return self.locate(F.FeatureRef(feature=self.features[tree[1]]), tree[2], source)
         if head == "not":
-            return self.locate(F.Not(operand=self.formula(tree[1])), tree[2])
-        left, right = self.formula(tree[1]), self.formula(tree[2])
-        return self.locate(F.BinaryFormula(operator=head, left=left, right=right), tree[3])
+            return self.locate(F.Not(operand=self.formula(tree[1], source)), tree[2], source)
+        left, right = self.formula(tree[1], source), self.formula(tree[2], source)
+        binary = F.BinaryFormula(operator=head, left=left, right=right)
+        return self.locate(binary, tree[3], source)

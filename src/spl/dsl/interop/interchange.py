@@ -18,6 +18,10 @@ from spl.core.diagnostics import Diagnostic, Location, ModelError
 from spl.dsl.fm.vocabulary import RESERVED_WORDS, is_feature_name
 
 ORIGINAL_NAME = "original_name"
+# UVL attributes no typed attribute can hold (nested ``{...}`` and vector ``[...]``
+# values, names that are not identifiers) travel as written, joined by ", ", in one
+# string attribute of this name; the UVL writer writes them back verbatim.
+UVL_ATTRIBUTES = "uvl_attributes"
 # UVL and FeatureIDE carry a feature's capability conditions in one string attribute of
 # this name, written as the .fm language writes them after `capability`.
 CAPABILITY = "capability"

@@ -18,7 +18,12 @@ from spl.core.diagnostics import Diagnostic, Location, ModelError, model_text
 from spl.dsl.fm.plain import FeatureModel, to_ecore
 from spl.dsl.fm.printer import format_capabilities, format_formula
 from spl.dsl.fm.vocabulary import too_deep
-from spl.dsl.interop.interchange import CAPABILITY, exported_attributes, original_name
+from spl.dsl.interop.interchange import (
+    CAPABILITY,
+    UVL_ATTRIBUTES,
+    exported_attributes,
+    original_name,
+)
 from spl.dsl.interop.uvl_lexer import KEYWORDS
 from spl.dsl.interop.uvl_reader import parse_uvl_plain
 from spl.dsl.workspace import Workspace, text_of
@@ -125,6 +130,9 @@ def _write_feature(feature: Any, depth: int, lines: list[str], problems: list[Di
         entries.append("abstract")
     for attribute in exported_attributes(feature):
         value = attribute.value or ""
+        if attribute.name == UVL_ATTRIBUTES:  # UVL attributes kept as written
+            entries.append(value)
+            continue
         if attribute.type.name == "string":
             if "'" in value or "\n" in value or "\r" in value:
                 problems.append(

@@ -57,6 +57,7 @@ class FormulaReader:
     tokens: list[tuple[str, str, int]]
     index: int
     identifiers: dict[str, str]
+    unread: set[str]
     failed_names: bool
     source: Source
     error: Callable[[int, str], None]
@@ -146,13 +147,18 @@ class FormulaReader:
         index = self.index
         kind, text, position = tokens[index]
         if kind == "id" or kind == "qid":
-            if tokens[index + 1][0] == ".":
-                self.error(position, "a dotted reference (an imported feature) is not supported")
-                raise Syntax
-            self.index = index + 1
             name = text[1:-1] if kind == "qid" else text
+            index += 1
+            while tokens[index][0] == "." and tokens[index + 1][0] in ("id", "qid"):
+                part = tokens[index + 1][1]  # alias.Feature: an imported feature
+                name += "." + (part[1:-1] if tokens[index + 1][0] == "qid" else part)
+                index += 2
+            self.index = index
             identifier = self.identifiers.get(name)
-            if identifier is None:
+            if identifier is None and any(name.startswith(f"{a}.") for a in self.unread):
+                self.failed_names = True  # a feature of an import refused at the import
+                identifier = name
+            elif identifier is None:
                 self.error(position, f"unknown feature {name}")
                 self.failed_names = True
                 identifier = name

@@ -7,10 +7,11 @@ expression tokenizes the whole file the way the ANTLR lexer does
 (:mod:`spl.dsl.interop.uvl_lexer`), and a recursive descent over the grammar's rules builds
 :mod:`spl.dsl.fm.plain` objects directly. A file
 the reference grammar refuses is refused here too (``tests/test_uvl_conformance.py``
-checks both on the same files). Valid UVL that spl cannot represent (typed or
-cardinality features, imports and includes, dotted references, arithmetic and
-attribute constraints, nested or vector attribute values) is refused with a located
-"... is not supported" instead of being silently dropped.
+checks both on the same files). The Boolean level is read whole: language levels
+(``include``) and composition (``imports``, :mod:`spl.dsl.interop.uvl_imports`), and
+attributes of any value (:mod:`spl.dsl.interop.uvl_attributes`). Valid UVL of the other
+levels (typed features, feature cardinalities, arithmetic and attribute constraints)
+is refused with a located "... is not supported" instead of being silently dropped.
 
 Cost is linear in the file: no per-line token objects, no pyecore; the Linux kernel
 model (600 KB) reads in a fraction of a second.
@@ -19,23 +20,29 @@ model (600 KB) reads in a fraction of a second.
 from __future__ import annotations
 
 import re
-from typing import NoReturn, cast
+from pathlib import Path
+from typing import NoReturn
 
 from spl.core.cyclic_gc import without_cyclic_gc
-from spl.core.diagnostics import DiagnosticSink, ModelError
+from spl.core.diagnostics import DiagnosticSink, ModelError, model_text
 from spl.dsl import literals
 from spl.dsl.fm.plain import (
     Attribute,
     Feature,
     FeatureModel,
     Group,
-    Sharing,
     Source,
 )
-from spl.dsl.fm.vocabulary import SHARING_MODES, canonical_value, too_deep
-from spl.dsl.interop.interchange import CAPABILITY, ORIGINAL_NAME, FeatureNames, model_name
+from spl.dsl.fm.vocabulary import too_deep
+from spl.dsl.interop.interchange import (
+    ORIGINAL_NAME,
+    FeatureNames,
+    model_name,
+)
+from spl.dsl.interop.uvl_attributes import AttributeReader
 from spl.dsl.interop.uvl_formulas import FormulaReader, Syntax
-from spl.dsl.interop.uvl_lexer import OPENING, tokenize
+from spl.dsl.interop.uvl_imports import Imported, ImportReader, renamed, splice
+from spl.dsl.interop.uvl_lexer import tokenize
 
 _GROUPS = ("or", "alternative", "optional", "mandatory")
 _NAMES = ("id", "qid")
@@ -50,12 +57,19 @@ _PLAIN_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
 MAX_TREE_DEPTH = 300
 
 
-class UvlReader(FormulaReader):
-    """One UVL text -> one :class:`fm_plain.FeatureModel`; every problem raised at once."""
+class UvlReader(FormulaReader, ImportReader, AttributeReader):
+    """One UVL text -> one :class:`fm_plain.FeatureModel`; every problem raised at once.
+    ``importing``: the files being read around this one (an imported model's reader)."""
 
-    def __init__(self, text: str, filename: str) -> None:
+    def __init__(self, text: str, filename: str, importing: tuple[str, ...] = ()) -> None:
         text = text.replace("\r\n", "\n").replace("\r", "\n")
         self.source = Source(filename, text)
+        self.text = text
+        self.importing = importing or (str(Path(filename).resolve()),)
+        self.imported: dict[str, Imported] = {}
+        self.unread: set[str] = set()
+        # alias -> (feature, its identifier in the imported model), for its constraints
+        self.spliced: dict[str, list[tuple[Feature, str]]] = {}
         self.sink = DiagnosticSink()
         self.tokens = tokenize(text)
         self.index = 0
@@ -108,12 +122,12 @@ class UvlReader(FormulaReader):
                 model.written_name = ".".join(self.reference()[0])
                 model.name = model_name(model.written_name)
             self.optional_newline()
-            for keyword in ("include", "imports"):
-                if tokens[self.index][0] == keyword:
-                    self.error(tokens[self.index][2], f"UVL '{keyword}' is not supported")
-                    self.index += 1
-                    self.skip_block()
-                    self.optional_newline()
+            if tokens[self.index][0] == "include":
+                self.language_levels()
+                self.optional_newline()
+            if tokens[self.index][0] == "imports":
+                self.imports(_read_imported)
+                self.optional_newline()
             if tokens[self.index][0] == "features":
                 self.index += 1
                 self.expect("NL", "a line break after 'features'")
@@ -149,6 +163,7 @@ class UvlReader(FormulaReader):
                     if constraint is not None:
                         model.constraints.append(constraint)
                 self.expect("DEDENT", "the end of the constraints")
+            self.imported_constraints(model)
             if tokens[self.index][0] != "EOF":
                 self.fail("expected namespace, features or constraints (in that order)")
         except Syntax:
@@ -191,6 +206,8 @@ class UvlReader(FormulaReader):
             self.fail("expected a feature name")
         parts, position = self.reference()
         self.depth += 1
+        original = ".".join(parts)
+        spliced = self.placed(parts, position) if len(parts) > 1 else None
         if self.depth > MAX_TREE_DEPTH:
             self.error(
                 position,
@@ -198,11 +215,14 @@ class UvlReader(FormulaReader):
                 f"{MAX_TREE_DEPTH}): the readers and writers of the tree would run out of stack",
             )
             raise Syntax
-        if len(parts) > 1:
-            self.error(position, "a dotted feature name (an imported feature) is not supported")
-        original = ".".join(parts)
-        feature = Feature(self.source, position, original)
-        self.features.append((feature, original))
+        if spliced is not None:  # an imported model's root: its whole tree joins here
+            alias, feature = spliced
+            tree = splice(alias, feature)
+            self.spliced[alias] = [(part, part.name) for part, _ in tree]
+            self.features.extend(tree)
+        else:
+            feature = Feature(self.source, position, original)
+            self.features.append((feature, original))
         if tokens[self.index][0] == "cardinality":
             self.error(tokens[self.index][2], "feature cardinalities are not supported")
             self.index += 1
@@ -267,95 +287,18 @@ class UvlReader(FormulaReader):
                     0, Attribute(self.source, feature.position, ORIGINAL_NAME, "string", original)
                 )
 
-    # -- attributes ------------------------------------------------------------------
-    def attributes(self, feature: Feature) -> None:
-        """``{ (attribute (, attribute)*)? }`` read into the feature."""
-        self.index += 1
-        seen: set[str] = set()
-        if self.tokens[self.index][0] != "}":
-            self.attribute(feature, seen)
-            while self.tokens[self.index][0] == ",":
-                self.index += 1
-                self.attribute(feature, seen)
-        self.expect("}", "',' or '}' in the attribute list")
-
-    def attribute(self, feature: Feature, seen: set[str]) -> None:
-        tokens = self.tokens
-        kind, text, position = tokens[self.index]
-        if kind in ("constraint", "constraints"):
-            self.error(position, "attribute constraints are not supported")
-            self.skip_value()
-            return
-        if kind not in _NAMES:
-            self.fail("expected an attribute name")
-        self.index += 1
-        name = text[1:-1] if kind == "qid" else text
-        value: tuple[str, str, int] | None  # None: no value written
-        value = tokens[self.index]
-        if value[0] in ("bool", "int", "float", "string"):
-            self.index += 1
-        elif value[0] in ("{", "["):
-            self.error(value[2], "nested and vector attribute values are not supported")
-            self.skip_value()
-            return
-        elif value[0] in _NAMES:  # a word where a value would be: not UVL
-            what = "abstract takes true or false" if name == "abstract" else "expected a value"
-            self.error(value[2], f"{what} (true, false, a number or a 'string'), got {value[1]}")
-            raise Syntax
-        else:
-            value = None
-        if not _PLAIN_NAME.match(name):
-            self.error(position, f"attribute name {text} is not supported (use an identifier)")
-            return
-        if name in seen:
-            self.error(position, f"attribute {name} given twice")
-            return
-        seen.add(name)
-        if name == "abstract":
-            if value is not None and value[0] != "bool":
-                self.error(value[2], "abstract takes true or false")
-            feature.abstract = value is None or value[1] == "true"
-            return
-        if name == ORIGINAL_NAME:
-            self.error(position, f"attribute name {ORIGINAL_NAME} is reserved")
-            return
-        type_name, literal = _typed(value)
-        if name == "sharing":
-            if type_name != "string" or literal not in SHARING_MODES or feature.sharing:
-                where = value[2] if value is not None else position
-                self.error(where, f"sharing must be one of {', '.join(SHARING_MODES)}")
-                return
-            feature.sharing = Sharing(self.source, position, literal)
-            return
-        if name == CAPABILITY:  # read with the .fm condition grammar when turned into EMF
-            feature.capability = (type_name, literal, position)
-            return
-        canonical = canonical_value(type_name, literal)
-        if canonical is None:  # a number out of range (1e999, a 30-digit int)
-            written = cast("tuple[str, str, int]", value)  # a literal out of range: written
-            self.error(written[2], f"attribute {name}: {literal} is out of range")
-            return
-        feature.attributes.append(Attribute(self.source, position, name, type_name, canonical))
-
-    def skip_value(self) -> None:
-        """Past one attribute whose content is not read (to the next ',' or '}')."""
-        depth = 0
-        while True:
-            kind = self.tokens[self.index][0]
-            if kind == "EOF" or (depth == 0 and kind in (",", "}")):
-                return
-            depth += OPENING.get(kind, 0)
-            self.index += 1
+    def imported_constraints(self, model: FeatureModel) -> None:
+        """The constraints of every imported model placed in the tree, over this model's
+        identifiers (docs/fm.md, "Language levels and composition")."""
+        for alias, imported in self.imported.items():
+            if alias in self.spliced:
+                names = {old: feature.name for feature, old in self.spliced[alias]}
+                model.constraints.extend(renamed(c, names) for c in imported.model.constraints)
 
 
-def _typed(value: tuple[str, str, int] | None) -> tuple[str, str]:
-    """An attribute value token as (attribute type, text)."""
-    if value is None:
-        return "bool", "true"
-    kind, text, _ = value
-    if kind == "string":
-        return "string", text[1:-1]
-    return {"bool": "bool", "int": "int", "float": "double"}[kind], text
+def _read_imported(path: Path, importing: tuple[str, ...]) -> FeatureModel:
+    """An imported UVL file, read as a model of its own (its imports beside it)."""
+    return UvlReader(model_text(path), str(path), importing).read(path.stem)
 
 
 def _shown(kind: str, text: str) -> str:

@@ -1,0 +1,172 @@
+"""Attributes of a UVL feature (``{key value, ...}``), for the UVL reader.
+
+A mixin of :class:`spl.dsl.interop.uvl_reader.UvlReader`, which owns the tokens, the
+position and the diagnostics. A value spl's typed attributes hold (a boolean, a number,
+a string) becomes an attribute of that type; one they cannot hold (a nested ``{...}``
+or vector ``[...]`` value, a name that is not an identifier) is kept as written
+(``UVL_ATTRIBUTES``, :mod:`spl.dsl.interop.interchange`) and written back verbatim:
+attributes take no part in Boolean analysis (docs/fm.md, "Language levels and
+composition").
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Callable
+from typing import NoReturn, cast
+
+from spl.dsl.fm.plain import Attribute, Feature, Sharing, Source
+from spl.dsl.fm.vocabulary import SHARING_MODES, canonical_value
+from spl.dsl.interop.interchange import CAPABILITY, ORIGINAL_NAME, UVL_ATTRIBUTES
+from spl.dsl.interop.uvl_formulas import Syntax
+from spl.dsl.interop.uvl_lexer import OPENING
+
+_NAMES = ("id", "qid")
+_PLAIN_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
+
+
+class AttributeReader:
+    """The ``attributes`` rule; the reader class provides the state named below."""
+
+    tokens: list[tuple[str, str, int]]
+    index: int
+    text: str
+    source: Source
+    error: Callable[[int, str], None]
+    fail: Callable[[str], NoReturn]
+    expect: Callable[[str, str], tuple[str, str, int]]
+
+    def attributes(self, feature: Feature) -> None:
+        """``{ (attribute (, attribute)*)? }`` read into the feature."""
+        self.index += 1
+        seen: set[str] = set()
+        if self.tokens[self.index][0] != "}":
+            self.attribute(feature, seen)
+            while self.tokens[self.index][0] == ",":
+                self.index += 1
+                self.attribute(feature, seen)
+        self.expect("}", "',' or '}' in the attribute list")
+
+    def attribute(self, feature: Feature, seen: set[str]) -> None:
+        tokens = self.tokens
+        kind, text, position = tokens[self.index]
+        if kind in ("constraint", "constraints"):
+            self.error(position, "attribute constraints are not supported")
+            self.skip_value()
+            return
+        if kind not in _NAMES:
+            self.fail("expected an attribute name")
+        self.index += 1
+        name = text[1:-1] if kind == "qid" else text
+        value: tuple[str, str, int] | None  # None: no value written
+        value = tokens[self.index]
+        if value[0] in ("bool", "int", "float", "string"):
+            self.index += 1
+        elif value[0] in ("{", "["):
+            self.nested_value()
+            self.keep_as_written(feature, position)
+            return
+        elif value[0] in _NAMES:  # a word where a value would be: not UVL
+            what = "abstract takes true or false" if name == "abstract" else "expected a value"
+            self.error(value[2], f"{what} (true, false, a number or a 'string'), got {value[1]}")
+            raise Syntax
+        else:
+            value = None
+        if not _PLAIN_NAME.match(name):
+            self.keep_as_written(feature, position)
+            return
+        if name in seen:
+            self.error(position, f"attribute {name} given twice")
+            return
+        seen.add(name)
+        if name == "abstract":
+            if value is not None and value[0] != "bool":
+                self.error(value[2], "abstract takes true or false")
+            feature.abstract = value is None or value[1] == "true"
+            return
+        if name in (ORIGINAL_NAME, UVL_ATTRIBUTES):
+            self.error(position, f"attribute name {name} is reserved")
+            return
+        type_name, literal = _typed(value)
+        if name == "sharing":
+            if type_name != "string" or literal not in SHARING_MODES or feature.sharing:
+                where = value[2] if value is not None else position
+                self.error(where, f"sharing must be one of {', '.join(SHARING_MODES)}")
+                return
+            feature.sharing = Sharing(self.source, position, literal)
+            return
+        if name == CAPABILITY:  # read with the .fm condition grammar when turned into EMF
+            feature.capability = (type_name, literal, position)
+            return
+        canonical = canonical_value(type_name, literal)
+        if canonical is None:  # a number out of range (1e999, a 30-digit int)
+            written = cast("tuple[str, str, int]", value)  # a literal out of range: written
+            self.error(written[2], f"attribute {name}: {literal} is out of range")
+            return
+        feature.attributes.append(Attribute(self.source, position, name, type_name, canonical))
+
+    def keep_as_written(self, feature: Feature, start: int) -> None:
+        """The attribute read from ``start`` to the last token taken, kept as its text
+        (``UVL_ATTRIBUTES``, :mod:`spl.dsl.interop.interchange`)."""
+        _, text, at = self.tokens[self.index - 1]
+        written = self.text[start : at + len(text)]
+        for attribute in feature.attributes:
+            if attribute.name == UVL_ATTRIBUTES:
+                attribute.value += ", " + written
+                return
+        feature.attributes.append(Attribute(self.source, start, UVL_ATTRIBUTES, "string", written))
+
+    def nested_value(self) -> None:
+        """Past one ``value`` of the grammar, checked: a literal, ``{attribute, ...}``
+        or ``[value, ...]``."""
+        tokens = self.tokens
+        kind = tokens[self.index][0]
+        if kind in ("bool", "int", "float", "string"):
+            self.index += 1
+            return
+        if kind not in ("{", "["):
+            self.fail("expected a value (true, false, a number, a 'string', {...} or [...])")
+        close = "}" if kind == "{" else "]"
+        self.index += 1
+        if tokens[self.index][0] != close:
+            self.nested_entry(kind)
+            while tokens[self.index][0] == ",":
+                self.index += 1
+                self.nested_entry(kind)
+        self.expect(close, f"',' or '{close}'")
+
+    def nested_entry(self, opening: str) -> None:
+        """One attribute of a nested ``{...}`` (``key value?``), or one value of a vector."""
+        if opening == "[":
+            self.nested_value()
+            return
+        kind, _, position = self.tokens[self.index]
+        if kind in ("constraint", "constraints"):
+            self.error(position, "attribute constraints are not supported")
+            self.skip_value()
+            return
+        if kind not in _NAMES:
+            self.fail("expected an attribute name")
+        self.index += 1
+        if self.tokens[self.index][0] in ("bool", "int", "float", "string", "{", "["):
+            self.nested_value()
+
+    def skip_value(self) -> None:
+        """Past one attribute whose content is not read (to the next ',' or '}')."""
+        depth = 0
+        while True:
+            kind = self.tokens[self.index][0]
+            if kind == "EOF" or (depth == 0 and kind in (",", "}")):
+                return
+            depth += OPENING.get(kind, 0)
+            self.index += 1
+
+
+def _typed(value: tuple[str, str, int] | None) -> tuple[str, str]:
+    """An attribute value token as (attribute type, text)."""
+    if value is None:
+        return "bool", "true"
+    kind, text, _ = value
+    if kind == "string":
+        return "string", text[1:-1]
+    return {"bool": "bool", "int": "int", "float": "double"}[kind], text
