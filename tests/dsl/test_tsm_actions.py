@@ -222,3 +222,27 @@ def test_spl_check_refuses_a_bad_action_located_with_exit_1(tmp_path: Path) -> N
     assert_clean(result, "spl check bad.tsm")
     assert result.exit_code == 1
     assert f"{bad}:3:25: error: action client goal: move_base_msgs/MoveBaseAction" in result.stderr
+
+
+def test_a_bound_action_client_is_told_to_declare_itself_unbound_as_an_action() -> None:
+    assert errors(
+        """\
+        robot container R {
+            node N {
+                calls action goal -> M.move_base
+            }
+            node M {
+                provides action move_base : move_base_msgs/MoveBase
+            }
+        }
+        cloud container C {
+            node P {
+                provides action move_base : move_base_msgs/MoveBase
+            }
+        }
+        bridge R.N.goal -> C.P.move_base
+        """
+    ) == [
+        "bad.tsm:14:12: error: client N.goal is already bound to M.move_base; declare it "
+        "unbound ('calls action goal : TYPE') to bridge it",
+    ]
