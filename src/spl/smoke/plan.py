@@ -17,7 +17,9 @@ are generated from):
   of, which messages it passes on (by the publisher that produced them and the
   connections they crossed so far, so the rehearsal carries exactly the table's
   routes: fan-out along every bridge a flow takes, nothing a robot may not relay);
-- an endpoint server the peer endpoint client it passes calls to.
+- an endpoint server the peer endpoint client it passes calls (and an action's goals)
+  to, and an endpoint action client the endpoint servers it sends the answers back to:
+  an action crosses as its five topics, both ways (docs/smoke.md, "Actions").
 
 The stand-ins get a JSON rendering of the plan; the comparison with the live graph
 (:mod:`spl.smoke.live`) checks every expectation here.

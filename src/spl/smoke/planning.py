@@ -61,9 +61,10 @@ def load_plan(bundle: Path, generated: bool = False, actions: bool = True) -> Sm
 
 
 def _refuse_unrehearsed(system: Any) -> None:
-    """A bundle with an interface of a kind no stand-in plays yet (an action:
-    ``smoke_role`` None in the registry) is refused before anything starts, in one line
-    naming each such interface, rather than rehearsed without it (docs/smoke.md)."""
+    """A bundle with an interface of a kind no stand-in plays (``smoke_role`` None in the
+    registry: a kind added before its stand-in, docs/architecture.md "Where to add ...";
+    every kind has one today) is refused before anything starts, in one line naming
+    each such interface, rather than rehearsed without it."""
     unplayed = [
         f"{kind_of(i).title} {container.name}.{node.name}.{i.name}"
         for container in system.containers
@@ -77,7 +78,7 @@ def _refuse_unrehearsed(system: Any) -> None:
                 Diagnostic(
                     None,
                     f"spl smoke cannot rehearse this bundle yet: it has no stand-in for "
-                    f'{", ".join(unplayed)} (docs/smoke.md, "Actions")',
+                    f'{", ".join(unplayed)} (docs/architecture.md, "Where to add ...")',
                 )
             ]
         )
