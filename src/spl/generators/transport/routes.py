@@ -35,17 +35,12 @@ from dataclasses import dataclass, field
 
 from spl.generators.transport.keys import Conflict, Entry, Link, prefix
 from spl.generators.transport.namespaces import TRIES, Choice
-from spl.metamodels.interface_kinds import Family
+from spl.metamodels.interface_kinds import FAMILIES, Family, side
 from spl.resolver.architecture.wiring import Wiring
 
-KINDS = (
-    "publishers",
-    "subscribers",
-    "service_servers",
-    "service_clients",
-    "action_servers",
-    "action_clients",
-)
+# zenoh-bridge-ros2dds's allow lists, each family's providing side's first (publishers,
+# subscribers, service_servers, ...), as the registry names them (Family.zenoh_lists)
+KINDS = tuple(side(family, first).zenoh_list for family in FAMILIES for first in (True, False))
 
 
 @dataclass(frozen=True, order=True)
