@@ -1,7 +1,8 @@
 """``spl import graph`` from a live ROS 1 graph: a real roscore and rospy nodes the test
-starts (a talker, a listener, a node serving a service and listening too), read
-through the master's API into a line that ``spl check`` passes, that resolves, and
-whose product ``spl smoke`` brings up green with the real ROS 1.
+starts with roslaunch (a talker, a listener, a node serving a service and listening
+too), read through the master's API into a line that ``spl check`` passes, that
+resolves, and whose product ``spl smoke`` brings up green with the real ROS 1; and
+``spl import launch --graph`` of the same launch file gives the same topics.
 """
 
 from __future__ import annotations
@@ -14,12 +15,13 @@ import time
 import uuid
 import xmlrpc.client
 from collections.abc import Callable
+from pathlib import Path
 
 import pytest
 
 from spl.pipeline import check_models
 
-from support.launch_round_trip import ros_python, stub_packages
+from support.launch_round_trip import import_launch, ros_python, stub_packages
 from support.smoke_runs import TAG, leftovers, smoke_json, spl_command, write_product
 
 NODES = {
@@ -48,6 +50,12 @@ rospy.spin()
 """,
 }
 EXPECTED = {"/talker", "/listener", "/resetter"}
+LAUNCH = """<launch>
+  <node pkg="chatter_demo" type="talker.py" name="talker"/>
+  <node pkg="chatter_demo" type="listener.py" name="listener"/>
+  <node pkg="chatter_demo" type="resetter.py" name="resetter"><param name="rate" value="5"/></node>
+</launch>
+"""
 
 
 def free_port() -> int:
@@ -82,25 +90,30 @@ def live_graph(tmp_path_factory):
     scripts = packages / "chatter_demo" / "scripts"
     scripts.mkdir()
     for name, text in NODES.items():
-        (scripts / name).write_text(text)
+        (scripts / name).write_text(f"#!{ros_python()}\n{text}")  # the Python with rospy
+        (scripts / name).chmod(0o755)
+    (packages / "chatter_demo" / "launch").mkdir()
+    launch = packages / "chatter_demo" / "launch" / "chatter.launch"
+    launch.write_text(LAUNCH)
     port = free_port()
     master = f"http://127.0.0.1:{port}/"
     tag = uuid.uuid4().hex
-    env = {**os.environ, "ROS_MASTER_URI": master, "ROS_HOME": str(folder / "ros"), TAG: tag}
+    env = {**os.environ, "ROS_MASTER_URI": master, "ROS_HOME": str(folder / "ros"), TAG: tag,
+           "ROS_PACKAGE_PATH": str(packages)}  # fmt: skip
     started = [subprocess.Popen(["roscore", "-p", str(port)], env=env, cwd=folder,
                                 stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)]  # fmt: skip
     try:
         wait_for("roscore", lambda: graph_state(master) is not None)
-        for name in NODES:
-            started.append(subprocess.Popen([ros_python(), str(scripts / name)], env=env,
-                                            cwd=folder, stdout=subprocess.DEVNULL))  # fmt: skip
+        started.append(subprocess.Popen(["roslaunch", "--wait", str(launch)], env=env,
+                                        cwd=folder, stdout=subprocess.DEVNULL,
+                                        stderr=subprocess.DEVNULL))  # fmt: skip
 
         def registered() -> bool:
             state = graph_state(master)
             return state is not None and state[0] >= EXPECTED and "/reset" in state[1]
 
         wait_for("the nodes", registered)
-        yield master, packages, folder
+        yield master, packages, launch
     finally:
         for process in reversed(started):
             process.send_signal(signal.SIGINT)
@@ -157,3 +170,25 @@ def test_no_master_is_one_line_and_nothing_written(tmp_path):
     assert done.stderr.startswith(f"error: {master}: getSystemState failed: ")
     assert len(done.stderr.splitlines()) == 1
     assert not (tmp_path / "line").exists()
+
+
+def test_the_launch_import_with_the_graph_gives_the_same_topics(live_graph, tmp_path):
+    master, packages, launch = live_graph
+    from_graph, from_launch = tmp_path / "graph", tmp_path / "launch"
+    done = run("-o", str(from_graph), "--package-path", str(packages), master=master)
+    assert done.returncode == 0, done.stderr
+    status, _, stderr = import_launch(str(launch), "--package-path", str(packages),
+                                      "--graph", master, "-o", str(from_launch))  # fmt: skip
+    assert status == 0, stderr
+    assert stderr == ""
+
+    def statements(path: Path, start: str) -> list[str]:
+        text = path.read_text()
+        return [line.strip() for line in text.splitlines() if line.strip().startswith(start)]
+
+    graph_tsm, launch_tsm = from_graph / "graph.tsm", from_launch / "chatter.tsm"
+    assert statements(launch_tsm, "topic ") == statements(graph_tsm, "topic ") != []
+    for verb in ("publishes ", "subscribes ", "provides "):
+        assert statements(launch_tsm, verb) == statements(graph_tsm, verb)
+    assert "param rate : int = 5" in launch_tsm.read_text()  # and what the launch file says
+    assert [d for d in check_models(from_launch, count=False)[1] if d.severity == "error"] == []

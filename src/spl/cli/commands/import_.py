@@ -58,7 +58,16 @@ def command() -> None:
     help="Nodes (ROS name, name or machine; shell pattern) that run on the robot; "
     "the others go to the cloud. Without it, every node is in one cloud container.",
 )
+@click.option(
+    "--graph",
+    "graph_master",
+    default=None,
+    metavar="URI",
+    help="Also read the running graph of this ROS master: the nodes it runs get their "
+    "topics and services.",
+)
 def launch(
+    graph_master: str | None,
     files: tuple[Path, ...],
     out: Path,
     arguments: tuple[str, ...],
@@ -70,6 +79,7 @@ def launch(
     One product per combination of the --arg values, named by the values joined with
     '_' in the order of the --arg options (products/waffle_pi_hector.yaml).
     """
+    from spl.importers.graph.master import GraphUnreadable, read_graph
     from spl.importers.launch import (
         ImportRefused,
         RosMissing,
@@ -86,9 +96,10 @@ def launch(
     try:
         refuse_existing(out)
         parsed = [parse_argument(a) for a in arguments]
-        imported = import_launch(list(files), parsed, list(package_path), robots)
+        graph = read_graph(graph_master) if graph_master else None
+        imported = import_launch(list(files), parsed, list(package_path), robots, graph)
         write_line(imported.files, out, errors_of)
-    except ImportRefused as exc:
+    except (ImportRefused, GraphUnreadable) as exc:
         click.echo(f"error: {exc}", err=True)
         # a missing program is exit 2, refused input 1 (docs/commands.md)
         raise SystemExit(2 if isinstance(exc, RosMissing) else 1) from None
@@ -145,7 +156,7 @@ def graph(
 
     from spl.importers.graph import GraphUnreadable, import_graph
     from spl.importers.launch import ImportRefused, refuse_existing, write_line
-    from spl.importers.launch.values import feature_name
+    from spl.importers.naming import feature_name
     from spl.pipeline import check_models
 
     uri = master or os.environ.get("ROS_MASTER_URI") or "http://localhost:11311/"

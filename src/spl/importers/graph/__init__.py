@@ -20,7 +20,8 @@ from pathlib import Path
 
 from spl.dsl import rosnames
 from spl.importers.graph.master import Graph, GraphNode, GraphUnreadable, read_graph
-from spl.importers.launch.values import feature_name, is_name, string_literal
+from spl.importers.graph.statements import interface_statements, topic_statements
+from spl.importers.naming import is_name, string_literal
 
 __all__ = ["GraphImport", "GraphUnreadable", "import_graph"]
 
@@ -106,10 +107,6 @@ def _implementation(node: GraphNode, package_path: list[Path]) -> tuple[str, str
     return None
 
 
-def _identifier(ros_name: str, taken: set[str]) -> str:
-    return feature_name(ros_name.strip("/").replace("/", "_"), taken, f"t_{ros_name}")
-
-
 def _tsm_text(
     name: str,
     master: str,
@@ -129,36 +126,12 @@ def _tsm_text(
         if namespace:
             first = nodes[0][0].name
             out.append(f"{INDENT}namespace {string_literal(first[: first.rindex('/')])}")
-        topics: dict[str, str] = {}
-        used = sorted({t for n, _ in nodes for t in n.publishes | n.subscribes})
-        for topic in used:
-            kind = graph.topic_types.get(topic, "")
-            if not rosnames.is_type(kind):
-                warnings.append(f"warning: topic {topic} left out: its type {kind!r} is unknown")
-                continue
-            topics[topic] = _identifier(topic, set(topics.values()))
-            out.append(f"{INDENT}topic {topics[topic]} : {kind} name {string_literal(topic)}")
+        topic_lines, topics = topic_statements(graph, (n for n, _ in nodes), warnings)
+        out += [f"{INDENT}{line}" for line in topic_lines]
         for node, (package, executable) in nodes:
             out += ["", f"{INDENT}node {node.name.rsplit('/', 1)[-1]} {{"]
             out.append(f"{INDENT * 2}implementation {package}/{executable}")
-            interfaces: set[str] = set()
-            for topic in sorted(node.publishes & topics.keys()):
-                interface = _identifier(topic, interfaces)
-                interfaces.add(interface)
-                out.append(f"{INDENT * 2}publishes {interface} -> {topics[topic]}")
-            for topic in sorted(node.subscribes & topics.keys()):
-                interface = _identifier(topic, interfaces)
-                interfaces.add(interface)
-                out.append(f"{INDENT * 2}subscribes {interface} <- {topics[topic]}")
-            for service in sorted(node.serves):
-                kind = graph.service_types.get(service, "")
-                if not rosnames.is_type(kind):
-                    continue  # reported by the reading
-                interface = _identifier(service, interfaces)
-                interfaces.add(interface)
-                out.append(
-                    f"{INDENT * 2}provides {interface} : {kind} name {string_literal(service)}"
-                )
+            out += [f"{INDENT * 2}{line}" for line in interface_statements(graph, node, topics)]
             out.append(f"{INDENT}}}")
         out.append("}")
     return "\n".join(out) + "\n"

@@ -18,8 +18,10 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+from spl.importers.graph.master import Graph
 from spl.importers.launch.line_text import (
     fm_text,
+    graph_omissions,
     product_files,
     report_text,
     rm_text,
@@ -34,8 +36,8 @@ from spl.importers.launch.reading import (
     load_combinations,
     parse_argument,
 )
-from spl.importers.launch.values import feature_name
 from spl.importers.launch.variability import ImportedLine, build_line
+from spl.importers.naming import feature_name
 
 __all__ = [
     "ImportRefused",
@@ -65,8 +67,10 @@ def import_launch(
     arguments: list[Argument],
     package_path: list[Path],
     robot_patterns: Sequence[str] = (),
+    graph: Graph | None = None,
 ) -> LaunchImport:
-    """The files of the product line the launch files describe (nothing is written)."""
+    """The files of the product line the launch files describe (nothing is written); the
+    nodes a live ``graph`` of the same system runs get its topics and services."""
     stem = re.sub(r"[^A-Za-z0-9_]", "_", files[0].name.split(".")[0])
     stem = stem if re.match(r"[A-Za-z]", stem) else f"line_{stem}"  # also the endpoint user
     name = feature_name(stem, set(), f"{stem}_line")
@@ -79,9 +83,11 @@ def import_launch(
         return any(fnmatch.fnmatchcase(n, p) for p in robot_patterns for n in names if n)
 
     line = build_line(name, arguments, combinations, warnings, is_robot)
+    if graph is not None:
+        line.warnings.extend(graph_omissions(line, graph))
     sources = [f.name for f in files]
     texts = {
-        f"{name}.tsm": tsm_text(line, sources),
+        f"{name}.tsm": tsm_text(line, sources, graph),
         f"{name}.fm": fm_text(line, sources),
         f"{name}.rm": rm_text(line, name, sources),
         **product_files(line),

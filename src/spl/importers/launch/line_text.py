@@ -10,13 +10,18 @@ in the ``.rm`` (``Robot.rviz``): a node may be declared in two containers.
 
 from __future__ import annotations
 
-from spl.importers.launch.values import string_literal
-from spl.importers.launch.variability import Condition, ImportedLine
+from spl.importers.graph.master import Graph
+from spl.importers.graph.statements import interface_statements, topic_statements
+from spl.importers.launch.reading import Omission
+from spl.importers.launch.variability import Condition, ImportedLine, ImportedNode
+from spl.importers.naming import string_literal
 
 INDENT = "    "
 
 
-def tsm_text(line: ImportedLine, sources: list[str]) -> str:
+def tsm_text(line: ImportedLine, sources: list[str], graph: Graph | None = None) -> str:
+    """The ``.tsm``; with a live ``graph`` of the same system, the nodes it runs get their
+    topics and services (``spl import launch --graph``)."""
     out = [f"// Imported by spl import launch from {', '.join(sources)} (docs/import.md).", ""]
     out.append(f"system {line.name}")
     containers: dict[str, list] = {}
@@ -32,6 +37,11 @@ def tsm_text(line: ImportedLine, sources: list[str]) -> str:
             out.append(f'{INDENT}endpoint user "{line.name}" password env "RCE_PASSWORD"')
         if nodes[0].namespace:
             out.append(f"{INDENT}namespace {string_literal('/' + nodes[0].namespace)}")
+        topics: dict[str, str] = {}
+        if graph is not None:
+            running = [graph.nodes[r] for n in nodes if (r := ros_name(n)) in graph.nodes]
+            topic_lines, topics = topic_statements(graph, running, [])  # noted before
+            out += [f"{INDENT}{text}" for text in topic_lines]
         for number, node in enumerate(nodes):
             if number or nodes[0].namespace:
                 out.append("")
@@ -46,9 +56,29 @@ def tsm_text(line: ImportedLine, sources: list[str]) -> str:
             for parameter in node.parameters:
                 value = f" = {parameter.default}" if parameter.default is not None else ""
                 out.append(f"{INDENT * 2}param {parameter.name} : {parameter.type}{value}")
+            if graph is not None and ros_name(node) in graph.nodes:
+                statements = interface_statements(graph, graph.nodes[ros_name(node)], topics)
+                out += [f"{INDENT * 2}{text}" for text in statements]
             out.append(f"{INDENT}}}")
         out.append("}")
     return "\n".join(out) + "\n"
+
+
+def ros_name(node: ImportedNode) -> str:
+    return f"/{node.namespace}/{node.name}" if node.namespace else f"/{node.name}"
+
+
+def graph_omissions(line: ImportedLine, graph: Graph) -> list[Omission]:
+    """What of a live graph the line cannot hold: nodes no launch file starts, topics of
+    an unknown type."""
+    started = {ros_name(n) for n in line.nodes}
+    found = [
+        Omission("", 0, f"node {name} runs in the graph, but no launch file starts it: left out")
+        for name in sorted(graph.nodes.keys() - started)
+    ]
+    notes: list[str] = list(graph.unreadable)
+    topic_statements(graph, (graph.nodes[n] for n in sorted(started & graph.nodes.keys())), notes)
+    return found + [Omission("", 0, note.removeprefix("warning: ")) for note in notes]
 
 
 def fm_text(line: ImportedLine, sources: list[str]) -> str:

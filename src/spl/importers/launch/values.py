@@ -12,20 +12,17 @@ from __future__ import annotations
 
 import json
 import math
-import re
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
-from spl.dsl.grammar_keywords import keywords
 from spl.dsl.literals import ROS_INT_MAX, problem_yaml
 from spl.importers.launch.reading import Combination, Omission
+from spl.importers.naming import is_name, string_literal
 
 if TYPE_CHECKING:
     from collections.abc import Mapping
 
 MISSING = ""  # no literal is empty: the parameter is not set in that combination
-_IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
-_CONTROL = re.compile(r"[\x00-\x08\x0b-\x1f\x7f]")
 
 
 @dataclass
@@ -34,35 +31,6 @@ class NodeParameter:
     type: str  # string | int | double | bool | yaml
     default: str | None  # the literal every combination has, if one
     literals: dict[tuple[str, ...], str]  # per combination with the node; MISSING if unset
-
-
-def reserved_words() -> frozenset[str]:
-    return keywords("tsm") | keywords("fm") | keywords("rm")
-
-
-def is_name(text: str) -> bool:
-    return bool(_IDENTIFIER.match(text)) and text not in reserved_words()
-
-
-def feature_name(word: str, taken: set[str], fallback: str) -> str:
-    """An identifier for ``word``, unlike every name in ``taken``."""
-    for candidate in (word, fallback):
-        name = re.sub(r"[^A-Za-z0-9_]", "_", candidate)
-        name = name if re.match(r"[A-Za-z_]", name) else f"v_{name}"
-        if name not in taken and name not in reserved_words():
-            return name
-    number = 2
-    while f"{name}_{number}" in taken:
-        number += 1
-    return f"{name}_{number}"
-
-
-def string_literal(text: str) -> str | None:
-    """``text`` as a double-quoted literal of the languages (None: it cannot be one)."""
-    if _CONTROL.search(text):
-        return None
-    escaped = text.replace("\\", "\\\\").replace('"', '\\"').replace("\n", "\\n")
-    return '"' + escaped.replace("\t", "\\t") + '"'
 
 
 def _kind(value: Any) -> str:

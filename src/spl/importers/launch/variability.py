@@ -24,13 +24,8 @@ from spl.importers.launch.reading import (
     LoadedNode,
     Omission,
 )
-from spl.importers.launch.values import (
-    MISSING,
-    NodeParameter,
-    feature_name,
-    is_name,
-    node_parameters,
-)
+from spl.importers.launch.values import MISSING, NodeParameter, node_parameters
+from spl.importers.naming import feature_name, is_name
 
 T = TypeVar("T", bound=Hashable)
 
