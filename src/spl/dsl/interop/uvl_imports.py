@@ -41,12 +41,11 @@ SUPPORTED_LEVELS = ("Boolean", "Boolean.*", "Boolean.group-cardinality")
 
 
 class Imported:
-    """One imported model: where it was read, and its features by their names as
-    written in it (its own imports' features as ``inner.Feature``)."""
+    """One imported model, read with its own imports composed in, and whether the
+    importing tree has placed its root yet (once at most)."""
 
-    def __init__(self, model: FeatureModel, position: int) -> None:
+    def __init__(self, model: FeatureModel) -> None:
         self.model = model
-        self.position = position
         self.placed = False
 
 
@@ -128,7 +127,7 @@ class ImportReader:
                     self.sink.diagnostics.extend(exc.diagnostics)
                     self.unread.add(name)
                     continue
-                self.imported[name] = Imported(model, position)
+                self.imported[name] = Imported(model)
                 continue
             self.unread.add(name)
 
@@ -221,5 +220,4 @@ def renamed(constraint: Constraint, names: dict[str, str]) -> Constraint:
         else:
             right, left = done.pop(), done.pop()
             done.append((head, left, right, *node[3:]))
-    copy = Constraint(constraint.source, constraint.position, done[0])
-    return copy
+    return Constraint(constraint.source, constraint.position, done[0])
