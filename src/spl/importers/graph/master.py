@@ -13,9 +13,12 @@ from __future__ import annotations
 import socket
 import struct
 import xmlrpc.client
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from typing import Any
 from urllib.parse import urlparse
+
+from spl.dsl import rosnames
 
 CALLER = "/spl_import"
 TIMEOUT = 10.0  # seconds for one answer of the master, a node or a service
@@ -23,6 +26,7 @@ TIMEOUT = 10.0  # seconds for one answer of the master, a node or a service
 LOGGING_TOPICS = {"/rosout", "/rosout_agg"}
 LOGGING_SERVICES = ("/get_loggers", "/set_logger_level")
 MAX_HEADER = 1 << 20
+MAX_SERVICES = 1000  # each is probed, with its own timeout
 
 
 class GraphUnreadable(Exception):
@@ -66,30 +70,61 @@ def _call(uri: str, method: str, *args: object) -> Any:
 
 
 def read_graph(master: str) -> Graph:
-    """The application's part of the graph the master at ``master`` knows."""
+    """The application's part of the graph the master at ``master`` knows. Its answers
+    are input like any other: one of the wrong shape is refused, and a name that is no
+    valid ROS name is reported and left out."""
+    try:
+        return _read_graph(master)
+    except (TypeError, ValueError, AttributeError) as exc:
+        raise GraphUnreadable(f"{master}: not a ROS master's answer ({exc})") from None
+
+
+def _valid(name: object, dropped: list[str], what: str) -> bool:
+    if isinstance(name, str) and name.startswith("/") and rosnames.is_graph_name(name):
+        return True
+    dropped.append(f"{what} {str(name)[:80]!r} left out: not a valid global ROS name")
+    return False
+
+
+def _logging_service(name: str) -> bool:
+    return name.endswith(LOGGING_SERVICES)
+
+
+def _entries(
+    pairs: list[list[Any]], logging: Callable[[str], bool], dropped: list[str], what: str
+) -> Iterator[tuple[str, str]]:
+    """``(name, node)`` of a part of the system state, without the logging ones."""
+    for name, nodes in pairs:
+        if not isinstance(nodes, list):
+            raise TypeError(f"the nodes of {what} {str(name)[:80]!r} are not a list")
+        if not _valid(name, dropped, what) or logging(name):
+            continue
+        for node in nodes:
+            if _valid(node, dropped, "node"):
+                yield name, node
+
+
+def _read_graph(master: str) -> Graph:
     publishers, subscribers, services = _call(master, "getSystemState")
+    if sum(len(names) for _, names in services) > MAX_SERVICES:
+        raise GraphUnreadable(f"{master}: more than {MAX_SERVICES} services")
     nodes: dict[str, GraphNode] = {}
+    dropped: list[str] = []
 
     def node(name: str) -> GraphNode:
         return nodes.setdefault(name, GraphNode(name))
 
-    for topic, names in publishers:
-        for name in names:
-            if topic not in LOGGING_TOPICS:
-                node(name).publishes.add(topic)
-    for topic, names in subscribers:
-        for name in names:
-            if topic not in LOGGING_TOPICS:
-                node(name).subscribes.add(topic)
-    for service, names in services:
-        for name in names:
-            if not service.endswith(LOGGING_SERVICES):
-                node(name).serves.add(service)
+    for topic, name in _entries(publishers, LOGGING_TOPICS.__contains__, dropped, "topic"):
+        node(name).publishes.add(topic)
+    for topic, name in _entries(subscribers, LOGGING_TOPICS.__contains__, dropped, "topic"):
+        node(name).subscribes.add(topic)
+    for service, name in _entries(services, _logging_service, dropped, "service"):
+        node(name).serves.add(service)
     nodes.pop("/rosout", None)
     nodes.pop(CALLER, None)
     topic_types = dict(_call(master, "getTopicTypes"))
     service_types: dict[str, str] = {}
-    unreadable: list[str] = []
+    unreadable: list[str] = sorted(set(dropped))
     for graph_node in nodes.values():
         for service in sorted(graph_node.serves):
             try:
