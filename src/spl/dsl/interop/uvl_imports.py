@@ -67,10 +67,8 @@ class ImportReader:
         """The indented lines after a section keyword, as token lists."""
         self.index += 1
         self.expect("NL", "a line break")
+        self.expect("INDENT", "its entries, indented")  # the grammar's INDENT: one at least
         found: list[list[tuple[str, str, int]]] = []
-        if self.tokens[self.index][0] != "INDENT":
-            return found
-        self.index += 1
         while self.tokens[self.index][0] not in ("DEDENT", "EOF"):
             start = self.index
             while self.tokens[self.index][0] not in ("NL", "EOF", "INDENT", "DEDENT"):
