@@ -105,3 +105,11 @@ def test_community_models_report_only_names_of_their_files() -> None:
         written = _names_in(path.read_text(encoding="utf-8"))
         for kind in ("core", "dead", "false_optional"):
             assert set(report[kind]) <= written, (path.name, set(report[kind]) - written)
+
+
+def test_a_featureide_model_is_named_by_its_file_as_written(tmp_path: Path) -> None:
+    path = tmp_path / "berkeley-db 2.xml"
+    path.write_bytes((REAL_MODELS / "berkeleydb.xml").read_bytes())
+    code, output = analyze(path, "--json")
+    assert code == 0, output
+    assert json.loads(output)["name"] == "berkeley-db 2"

@@ -133,6 +133,8 @@ def command(
     model = load_analysable_model(model_file)
     default = count_seconds is None and not count_unbounded
     report = analysis_report(model, count_seconds, started if default else None)
+    if model_file.suffix.lower() == ".xml":  # FeatureIDE names a model by its file
+        report["name"] = model_file.stem
     if as_json:
         click.echo(json.dumps(report, sort_keys=True))
     else:
