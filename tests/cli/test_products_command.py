@@ -120,3 +120,22 @@ def test_a_reader_that_leaves_early_ends_spl_quietly() -> None:
     assert done.returncode == 141
     assert "error" not in done.stderr.lower()
     assert "Exception" not in done.stderr
+
+
+def test_features_are_named_as_the_file_writes_them(tmp_path: Path) -> None:
+    """A UVL name no .fm identifier can be (imported as ``_64BIT``, ``My_F``) is listed
+    as written, quoted in text where a comma list would make it ambiguous."""
+    path = tmp_path / "names.uvl"
+    path.write_text(
+        'features\n\t"64BIT"\n\t\toptional\n\t\t\t"My F"\n\t\t\t"a,b"\n\t\t\tPlain\n',
+        encoding="utf-8",
+    )
+    text = run(path)
+    assert text.exit_code == 0, text.stderr
+    lines = set(text.stdout.splitlines())
+    assert {"64BIT", '"My F"', '"a,b"', '"My F",Plain', '"My F","a,b",Plain'} <= lines
+    assert len(lines) == 8 and not any("_" in line for line in lines)
+    products = [json.loads(line) for line in run(path, "--json").stdout.splitlines()]
+    everything = [p for p in products if p["selection"] == ["My F", "a,b", "Plain"]]
+    assert [p["features"] for p in everything] == [["64BIT", "My F", "a,b", "Plain"]]
+    assert all(p["features"][0] == "64BIT" for p in products)

@@ -71,13 +71,14 @@ def analysis_report(
 
 
 def _names(names: list[str]) -> str:
-    """Names as written, comma-separated; a name a comma list would make ambiguous (a
-    blank, a comma, a quote in it) is quoted as UVL quotes it."""
-    shown = [
-        name if _UNQUOTED.fullmatch(name) else json.dumps(name, ensure_ascii=False)
-        for name in names
-    ]
-    return ", ".join(shown) if shown else "-"
+    """Names as written, comma-separated (:func:`shown_name`)."""
+    return ", ".join(shown_name(name) for name in names) if names else "-"
+
+
+def shown_name(name: str) -> str:
+    """A feature name as written; one a comma list would make ambiguous (a blank, a
+    comma, a quote in it) quoted as UVL quotes it."""
+    return name if _UNQUOTED.fullmatch(name) else json.dumps(name, ensure_ascii=False)
 
 
 def text_report(path: Path, report: dict[str, Any]) -> list[str]:

@@ -9,10 +9,11 @@ distribution).
 
 Text output: one product per line, its non-core features comma-separated in model
 order (exactly what ``spl resolve --features`` takes; a product of core features only is
-named by the root). ``--json``: JSON Lines, one object per product:
-``{"index": i, "selection": [non-core features], "features": [all selected features]}``.
-A summary (number of products; for a sample the covered and invalid combinations and
-the time) goes to stderr.
+named by the root), by their names as the file writes them (one with a blank, comma or
+quote in double quotes, as ``spl analyze`` shows it). ``--json``: JSON Lines, one
+object per product: ``{"index": i, "selection": [non-core features], "features": [all
+selected features]}``. A summary (number of products; for a sample the covered and
+invalid combinations and the time) goes to stderr.
 """
 
 from __future__ import annotations
@@ -87,7 +88,11 @@ def command(
     t = parse_sample(sample)
     if sum((all_products, t is not None, random_count is not None)) > 1:
         raise click.UsageError("give one of --all, --sample and --random")
+    from spl.cli.commands.analyze import shown_name
+    from spl.dsl.interop.interchange import written_names
+
     formula = load_formula(source)
+    written = written_names(formula.model)  # names as the file writes them (docs/fm.md)
     root = formula.cnf.names[0]
     note = ""
     if t is not None:
@@ -106,10 +111,10 @@ def command(
         products = formula.products()
     count = 0
     for count, product in enumerate(products, start=1):
-        selection = product_key(formula, product) or [root]
+        selection = [written.get(n, n) for n in product_key(formula, product) or [root]]
         if as_json:
-            features = [name for name in formula.cnf.names if name in product]
+            features = [written.get(n, n) for n in formula.cnf.names if n in product]
             click.echo(json.dumps({"index": count, "selection": selection, "features": features}))
         else:
-            click.echo(",".join(selection))
+            click.echo(",".join(shown_name(name) for name in selection))
     click.echo(f"{count} products{note}", err=True)

@@ -90,14 +90,18 @@ def written_names(model: Any) -> dict[str, str]:
     stack = [model.root] if model.root is not None else []
     while stack:
         feature = stack.pop()
-        name = feature.name
-        for attribute in feature.attributes:
-            kind = attribute.type if isinstance(attribute.type, str) else attribute.type.name
-            if attribute.name == ORIGINAL_NAME and kind == "string" and attribute.value:
-                name = attribute.value
-        written[feature.name] = name
+        written[feature.name] = written_name(feature)
         stack.extend(child for group in feature.groups for child in group.features)
     return written
+
+
+def written_name(feature: Any) -> str:
+    """A feature's name as its file writes it: the kept original name, else its own."""
+    for attribute in feature.attributes:
+        kind = attribute.type if isinstance(attribute.type, str) else attribute.type.name
+        if attribute.name == ORIGINAL_NAME and kind == "string" and attribute.value:
+            return str(attribute.value)
+    return str(feature.name)
 
 
 def exported_attributes(feature: Any) -> list[Any]:

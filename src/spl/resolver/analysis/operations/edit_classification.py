@@ -40,7 +40,7 @@ from pysat.solvers import Solver
 from spl.core.diagnostics import Diagnostic, ModelError, location_of
 from spl.dsl.fm.printer import quote_string
 from spl.dsl.fm.vocabulary import is_feature_name
-from spl.dsl.interop.interchange import ORIGINAL_NAME
+from spl.dsl.interop.interchange import written_name
 from spl.resolver.analysis.constraint_clauses import constraint_clauses
 from spl.resolver.analysis.formula import SOLVER_NAME, FeatureModelFormula, formula_of
 from spl.resolver.analysis.operations.product_count import (
@@ -340,11 +340,7 @@ def written_names(model: Any) -> dict[str, str]:
     stack = [model.root]
     while stack:
         feature = stack.pop()
-        written = feature.name
-        for attribute in feature.attributes:
-            kind = attribute.type if isinstance(attribute.type, str) else attribute.type.name
-            if attribute.name == ORIGINAL_NAME and kind == "string" and attribute.value:
-                written = attribute.value
+        written = written_name(feature)
         if written in owner:
             problems.append(
                 Diagnostic(
