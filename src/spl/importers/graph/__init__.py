@@ -2,7 +2,8 @@
 live graph").
 
 What launch files cannot tell, the master can: the topics with their types, who
-publishes and subscribes them, and the services with their types (:mod:`.master`). The
+publishes and subscribes them, the services with their types, and the actions whose
+topics actionlib made (:mod:`.master`, :mod:`.actions`). The
 graph is one running system, so the line has one product. A node's package and
 executable are found from its process (``getPid``, then its command line) in a package
 of the package path; a node whose process or package cannot be found cannot be
@@ -116,6 +117,12 @@ def _tsm_text(
 ) -> str:
     out = [f"// Imported by spl import graph from the ROS master at {master} (docs/import.md).",
            "", f"system {name}"]  # fmt: skip
+    places = {
+        node.name: (container, node.name.rsplit("/", 1)[-1])
+        for container, nodes in containers.items()
+        for node, _ in nodes
+    }
+    bridges: list[str] = []
     for container in sorted(containers, key=lambda c: (not c.startswith("Robot"), c)):
         nodes = containers[container]
         robot = container.startswith("Robot")
@@ -131,7 +138,10 @@ def _tsm_text(
         for node, (package, executable) in nodes:
             out += ["", f"{INDENT}node {node.name.rsplit('/', 1)[-1]} {{"]
             out.append(f"{INDENT * 2}implementation {package}/{executable}")
-            out += [f"{INDENT * 2}{line}" for line in interface_statements(graph, node, topics)]
+            statements = interface_statements(graph, node, topics, places, bridges)
+            out += [f"{INDENT * 2}{line}" for line in statements]
             out.append(f"{INDENT}}}")
         out.append("}")
+    if bridges:
+        out += ["", *bridges]
     return "\n".join(out) + "\n"

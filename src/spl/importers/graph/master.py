@@ -4,7 +4,8 @@ graph").
 The master says which node publishes and subscribes which topic, of which type, and
 which node serves which service (``getSystemState``, ``getTopicTypes``,
 ``lookupService``); a service's type is asked of the service itself with a TCPROS probe
-(the header exchange ``rosservice type`` makes). Nothing here needs rospy: XML-RPC and
+(the header exchange ``rosservice type`` makes). The topics of an action are taken
+together as the action (:mod:`.actions`). Nothing here needs rospy: XML-RPC and
 one socket per service, each with a timeout, so a hung node cannot hang the import.
 """
 
@@ -19,6 +20,7 @@ from typing import Any
 from urllib.parse import urlparse
 
 from spl.dsl import rosnames
+from spl.importers.graph.actions import GraphAction, find_actions
 
 CALLER = "/spl_import"
 TIMEOUT = 10.0  # seconds for one answer of the master, a node or a service
@@ -39,6 +41,8 @@ class GraphNode:
     publishes: set[str] = field(default_factory=set)
     subscribes: set[str] = field(default_factory=set)
     serves: set[str] = field(default_factory=set)
+    serves_actions: set[str] = field(default_factory=set)  # by the action's ROS name
+    calls_actions: set[str] = field(default_factory=set)
     pid: int | None = None
 
 
@@ -47,7 +51,11 @@ class Graph:
     nodes: dict[str, GraphNode]
     topic_types: dict[str, str]
     service_types: dict[str, str]
-    unreadable: list[str]  # services whose type the probe did not get, and why
+    # what is not carried over as the graph has it, and why: names that are no ROS
+    # names, services whose type the probe did not get, topics that look like an action's
+    # but are not one whole
+    unreadable: list[str]
+    actions: dict[str, GraphAction] = field(default_factory=dict)  # by ROS name
 
 
 class _Transport(xmlrpc.client.Transport):
@@ -125,6 +133,19 @@ def _read_graph(master: str) -> Graph:
     topic_types = dict(_call(master, "getTopicTypes"))
     service_types: dict[str, str] = {}
     unreadable: list[str] = sorted(set(dropped))
+    actions, notes = find_actions(
+        {n.name: n.publishes for n in nodes.values()},
+        {n.name: n.subscribes for n in nodes.values()},
+        topic_types,
+    )
+    unreadable += notes
+    for action in actions:
+        for user in (action.server, *action.clients):
+            nodes[user].publishes -= set(action.topics)
+            nodes[user].subscribes -= set(action.topics)
+        nodes[action.server].serves_actions.add(action.name)
+        for client in action.clients:
+            nodes[client].calls_actions.add(action.name)
     for graph_node in nodes.values():
         for service in sorted(graph_node.serves):
             try:
@@ -133,7 +154,7 @@ def _read_graph(master: str) -> Graph:
             except GraphUnreadable as exc:
                 unreadable.append(f"service {service}: {exc}")
         graph_node.pid = _pid(master, graph_node.name)
-    return Graph(nodes, topic_types, service_types, unreadable)
+    return Graph(nodes, topic_types, service_types, unreadable, {a.name: a for a in actions})
 
 
 def _pid(master: str, name: str) -> int | None:

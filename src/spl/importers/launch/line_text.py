@@ -21,13 +21,15 @@ INDENT = "    "
 
 def tsm_text(line: ImportedLine, sources: list[str], graph: Graph | None = None) -> str:
     """The ``.tsm``; with a live ``graph`` of the same system, the nodes it runs get their
-    topics and services (``spl import launch --graph``)."""
+    topics, services and actions (``spl import launch --graph``)."""
     out = [f"// Imported by spl import launch from {', '.join(sources)} (docs/import.md).", ""]
     out.append(f"system {line.name}")
     containers: dict[str, list] = {}
     for node in line.nodes:
         containers.setdefault(node.container, []).append(node)
     order = sorted(containers, key=lambda c: (not containers[c][0].robot, c))
+    places = {ros_name(n): (n.container, n.name) for n in line.nodes}
+    bridges: list[str] = []
     for container in order:
         nodes = containers[container]
         side = "robot" if nodes[0].robot else "cloud"
@@ -57,10 +59,13 @@ def tsm_text(line: ImportedLine, sources: list[str], graph: Graph | None = None)
                 value = f" = {parameter.default}" if parameter.default is not None else ""
                 out.append(f"{INDENT * 2}param {parameter.name} : {parameter.type}{value}")
             if graph is not None and ros_name(node) in graph.nodes:
-                statements = interface_statements(graph, graph.nodes[ros_name(node)], topics)
+                live = graph.nodes[ros_name(node)]
+                statements = interface_statements(graph, live, topics, places, bridges)
                 out += [f"{INDENT * 2}{text}" for text in statements]
             out.append(f"{INDENT}}}")
         out.append("}")
+    if bridges:
+        out += ["", *bridges]
     return "\n".join(out) + "\n"
 
 
