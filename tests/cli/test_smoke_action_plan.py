@@ -161,6 +161,22 @@ def test_each_of_the_five_topics_must_be_registered_on_its_side(across) -> None:
     assert not stray.ok and stray.expected == "not in the model"
 
 
+def test_an_unexpected_topic_of_an_action_is_named_by_its_action(across) -> None:
+    plan = load_plan(across)
+    graph = live_graph(plan)
+    # the mission's client takes goals as a server would: its row names its action
+    graph.subscribers["/move_base/goal"].add("/Mission")
+    # and the lidar, which has no action, publishes the planner's feedback
+    graph.publishers["/move_base/feedback"].add("/Lidar")
+    rows = rover_rows(plan, graph, statuses(plan))
+    stray = rows["Mission.navigate@/move_base/goal"]
+    assert not stray.ok and stray.expected == "not in the model"
+    assert stray.seen == "subscribes move_base_msgs/MoveBaseActionGoal"
+    lidar = rows["Lidar.action /move_base@/move_base/feedback"]
+    assert not lidar.ok and lidar.expected == "not in the model"
+    assert not [r for r in rows.values() if "?" in r.interface]
+
+
 def test_a_wrong_message_type_on_one_of_the_topics_fails(across) -> None:
     plan = load_plan(across)
     graph = live_graph(plan)

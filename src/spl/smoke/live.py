@@ -18,7 +18,7 @@ from pathlib import Path
 from typing import Any
 
 from spl.core.diagnostics import counted
-from spl.metamodels.interface_kinds import KINDS, TOPIC, InterfaceKind, side
+from spl.metamodels.interface_kinds import FAMILIES, KINDS, TOPIC, InterfaceKind, side
 from spl.smoke.plan import ContainerPlan, Interface, NodePlan
 
 CALLER = "/spl_smoke"
@@ -320,7 +320,14 @@ def registrations(interface: Interface) -> list[tuple[InterfaceKind, str, str]]:
 
 
 def _interface_bound_to(status: dict[str, Any] | None, topic: str) -> str:
+    """The interface of an unexpected row: the node's interface resolved to ``topic``,
+    or to the action ``topic`` is one of the topics of (``NAME/goal`` ... ``NAME/result``,
+    ``Family.ros1_topics``); else that action, by family and name; else "?"."""
+    group, _, last = topic.rpartition("/")
+    families = [f for f in FAMILIES if last in {p.suffix for p in f.ros1_topics}]
     for name, entry in ((status or {}).get("interfaces") or {}).items():
-        if entry.get("resolved") == topic:
+        if entry.get("resolved") == topic or (
+            families and group and entry.get("resolved") == group
+        ):
             return name
-    return "?"
+    return f"{families[0]} {group}" if families and group else "?"
