@@ -81,7 +81,8 @@ def statements(draw, v: Vocabulary) -> str:
         refs = draw(st.lists(v.names("nodes", "interfaces"), min_size=1, max_size=3))
         return "require " + ", ".join(refs)
     if kind == 1:
-        return f"implementation {draw(v.names('nodes'))} = {draw(st.sampled_from(ROS_TYPES))}"
+        args = draw(st.sampled_from(["", ' args "--rate 5 _frame:=map"', ' args "a;b"', " args"]))
+        return f"implementation {draw(v.names('nodes'))} = {draw(st.sampled_from(ROS_TYPES))}{args}"
     if kind == 2:
         topic = draw(v.short(v.names("topics")))
         return f"connect {draw(v.names('interfaces'))} to topic {topic.split('.')[-1]}"

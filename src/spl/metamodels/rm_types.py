@@ -85,6 +85,9 @@ class Implementation(Transformation):
     node: tsm.Node
     package: str
     executable: str
+    #: The node's command-line arguments with this implementation (the .tsm's args); unset: the node
+    #: keeps those it has.
+    args: str
 
     def __init__(
         self,
@@ -92,6 +95,7 @@ class Implementation(Transformation):
         node: tsm.Node = ...,
         package: str = ...,
         executable: str = ...,
+        args: str = ...,
         srcFile: str = ...,
         srcLine: int = ...,
         srcCol: int = ...,

@@ -233,7 +233,14 @@ class _Builder:
         if problem:
             self.error(stmt, problem)
             return None
-        return self.R.Implementation(node=node, package=package, executable=executable)
+        implementation = self.R.Implementation(node=node, package=package, executable=executable)
+        if stmt.args is not None:  # as the .tsm's args (docs/rm.md)
+            problem = rosnames.problem_args(stmt.args.value)
+            if problem:
+                self.error(stmt.args, problem)
+                return None
+            implementation.args = stmt.args.value
+        return implementation
 
     def _ConnectTopicStmt(self, stmt):
         interface = self.names.interface(stmt.interface)

@@ -44,7 +44,7 @@ STRING = re.compile(r'("(\\"|[^"])*")|(\'(\\\'|[^\'])*\')', re.MULTILINE)
 ResolutionModel = rule("ResolutionModel", "name tsm fm elements")
 Element = rule("Element", "feature negated statements")
 Require = rule("Require", "refs")
-ImplementationStmt = rule("ImplementationStmt", "node implementation")
+ImplementationStmt = rule("ImplementationStmt", "node implementation args")
 ConnectTopicStmt = rule("ConnectTopicStmt", "interface topic")
 ConnectNewTopicStmt = rule("ConnectNewTopicStmt", "interface name type rosName")
 ConnectServerStmt = rule("ConnectServerStmt", "client server")
@@ -138,7 +138,12 @@ class _Reader(Tokens):
         start = self.punct("implementation")
         node = self.qname()
         self.punct("=")
-        return ImplementationStmt(start, node, self.match(ROS_TYPE)[1])
+        implementation = self.match(ROS_TYPE)[1]
+        return ImplementationStmt(start, node, implementation, self.optional(self.args))
+
+    def args(self) -> Any:
+        self.punct("args")
+        return self.string_value()
 
     def connect_topic(self) -> Any:
         start = self.punct("connect")

@@ -146,6 +146,7 @@ class LineEffects:
                     else (f"{node.package}/{node.executable}" if node.package else None)
                 )
                 effects.aspects["implementation"] = Aspect("implementation", implementation, where)
+                effects.aspects["args"] = Aspect("args", node.args, where)
                 for parameter in node.parameters:
                     name = f"parameter {parameter.name}"
                     effects.aspects[name] = Aspect(name, parameter.value, location_of(parameter))
@@ -275,6 +276,7 @@ def observed(node: tsm_types.Node, product: ResolvedProduct) -> dict[str, Value]
         PLACEMENT: container.name,
         SHARING: sharing_mode(node),
         "implementation": f"{node.package}/{node.executable}" if node.package else None,
+        "args": node.args,
     }
     for parameter in node.parameters:
         values[f"parameter {parameter.name}"] = parameter.value
