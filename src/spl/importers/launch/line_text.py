@@ -136,10 +136,12 @@ def rm_text(line: ImportedLine, stem: str, sources: list[str]) -> str:
         if statements.requires:
             names = ", ".join(f"{n.container}.{n.name}" for n in statements.requires)
             out.append(f"{INDENT}require {names}")
-        for node, (package, executable) in statements.implementations:
-            out.append(
-                f"{INDENT}implementation {node.container}.{node.name} = {package}/{executable}"
-            )
+        for node, (package, executable, args) in statements.implementations:
+            named = f"{node.container}.{node.name}"
+            command = f"{INDENT}implementation {named} = {package}/{executable}"
+            if args != node.args:  # the node's own otherwise (docs/rm.md)
+                command += f" args {string_literal(args)}"
+            out.append(command)
         for node, name, value in statements.parameters:
             out.append(f"{INDENT}parameter {node.container}.{node.name}.{name} = {value}")
         out.append("}")

@@ -56,7 +56,8 @@ class ImportedNode:
 @dataclass
 class Statements:
     requires: list[ImportedNode] = field(default_factory=list)
-    implementations: list[tuple[ImportedNode, tuple[str, str]]] = field(default_factory=list)
+    # (node, (package, executable, args)): the command that runs it under the condition
+    implementations: list[tuple[ImportedNode, tuple[str, str, str]]] = field(default_factory=list)
     parameters: list[tuple[ImportedNode, str, str]] = field(default_factory=list)  # literal
 
 
@@ -127,12 +128,7 @@ def build_line(
                 Omission(first.file, first.line, f"node {ros_name} left out: {problem}")
             )
             continue
-        args_text = _args_text(first)
-        args_problem = _args_problem(first, args_text)
-        if args_problem:
-            line.warnings.append(Omission(first.file, first.line, (
-                f"node {ros_name}: args {args_text[:80]!r} left out: {args_problem}")))  # fmt: skip
-            args_text = ""
+        args_text = _writable_args(first, line.warnings)
         robot = is_robot(first)
         namespace = first.namespace.strip("/")
         container = ("Robot" if robot else "Cloud") + (
@@ -140,15 +136,13 @@ def build_line(
         )
         presence = Split(arguments, {c: c in seen for c in everywhere})
         within = everywhere if not presence.constant else ()
-        implementation = Split(
-            arguments, {c: (n.package, n.executable) for c, n in seen.items()}, within
-        )
-        args = Split(arguments, {c: _args_text(n) for c, n in seen.items()})
-        if not args.constant:
-            line.warnings.append(Omission(first.file, first.line, (
-                f"node {ros_name}: its args differ between combinations; a .rm cannot set "
-                f"a node's args, so every product has those of {'_'.join(next(iter(seen)))}"
-            )))  # fmt: skip
+        # what runs the node, with its arguments: an .rm implementation statement sets both
+        commands = {
+            c: (n.package, n.executable, _writable_args(n, line.warnings) if n is not first
+                else args_text)
+            for c, n in seen.items()
+        }  # fmt: skip
+        implementation = Split(arguments, commands, within)
         parameters, left_out = node_parameters(ros_name, {c: by_combination[c] for c in seen})
         line.warnings.extend(left_out)
         imported = ImportedNode(
@@ -162,7 +156,8 @@ def build_line(
             for condition in _conditions(line, presence, lambda present: bool(present)):
                 line.blocks.setdefault(condition, Statements()).requires.append(imported)
         if not implementation.constant:
-            for condition, value in _valued(line, implementation, imported.implementation):
+            command = (*imported.implementation, args_text)
+            for condition, value in _valued(line, implementation, command):
                 line.blocks.setdefault(condition, Statements()).implementations.append(
                     (imported, value)
                 )
@@ -208,6 +203,20 @@ def _problem_of(first: LoadedNode, appearances: list[LoadedNode]) -> str | None:
         if problem:
             return problem
     return None
+
+
+def _writable_args(node: LoadedNode, warnings: list[Omission]) -> str:
+    """The node's command line as a .tsm or .rm ``args`` string; empty, with a located
+    warning, when it cannot be one."""
+    text = _args_text(node)
+    problem = _args_problem(node, text)
+    if problem is None:
+        return text
+    warning = Omission(node.file, node.line, (
+        f"node {node.ros_name}: args {text[:80]!r} left out: {problem}"))  # fmt: skip
+    if warning not in warnings:
+        warnings.append(warning)
+    return ""
 
 
 def _args_problem(node: LoadedNode, text: str) -> str | None:
