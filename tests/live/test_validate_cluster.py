@@ -33,7 +33,10 @@ def test_a_local_cluster_gives_the_report_of_one_job(tmp_path: Path) -> None:
     assert (on_cluster.returncode, by_one.returncode) == (0, 0), on_cluster.stderr
     assert on_cluster.stdout == by_one.stdout
     assert cluster.read_bytes() == one.read_bytes()
-    assert b'tests="228"' in one.read_bytes()
+    # every valid product of every line, and each listed one once more
+    listed = sum(len(list(Path(line, "products").glob("*.yaml"))) for line in LINES)
+    valid = sum(len(run_spl(["products", line]).stdout.splitlines()) for line in LINES)
+    assert f'tests="{valid + listed}"'.encode() in one.read_bytes()
 
 
 def _dask(tag: str, *args: str) -> subprocess.Popen:
