@@ -45,11 +45,11 @@ def test_the_client_expects_the_cloud_planner_behind_the_endpoint(across) -> Non
         "/move_base",
         "move_base_msgs/MoveBase",
     )
-    stand_in = found["Rover.endpoint.srv_Planner_move_base"]
-    assert stand_in.forward == ("NavCloud", "cli_Planner_move_base")
+    stand_in = found["Rover.endpoint.asrv_Planner_move_base"]
+    assert stand_in.forward == ("NavCloud", "acli_Planner_move_base")
     # the answers come back to the robot's stand-in, which the client waits on
-    relay = found["NavCloud.endpoint.cli_Planner_move_base"]
-    assert relay.peers == (("Rover", "srv_Planner_move_base"),)
+    relay = found["NavCloud.endpoint.acli_Planner_move_base"]
+    assert relay.peers == (("Rover", "asrv_Planner_move_base"),)
     assert relay.required and relay.server == PLANNER
 
 
@@ -134,7 +134,7 @@ def test_a_client_answered_with_result_and_feedback_passes(across) -> None:
     assert navigate.ok, navigate
     assert navigate.expected == f"result and feedback from {PLANNER}"
     assert navigate.seen == f"result from {PLANNER} (2), feedback from {PLANNER} (2)"
-    assert rows["endpoint.srv_Planner_move_base@/move_base"].seen == (
+    assert rows["endpoint.asrv_Planner_move_base@/move_base"].seen == (
         "provides action (2 goals answered)"
     )
     # the five topics are the model's: none of them is reported as unmodelled

@@ -36,8 +36,8 @@ def test_goals_cross_the_bridge_and_feedback_and_results_come_back(tmp_path) -> 
     assert navigate["seen"].startswith(f"result from NavCloud.{PLANNER} (")
     assert f"feedback from NavCloud.{PLANNER} (" in navigate["seen"]
     # the goals passed the rover's stand-in for the planner, then the cloud's relay ...
-    assert rows["Rover.endpoint.srv_Planner_move_base"]["ok"]
-    relay = rows["NavCloud.endpoint.cli_Planner_move_base"]
+    assert rows["Rover.endpoint.asrv_Planner_move_base"]["ok"]
+    relay = rows["NavCloud.endpoint.acli_Planner_move_base"]
     assert relay["seen"].startswith(f"result from {PLANNER} (")
     # ... and were answered by the planner itself
     served = rows[f"NavCloud.{PLANNER}"]["seen"]
@@ -57,8 +57,8 @@ def test_after_the_migration_goals_meet_on_the_rover_and_cross_down_to_it(tmp_pa
     explorer = rows["NavCloud.Explorer.navigate"]
     assert explorer["seen"].startswith(f"result from Rover.{PLANNER} (")
     assert f"feedback from Rover.{PLANNER} (" in explorer["seen"]
-    assert rows["NavCloud.endpoint.srv_Planner_move_base"]["ok"]
-    assert rows["Rover.endpoint.cli_Planner_move_base"]["seen"].startswith(
+    assert rows["NavCloud.endpoint.asrv_Planner_move_base"]["ok"]
+    assert rows["Rover.endpoint.acli_Planner_move_base"]["seen"].startswith(
         f"result from {PLANNER} ("
     )
 

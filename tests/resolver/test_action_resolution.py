@@ -78,7 +78,7 @@ def explain(features: str, element: str) -> list[str]:
 
 def test_explain_names_what_bound_and_rebound_the_client() -> None:
     across = explain("Planning", "Behaviour.navigate")
-    assert across[0] == "Behaviour.navigate: sends goals to Robot.endpoint.srv_Planner_move_base"
+    assert across[0] == "Behaviour.navigate: sends goals to Robot.endpoint.asrv_Planner_move_base"
     assert across[-1] == "  sends goals to Cloud.Planner.move_base through Robot -> Cloud"
     moved = explain("Planning,OnBoardPlanning", "Behaviour.navigate")
     assert moved[0] == "Behaviour.navigate: sends goals to Planner.move_base"

@@ -122,6 +122,11 @@ class InterfaceKind:
     # what the rehearsal's stand-in plays; None: `spl smoke` has no stand-in for it yet
     smoke_role: str | None
     colour: str  # the architecture diagram's colour
+    # the first word of the name of a bridge's endpoint interface of this kind
+    # (``srv_Planner_plan``, docs/tsm.md "Bridges"): one of its own for each kind, so
+    # that the endpoint interfaces for a service and an action of one name (servers
+    # ``Db.get`` of two containers) are never one name in one endpoint
+    endpoint_prefix: str
     # an input's warning when a product leaves it unfed, and how `spl explain` says it
     unfed_code: str | None = None
     unfed_words: str | None = None
@@ -207,32 +212,33 @@ def calling_titles() -> str:
 KINDS = (
     InterfaceKind(
         "Publisher", "Publishes", "publishes", TOPIC, True, "topic publisher",
-        "Publisher", "publisher", "#ffe135",
+        "Publisher", "publisher", "#ffe135", "pub",
         standing="publishes to topic",
     ),
     InterfaceKind(
         "Subscriber", "Subscribes", "subscribes", TOPIC, False, "topic subscriber",
-        "Subscriber", "subscriber", "#3fe0f0", "SPL045", "fed by no flow of this product",
+        "Subscriber", "subscriber", "#3fe0f0", "sub", "SPL045", "fed by no flow of this product",
         standing="subscribes to topic", gap_word="unfed",
     ),
     InterfaceKind(
         "ServiceServer", "Provides", "provides", SERVICE, True, "service server",
-        "ServiceProvider", "server", "#2ca02c",
+        "ServiceProvider", "server", "#2ca02c", "srv",
         standing="serves",
     ),
     InterfaceKind(
         "ServiceClient", "Calls", "calls", SERVICE, False, "service client",
-        "ServiceClient", "client", "#e03131", "SPL046", "answered by no server of this product",
+        "ServiceClient", "client", "#e03131", "cli",
+        "SPL046", "answered by no server of this product",
         standing="calls", gap_word="unserved",
     ),
     InterfaceKind(
         "ActionServer", "ProvidesAction", "provides action", ACTION, True, "action server",
-        None, "action_server", "#7048e8",
+        None, "action_server", "#7048e8", "asrv",
         standing="serves action",
     ),
     InterfaceKind(
         "ActionClient", "CallsAction", "calls action", ACTION, False, "action client",
-        None, "action_client", "#c2255c", "SPL046",
+        None, "action_client", "#c2255c", "acli", "SPL046",
         "sends goals to no action server of this product",
         standing="sends goals to", gap_word="unserved",
     ),

@@ -57,7 +57,7 @@ class _Relay:
     """Forwards along the endpoint connections: topic data from a ``sub_`` interface to
     the peers' ``pub_`` (each message over the connections its flows take), service calls
     from a ``srv_`` interface to the peer's ``cli_``, an action's topics between the
-    ``srv_`` standing in for its server and the ``cli_`` by the server, both ways."""
+    ``asrv_`` standing in for its server and the ``acli_`` by the server, both ways."""
 
     def __init__(self, plan: dict, container: str, status: Status) -> None:
         self.plan, self.container, self.status = plan, container, status

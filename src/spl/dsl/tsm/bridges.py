@@ -21,24 +21,29 @@ if TYPE_CHECKING:
 
 
 # -- canonical endpoint interface names (shared with the resolver) ---------------------
+# Each begins with the endpoint prefix of its interface's kind (``InterfaceKind``), so
+# that endpoint interfaces of different kinds never share a name.
 def endpoint_subscriber_name(topic: Any) -> str:
     """The endpoint Subscriber sending ``topic`` out of its container."""
-    return f"sub_{topic.name}"
+    return f"{side(TOPIC, False).endpoint_prefix}_{topic.name}"
 
 
 def endpoint_publisher_name(topic: Any) -> str:
     """The endpoint Publisher publishing bridged data on ``topic``."""
-    return f"pub_{topic.name}"
+    return f"{side(TOPIC, True).endpoint_prefix}_{topic.name}"
 
 
 def endpoint_server_name(server: Any) -> str:
-    """The endpoint ServiceServer standing in for node server ``server`` elsewhere."""
-    return f"srv_{server.eContainer().name}_{server.name}"
+    """The endpoint server (of the kind of node server ``server``: ``srv_`` for a
+    service's, ``asrv_`` for an action's) standing in for ``server`` elsewhere."""
+    return f"{kind_of(server).endpoint_prefix}_{server.eContainer().name}_{server.name}"
 
 
 def endpoint_client_name(server: Any) -> str:
-    """The endpoint ServiceClient calling node server ``server`` in its container."""
-    return f"cli_{server.eContainer().name}_{server.name}"
+    """The endpoint client (``cli_``, ``acli_``) calling node server ``server`` in its
+    container."""
+    prefix = side(kind_of(server).family, False).endpoint_prefix
+    return f"{prefix}_{server.eContainer().name}_{server.name}"
 
 
 def endpoint_name_choices(name: str, target: Any) -> Iterator[str]:
