@@ -8,10 +8,11 @@ warnings and goes on; the grammar itself refuses those files).
 The files: the vendored community models (tests/data/feature-models, accepted by both)
 and small hand-written ones in tests/models/uvl_conformance, named by what is expected:
 
-- ``ok_*``: valid UVL spl reads — both accept;
+- ``ok_*``: valid UVL spl reads, every language level (:func:`read_uvl_plain`, what
+  analysis reads) — both accept;
 - ``bad_*``: not UVL — both refuse;
-- ``unsupported_*``: valid UVL spl cannot represent (typed features, imports, arithmetic
-  constraints...) — the grammar accepts, spl refuses with "... not supported";
+- ``unsupported_*``: valid UVL spl cannot represent (a model without a features
+  section) — the grammar accepts, spl refuses with "... not supported";
 - ``semantic_*``: valid syntax with an error the grammar does not look for (an unknown
   or duplicate feature, an empty cardinality) — the grammar accepts, spl refuses.
 """
@@ -24,7 +25,8 @@ from pathlib import Path
 import pytest
 
 from spl.core.diagnostics import ModelError
-from spl.dsl.interop.uvl import parse_uvl, read_uvl
+from spl.dsl.interop.uvl import read_uvl_plain
+from spl.dsl.interop.uvl_reader import parse_uvl_plain
 
 from support.real_models import REAL_MODELS
 
@@ -77,7 +79,7 @@ def test_every_category_has_cases() -> None:
 def test_same_verdict_as_the_reference_grammar(path: Path) -> None:
     reference = reference_accepts(path)
     try:
-        read_uvl(path)
+        read_uvl_plain(path)
         messages: list[str] = []
     except ModelError as exc:
         messages = [str(d) for d in exc.diagnostics]
@@ -138,7 +140,7 @@ def test_mutated_files_get_the_same_verdict() -> None:
     for text in mutants(300, seed=17):
         reference = reference_accepts_text(text)
         try:
-            parse_uvl(text, "mutant.uvl")
+            parse_uvl_plain(text, "mutant.uvl")
             messages: list[str] = []
         except ModelError as exc:
             messages = [d.message for d in exc.diagnostics]

@@ -2,8 +2,10 @@
 ``.fm``, ``.uvl`` or ``.xml``.
 
 One incremental SAT solver answers every question (satisfiable, core, dead,
-false-optional); the product count is exact or, past its bound, ``null`` with a note —
-a number printed here is never an estimate. A UVL file is analysed from plain objects
+false-optional), an SMT solver (z3) for a UVL model of the Arithmetic or Type level
+(typed features, feature cardinalities, equations: docs/analysis.md); the product
+count is exact or, past its bound, ``null`` with a note — a number printed here is
+never an estimate. A UVL file is analysed from plain objects
 (no pyecore model is built), so the command costs little more than reading the text.
 """
 
@@ -38,10 +40,18 @@ def analysis_report(
     :data:`DEFAULT_COUNT_SECONDS`.
     """
     from spl.dsl.interop.interchange import written_names
+    from spl.dsl.interop.uvl_typed import is_typed
     from spl.resolver.analysis.formula import FeatureModelFormula
 
     start = time.perf_counter()
-    with FeatureModelFormula(model) as formula:
+    typed = is_typed(model)
+    if typed:  # the Arithmetic and Type levels: on z3 (docs/analysis.md)
+        from spl.resolver.analysis.smt import SmtFormula
+
+        solver: Any = SmtFormula(model)
+    else:
+        solver = FeatureModelFormula(model)
+    with solver as formula:
         satisfiable = formula.satisfiable()
         core = formula.core_features()
         dead = formula.dead_features()
@@ -59,7 +69,7 @@ def analysis_report(
     return {
         "name": getattr(model, "written_name", model.name),  # a UVL file's, as written
         "features": features,
-        "constraints": len(model.constraints),
+        "constraints": len(model.constraints) + len(getattr(model, "equations", ())),
         "satisfiable": satisfiable,
         "products": count.value,
         "products_note": count.note,

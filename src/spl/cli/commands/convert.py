@@ -20,7 +20,9 @@ def command(source: Path, target: Path) -> None:
 
     Feature names UVL or FeatureIDE allow but .fm does not (spaces, dots, keywords)
     are renamed to identifiers; the original name is kept in an attribute
-    original_name and written back when exporting.
+    original_name and written back when exporting. A UVL model of the Arithmetic or
+    Type level (typed features, feature cardinalities, equations) is refused, located:
+    the three formats' writers carry the Boolean level.
     """
     from spl.dsl.fm.language import summary
     from spl.dsl.interop.formats import (
@@ -39,6 +41,8 @@ def command(source: Path, target: Path) -> None:
         raise click.UsageError(f"OUT: directory {target.parent} does not exist")
     if target.exists() and target.samefile(source):  # the rename would replace the input
         raise click.UsageError(f"OUT: {target} is IN itself; give another file")
-    model = load_feature_model(source)
+    model = load_feature_model(
+        source, carried_by=f"spl convert to {FORMATS[target.suffix.lower()]}"
+    )
     save_feature_model(model, target)
     click.echo(f"{source} -> {target}: {summary(model)}")

@@ -21,9 +21,13 @@ if TYPE_CHECKING:
 FORMATS = {".fm": "FeatureModel (.fm)", ".uvl": "UVL", ".xml": "FeatureIDE XML"}
 
 
-def load_feature_model(path: str | Path, workspace: Workspace | None = None) -> Any:
+def load_feature_model(
+    path: str | Path, workspace: Workspace | None = None, carried_by: str | None = None
+) -> Any:
     """Read a feature model from a .fm, .uvl or FeatureIDE .xml file; a .fm or .uvl as
-    the editor's ``workspace`` has it, when given."""
+    the editor's ``workspace`` has it, when given. ``carried_by``: what the model is read
+    for when that carries the Boolean level only (a UVL model of another level is then
+    refused, located: :func:`spl.dsl.interop.uvl.parse_uvl`)."""
     path = Path(path)
     suffix = path.suffix.lower()
     if suffix == ".fm":
@@ -33,12 +37,18 @@ def load_feature_model(path: str | Path, workspace: Workspace | None = None) -> 
     if suffix == ".uvl":
         from spl.dsl.interop.uvl import read_uvl
 
-        return read_uvl(path, workspace)
+        return read_uvl(path, workspace, carried_by)
     if suffix == ".xml":
         from spl.dsl.interop.featureide import read_featureide
 
         return read_featureide(path)
     raise ModelError([Diagnostic(Location(str(path), 1, 1), unsupported_format_message(path))])
+
+
+def load_line_feature_model(path: str | Path, workspace: Workspace | None = None) -> Any:
+    """A product line's feature model: the Boolean level, which configurations and
+    resolution read (a typed UVL model is refused, not read in part)."""
+    return load_feature_model(path, workspace, "a product line's feature model")
 
 
 def load_analysable_model(path: str | Path) -> Any:

@@ -3,8 +3,9 @@
 Reading is :mod:`spl.dsl.interop.uvl_reader` (the reference grammar, into plain objects);
 :func:`read_uvl` and :func:`parse_uvl` turn the result into an ``fm.FeatureModel``
 (pyecore) for the rest of the toolchain, :func:`read_uvl_plain` keeps it plain for
-analysis. Names that are not .fm identifiers are renamed as :mod:`spl.dsl.interop.formats`
-describes and written back unchanged on export.
+analysis (the only form a model of the Arithmetic or Type level takes: the pyecore
+model carries the Boolean level). Names that are not .fm identifiers are renamed as
+:mod:`spl.dsl.interop.formats` describes and written back unchanged on export.
 """
 
 from __future__ import annotations
@@ -26,6 +27,7 @@ from spl.dsl.interop.interchange import (
 )
 from spl.dsl.interop.uvl_lexer import KEYWORDS
 from spl.dsl.interop.uvl_reader import parse_uvl_plain
+from spl.dsl.interop.uvl_typed import TypedFeatureModel
 from spl.dsl.workspace import Workspace, text_of
 
 # Names spelled like a UVL keyword are quoted on export ("abstract" too: older readers
@@ -42,16 +44,40 @@ def read_uvl_plain(path: str | Path) -> FeatureModel:
     return parse_uvl_plain(model_text(path), str(path), default_name=path.stem)
 
 
-def read_uvl(path: str | Path, workspace: Workspace | None = None) -> Any:
+def read_uvl(
+    path: str | Path, workspace: Workspace | None = None, carried_by: str | None = None
+) -> Any:
     """Import a UVL file as an ``fm.FeatureModel``; raise ModelError with every problem.
-    Read as the editor's ``workspace`` has it, when given."""
+    Read as the editor's ``workspace`` has it, when given. ``carried_by``: see
+    :func:`parse_uvl`."""
     path = Path(path)
-    return parse_uvl(text_of(path, workspace), str(path), default_name=path.stem)
+    return parse_uvl(text_of(path, workspace), str(path), path.stem, carried_by)
 
 
-def parse_uvl(text: str, filename: str = "<string>", default_name: str = "FeatureModel") -> Any:
-    """Import UVL text; ``default_name`` names the model when it has no namespace."""
+def parse_uvl(
+    text: str,
+    filename: str = "<string>",
+    default_name: str = "FeatureModel",
+    carried_by: str | None = None,
+) -> Any:
+    """Import UVL text; ``default_name`` names the model when it has no namespace.
+
+    The pyecore model holds the Boolean level: a model of the Arithmetic or Type level
+    gives its tree and Boolean constraints (what ``spl check`` and the editor show), or,
+    when it is read for what carries the Boolean level only (``carried_by``: a product
+    line, a conversion to .fm), is refused at its first typed part (docs/fm.md)."""
     plain = parse_uvl_plain(text, filename, default_name)
+    if isinstance(plain, TypedFeatureModel) and carried_by is not None:
+        position, part = plain.first_typed_part()
+        raise ModelError(
+            [
+                Diagnostic(
+                    plain.source.location(position),
+                    f"{part}: {carried_by} carries the Boolean level of UVL only (spl analyze "
+                    "reads the Arithmetic and Type levels, docs/fm.md)",
+                )
+            ]
+        )
     try:
         return to_ecore(plain)
     except RecursionError:

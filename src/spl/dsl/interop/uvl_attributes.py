@@ -35,6 +35,8 @@ class AttributeReader:
     error: Callable[[int, str], None]
     fail: Callable[[str], NoReturn]
     expect: Callable[[str, str], tuple[str, str, int]]
+    attribute_constraints: list[tuple[int, int]]
+    values_of_features: dict[Feature, dict[str, tuple[str, str]]]
 
     def attributes(self, feature: Feature) -> None:
         """``{ (attribute (, attribute)*)? }`` read into the feature."""
@@ -51,8 +53,7 @@ class AttributeReader:
         tokens = self.tokens
         kind, text, position = tokens[self.index]
         if kind in ("constraint", "constraints"):
-            self.error(position, "attribute constraints are not supported")
-            self.skip_value()
+            self.constraint_attribute(kind)
             return
         if kind not in _NAMES:
             self.fail("expected an attribute name")
@@ -74,6 +75,9 @@ class AttributeReader:
             value = None
         if not _PLAIN_NAME.match(name):
             self.keep_as_written(feature, position)
+            if value is not None and value[0] in ("int", "float", "string"):
+                type_name, literal = _typed(value)  # for equations to read (docs/fm.md)
+                self.values_of_features.setdefault(feature, {})[name] = (type_name, literal)
             return
         if name in seen:
             self.error(position, f"attribute {name} given twice")
@@ -104,6 +108,31 @@ class AttributeReader:
             self.error(written[2], f"attribute {name}: {literal} is out of range")
             return
         feature.attributes.append(Attribute(self.source, position, name, type_name, canonical))
+
+    def constraint_attribute(self, kind: str) -> None:
+        """``constraint C`` or ``constraints [C, ...]``: each constraint's tokens kept,
+        read with the model's constraints (``UvlReader.read_attribute_constraints``)."""
+        self.index += 1
+        if kind == "constraint":
+            start = self.index
+            self.skip_value()
+            self.attribute_constraints.append((start, self.index))
+            return
+        self.expect("[", "'[' opening the list of constraints")
+        while True:
+            start = self.index
+            depth = 0
+            while True:
+                token = self.tokens[self.index][0]
+                if token == "EOF" or (depth == 0 and token in (",", "]")):
+                    break
+                depth += OPENING.get(token, 0)
+                self.index += 1
+            self.attribute_constraints.append((start, self.index))
+            if self.tokens[self.index][0] != ",":
+                break
+            self.index += 1
+        self.expect("]", "',' or ']' in the list of constraints")
 
     def keep_as_written(self, feature: Feature, start: int) -> None:
         """The attribute read from ``start`` to the last token taken, kept as its text

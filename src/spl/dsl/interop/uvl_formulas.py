@@ -17,8 +17,10 @@ from typing import ClassVar, NoReturn
 
 from spl.dsl.fm.plain import Constraint, Source
 from spl.dsl.fm.vocabulary import balanced_chains, formula_too_deep
+from spl.dsl.interop.uvl_typed import Equation
 
-# Tokens only an equation (arithmetic or attribute constraint) holds.
+# Tokens only an equation (arithmetic or attribute constraint) holds: a constraint with
+# one is read by :mod:`spl.dsl.interop.uvl_equations`.
 _ARITHMETIC = frozenset(
     (
         "==",
@@ -63,6 +65,8 @@ class FormulaReader:
     error: Callable[[int, str], None]
     fail: Callable[[str], NoReturn]
     expect: Callable[[str, str], tuple[str, str, int]]
+    equations: list[Equation]
+    equation: Callable[[int], tuple]
 
     _BINARY: ClassVar[dict[str, tuple[str, int]]] = {
         "<=>": ("iff", 0),
@@ -74,22 +78,27 @@ class FormulaReader:
     # -- constraints -----------------------------------------------------------------
     def constraint_line(self) -> Constraint | None:
         tokens = self.tokens
-        start = self.index
-        end = start
+        end = self.index
         while tokens[end][0] not in ("NL", "EOF"):
             end += 1
-        position = tokens[start][2]
+        constraint = self.constraint_between(end)
+        self.index = end + 1 if tokens[end][0] == "NL" else end
+        return constraint
+
+    def constraint_between(self, end: int) -> Constraint | None:
+        """The constraint from the current token to ``end``: a Boolean one returned, an
+        equation (Arithmetic or Type level) kept with the reader's ``equations``."""
+        tokens = self.tokens
+        position = tokens[self.index][2]
         try:
-            for kind, _, at in tokens[start:end]:
-                if kind in _ARITHMETIC:
-                    self.error(at, "arithmetic and attribute constraints are not supported")
-                    raise Syntax
+            if any(kind in _ARITHMETIC for kind, _, _ in tokens[self.index : end]):
+                self.equations.append(Equation(self.source, position, self.equation(end)))
+                return None
             formula = self.formula()
             if self.index != end:
                 self.fail("expected an operator (! & | => <=>)")
         except Syntax:
             formula = None
-        self.index = end + 1 if tokens[end][0] == "NL" else end
         refused = formula_too_deep(formula) if formula is not None else None
         if refused and formula is not None:  # built left-deep; its chains balanced may fit
             formula = balanced_chains(formula)

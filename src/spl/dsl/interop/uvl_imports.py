@@ -3,9 +3,8 @@
 A mixin of :class:`spl.dsl.interop.uvl_reader.UvlReader`, which owns the tokens, the
 position and the diagnostics (docs/fm.md, "Language levels and composition").
 
-* ``include`` names the language levels a model uses. spl analyses the Boolean level
-  with its group cardinalities; a model declaring another level (typed features,
-  feature cardinalities, arithmetic, strings) is refused at that line, naming it.
+* ``include`` names the language levels a model uses. spl reads every level (Boolean,
+  Arithmetic, Type and their minor levels); a name that is none is refused at its line.
 * ``imports`` names other UVL files by a dotted path beside the importing file
   (``submodels.Size`` is ``submodels/Size.uvl``), each under an alias (``as top``; the
   path without one). The importing tree places an imported model's root as
@@ -36,8 +35,6 @@ MINOR_LEVELS = (
     "aggregate-function",
     "string-constraints",
 )
-# What spl reads: the Boolean level, whose only minor level is group cardinality.
-SUPPORTED_LEVELS = ("Boolean", "Boolean.*", "Boolean.group-cardinality")
 
 
 class Imported:
@@ -81,7 +78,7 @@ class ImportReader:
         return found
 
     def language_levels(self) -> None:
-        """``include`` lines: ``Major(.minor|.*)?``; only the Boolean level is read."""
+        """``include`` lines: ``Major(.minor|.*)?``: every level is read."""
         for line in self.lines():
             level = "".join(text for _, text, _ in line)
             major, _, minor = level.partition(".")
@@ -91,12 +88,6 @@ class ImportReader:
                     position,
                     f"expected a language level ({', '.join(MAJOR_LEVELS)}, each optionally "
                     f"followed by .minor or .*), got {level}",
-                )
-            elif level not in SUPPORTED_LEVELS:
-                self.error(
-                    position,
-                    f"language level {level} is not supported: spl reads the Boolean level "
-                    f"({', '.join(SUPPORTED_LEVELS)})",
                 )
 
     def imports(self, read_file: Callable[[Path, tuple[str, ...]], FeatureModel]) -> None:

@@ -9,9 +9,10 @@ expression tokenizes the whole file the way the ANTLR lexer does
 the reference grammar refuses is refused here too (``tests/test_uvl_conformance.py``
 checks both on the same files). The Boolean level is read whole: language levels
 (``include``) and composition (``imports``, :mod:`spl.dsl.interop.uvl_imports`), and
-attributes of any value (:mod:`spl.dsl.interop.uvl_attributes`). Valid UVL of the other
-levels (typed features, feature cardinalities, arithmetic and attribute constraints)
-is refused with a located "... is not supported" instead of being silently dropped.
+attributes of any value (:mod:`spl.dsl.interop.uvl_attributes`). So are the Arithmetic
+and Type levels: typed features, feature cardinalities, constraints in attributes and
+equations (:mod:`spl.dsl.interop.uvl_equations`); a model using them is a
+:class:`~spl.dsl.interop.uvl_typed.TypedFeatureModel`.
 
 Cost is linear in the file: no per-line token objects, no pyecore; the Linux kernel
 model (600 KB) reads in a fraction of a second.
@@ -40,9 +41,11 @@ from spl.dsl.interop.interchange import (
     model_name,
 )
 from spl.dsl.interop.uvl_attributes import AttributeReader
+from spl.dsl.interop.uvl_equations import EquationReader
 from spl.dsl.interop.uvl_formulas import FormulaReader, Syntax
 from spl.dsl.interop.uvl_imports import Imported, ImportReader, renamed, splice
 from spl.dsl.interop.uvl_lexer import tokenize
+from spl.dsl.interop.uvl_typed import Equation, TypedFeatureModel, renamed_equation
 
 _GROUPS = ("or", "alternative", "optional", "mandatory")
 _NAMES = ("id", "qid")
@@ -57,7 +60,7 @@ _PLAIN_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
 MAX_TREE_DEPTH = 300
 
 
-class UvlReader(FormulaReader, ImportReader, AttributeReader):
+class UvlReader(FormulaReader, EquationReader, ImportReader, AttributeReader):
     """One UVL text -> one :class:`fm_plain.FeatureModel`; every problem raised at once.
     ``importing``: the files being read around this one (an imported model's reader)."""
 
@@ -77,6 +80,17 @@ class UvlReader(FormulaReader, ImportReader, AttributeReader):
         self.identifiers: dict[str, str] = {}
         self.failed_names = False  # the constraint being read names an unknown feature
         self.depth = 0  # features open around the one being read
+        # the Arithmetic and Type levels (docs/fm.md): by original name while reading the
+        # tree, by identifier once named
+        self.written_types: dict[str, str] = {}
+        self.written_cardinalities: dict[str, tuple[int, int, int]] = {}
+        self.types: dict[str, str] = {}
+        self.cardinalities: dict[str, tuple[int, int, int]] = {}
+        self.by_identifier: dict[str, Feature] = {}
+        self.equations: list[Equation] = []
+        self.attribute_constraints: list[tuple[int, int]] = []  # token ranges, read last
+        self.values_of_features: dict[Feature, dict[str, tuple[str, str]]] = {}
+        self.written_values: dict[tuple[str, str], tuple[str, str]] = {}
 
     # -- plumbing --------------------------------------------------------------------
     def error(self, position: int, message: str) -> None:
@@ -136,6 +150,7 @@ class UvlReader(FormulaReader, ImportReader, AttributeReader):
                 self.expect("DEDENT", "one root feature (a model has exactly one)")
                 self.optional_newline()
                 self.name_features()
+                self.imported_types()
             elif tokens[self.index][0] == "EOF":
                 self.error(
                     tokens[self.index][2],
@@ -163,13 +178,31 @@ class UvlReader(FormulaReader, ImportReader, AttributeReader):
                     if constraint is not None:
                         model.constraints.append(constraint)
                 self.expect("DEDENT", "the end of the constraints")
+            self.read_attribute_constraints(model)
             self.imported_constraints(model)
             if tokens[self.index][0] != "EOF":
                 self.fail("expected namespace, features or constraints (in that order)")
         except Syntax:
             pass
         self.sink.raise_if_errors()
-        return model
+        if not (self.types or self.cardinalities or self.equations):
+            return model
+        typed = TypedFeatureModel(model)
+        typed.types, typed.cardinalities = self.types, self.cardinalities
+        typed.equations = self.equations
+        return typed
+
+    def read_attribute_constraints(self, model: FeatureModel) -> None:
+        """The constraints written in attributes (``{constraint C}``, ``{constraints [C,
+        ...]}``): constraints of the model like any other, read once every feature is
+        named (they may name features after theirs)."""
+        after = self.index
+        for start, end in self.attribute_constraints:
+            self.index = start
+            constraint = self.constraint_between(end)
+            if constraint is not None:
+                model.constraints.append(constraint)
+        self.index = after
 
     def optional_newline(self) -> None:
         if self.tokens[self.index][0] == "NL":
@@ -197,10 +230,8 @@ class UvlReader(FormulaReader, ImportReader, AttributeReader):
         (INDENT group+ DEDENT)?``"""
         tokens = self.tokens
         kind, text, position = tokens[self.index]
-        if kind in ("String", "Integer", "Real"):
-            self.error(position, f"typed feature ({text}) is not supported")
-            self.index += 1
-        elif kind == "Boolean":
+        typed = kind if kind in ("String", "Integer", "Real") else None
+        if kind in ("String", "Integer", "Real", "Boolean"):
             self.index += 1
         if tokens[self.index][0] not in _NAMES:
             self.fail("expected a feature name")
@@ -223,10 +254,18 @@ class UvlReader(FormulaReader, ImportReader, AttributeReader):
         else:
             feature = Feature(self.source, position, original)
             self.features.append((feature, original))
+        if typed is not None:
+            self.written_types[original] = typed
         if tokens[self.index][0] == "cardinality":
-            self.error(tokens[self.index][2], "feature cardinalities are not supported")
             self.index += 1
-            self.expect("card", "a cardinality [n..m]")
+            _, text, at = self.expect("card", "a cardinality [n..m]")
+            lower, upper = _bounds(text)
+            if lower is None or upper is None:
+                self.error(at, f"bad cardinality {text}: a bound is out of range")
+            elif lower < 0 or (upper != -1 and lower > upper):
+                self.error(at, f"bad feature cardinality {text}")
+            else:
+                self.written_cardinalities[original] = (lower, upper, at)
         if tokens[self.index][0] == "{":
             self.attributes(feature)
         self.expect("NL", f"a line break after feature {original}")
@@ -246,11 +285,7 @@ class UvlReader(FormulaReader, ImportReader, AttributeReader):
             group = Group(self.source, position, kind)
         elif kind == "card":
             group = Group(self.source, position, "cardinality")
-            bounds = text[1:-1].split("..")
-            lower = literals.int_literal(bounds[0], literals.INT32_MAX)
-            upper = (
-                -1 if bounds[-1] == "*" else literals.int_literal(bounds[-1], literals.INT32_MAX)
-            )
+            lower, upper = _bounds(text)
             if lower is None or upper is None:  # EInt in the metamodel
                 self.error(position, f"bad cardinality {text}: a bound is out of range")
                 lower, upper = 0, -1
@@ -282,6 +317,13 @@ class UvlReader(FormulaReader, ImportReader, AttributeReader):
             identifier = names[original]
             identifiers[original] = identifier
             feature.name = identifier
+            self.by_identifier[identifier] = feature
+            for attribute, value in self.values_of_features.get(feature, {}).items():
+                self.written_values[identifier, attribute] = value
+            if original in self.written_types:
+                self.types[identifier] = self.written_types[original]
+            if original in self.written_cardinalities:
+                self.cardinalities[identifier] = self.written_cardinalities[original]
             if identifier != original:
                 feature.attributes.insert(
                     0, Attribute(self.source, feature.position, ORIGINAL_NAME, "string", original)
@@ -294,11 +336,36 @@ class UvlReader(FormulaReader, ImportReader, AttributeReader):
             if alias in self.spliced:
                 names = {old: feature.name for feature, old in self.spliced[alias]}
                 model.constraints.extend(renamed(c, names) for c in imported.model.constraints)
+                if isinstance(imported.model, TypedFeatureModel):
+                    self.equations.extend(
+                        Equation(e.source, e.position, renamed_equation(e.formula, names))
+                        for e in imported.model.equations
+                    )
+
+    def imported_types(self) -> None:
+        """The types and feature cardinalities of the imported models placed in the tree,
+        under this model's identifiers (before this model's equations name them)."""
+        for alias, imported in self.imported.items():
+            if alias in self.spliced and isinstance(imported.model, TypedFeatureModel):
+                names = {old: feature.name for feature, old in self.spliced[alias]}
+                for old, kind in imported.model.types.items():
+                    self.types[names[old]] = kind
+                for old, bounds in imported.model.cardinalities.items():
+                    self.cardinalities[names[old]] = bounds
 
 
 def _read_imported(path: Path, importing: tuple[str, ...]) -> FeatureModel:
     """An imported UVL file, read as a model of its own (its imports beside it)."""
     return UvlReader(model_text(path), str(path), importing).read(path.stem)
+
+
+def _bounds(text: str) -> tuple[int | None, int | None]:
+    """``[n..m]``, ``[n..*]`` or ``[n]`` as (lower, upper), upper -1 for ``*``; None for a
+    bound out of range (EInt in the metamodel)."""
+    bounds = text[1:-1].split("..")
+    lower = literals.int_literal(bounds[0], literals.INT32_MAX)
+    upper = -1 if bounds[-1] == "*" else literals.int_literal(bounds[-1], literals.INT32_MAX)
+    return lower, upper
 
 
 def _shown(kind: str, text: str) -> str:

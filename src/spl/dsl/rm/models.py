@@ -23,7 +23,7 @@ if TYPE_CHECKING:
 # be written in .fm, UVL or FeatureIDE XML.
 _READERS = {
     "tsm": ("spl.dsl.tsm.language", "parse_file", {".tsm"}),
-    "fm": ("spl.dsl.interop.formats", "load_feature_model", {".fm", ".uvl", ".xml"}),
+    "fm": ("spl.dsl.interop.formats", "load_line_feature_model", {".fm", ".uvl", ".xml"}),
 }
 
 

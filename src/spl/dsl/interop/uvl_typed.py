@@ -1,0 +1,114 @@
+"""The Arithmetic and Type levels of UVL: typed features, feature cardinalities, equations.
+
+A model that uses them is a :class:`TypedFeatureModel`: the Boolean model every other
+reader makes (its tree and Boolean constraints, which the SAT path and every Boolean
+consumer read unchanged) plus what only an SMT solver can carry: the feature types,
+the feature cardinalities and the constraints with arithmetic, comparisons, strings and
+aggregate functions (:class:`Equation`). Their semantics are docs/fm.md's ("Typed
+features, cardinalities and arithmetic"); :mod:`spl.resolver.analysis.smt` implements
+them.
+
+An equation is a tuple tree, position last, like a Boolean formula
+(:mod:`spl.dsl.fm.plain`), with these nodes besides ``and or implies iff not ref``:
+
+* ``("cmp", op, left, right, pos)``: ``op`` one of ``== != < <= > >=``;
+* ``("arith", op, left, right, pos)``: ``op`` one of ``+ - * /``;
+* ``("num", text, pos)``, ``("str", text, pos)``: literals as written;
+* ``("value", feature, pos)``: a typed feature's value;
+* ``("selected", feature, pos)``: a Boolean feature as a number (1 or 0);
+* ``("attr", feature, attribute, sort, value or None, pos)``: an attribute's value
+  (``sort`` num or str; ``None``: declared nowhere, a variable);
+* ``("sum" | "avg", ((feature, value), ...), pos)``: the values of the features
+  selected;
+* ``("len" | "floor" | "ceil", operand, pos)``.
+"""
+
+from __future__ import annotations
+
+from spl.dsl.fm.plain import Feature, FeatureModel, Located, Source
+from spl.dsl.interop.interchange import written_names
+
+# UVL type keyword -> the sort of its value ("Boolean" features are plain features)
+SORTS = {"Integer": "num", "Real": "num", "String": "str"}
+NUMERIC_ATTRIBUTES = ("int", "double")
+
+
+class Equation(Located):
+    """A constraint of the Arithmetic or Type level (the module docstring's tree)."""
+
+    __slots__ = ("formula",)
+
+    def __init__(self, source: Source, position: int, formula: tuple) -> None:
+        super().__init__(source, position)
+        self.formula = formula
+
+
+class TypedFeatureModel(FeatureModel):
+    """A feature model with parts of the Arithmetic or Type level.
+
+    ``types``: feature identifier -> ``Integer``, ``Real`` or ``String``;
+    ``cardinalities``: feature identifier -> (lower, upper), upper -1 meaning ``*``, and
+    where each was written; ``equations``: the constraints only an SMT solver reads."""
+
+    __slots__ = ("cardinalities", "equations", "types")
+
+    def __init__(self, plain: FeatureModel) -> None:
+        super().__init__(plain.source, plain.name, plain.written_name)
+        self.root = plain.root
+        self.constraints = plain.constraints
+        self.types: dict[str, str] = {}
+        self.cardinalities: dict[str, tuple[int, int, int]] = {}
+        self.equations: list[Equation] = []
+
+    def first_typed_part(self) -> tuple[int, str]:
+        """Where the first part .fm and FeatureIDE XML cannot carry is, and what it is."""
+        parts: list[tuple[int, str]] = []
+        features = {f.name: f for f in _features(self.root)}
+        written = written_names(self)
+        for name, kind in self.types.items():
+            parts.append((features[name].position, f"typed feature {written[name]} ({kind})"))
+        for name, (_, _, position) in self.cardinalities.items():
+            parts.append((position, f"feature cardinality of {written[name]}"))
+        for equation in self.equations:
+            parts.append((equation.position, "arithmetic or attribute constraint"))
+        return min(parts)
+
+
+def is_typed(model: object) -> bool:
+    """Whether analysis needs the SMT solver for this model."""
+    return isinstance(model, TypedFeatureModel)
+
+
+def _features(root: Feature | None) -> list[Feature]:
+    found: list[Feature] = []
+    work = [root] if root is not None else []
+    while work:
+        feature = work.pop()
+        found.append(feature)
+        for group in reversed(feature.groups):
+            work.extend(reversed(group.features))
+    return found
+
+
+def features_of(model: FeatureModel) -> list[Feature]:
+    """Every feature in pre-order (the encoding's numbering, docs/analysis.md)."""
+    return _features(model.root)
+
+
+def renamed_equation(formula: tuple, names: dict[str, str]) -> tuple:
+    """An imported model's equation over the importing model's identifiers."""
+    head = formula[0]
+    if head in ("ref", "value", "selected", "attr"):
+        return (head, names[formula[1]], *formula[2:])
+    if head in ("sum", "avg"):
+        terms = tuple((names[f], renamed_equation(v, names)) for f, v in formula[1])
+        return (head, terms, formula[2])
+    if head == "not" or head in ("len", "floor", "ceil"):
+        return (head, renamed_equation(formula[1], names), formula[2])
+    if head in ("cmp", "arith"):
+        left, right = (renamed_equation(part, names) for part in formula[2:4])
+        return (head, formula[1], left, right, formula[4])
+    if head in ("num", "str"):
+        return formula
+    left, right = (renamed_equation(part, names) for part in formula[1:3])
+    return (head, left, right, formula[3])

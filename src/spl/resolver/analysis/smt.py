@@ -1,0 +1,249 @@
+"""Analysis of the Arithmetic and Type levels of UVL on an SMT solver (z3).
+
+A :class:`~spl.dsl.interop.uvl_typed.TypedFeatureModel` is encoded as the Boolean model
+is (:func:`spl.resolver.analysis.cnf.encode`: the same tree, groups and Boolean
+constraints, as Boolean variables), plus what SAT cannot carry: a typed feature's value,
+a cloned feature's instance count and every equation, with docs/fm.md's semantics
+("Typed features, cardinalities and arithmetic"):
+
+* a deselected typed feature has the value 0 (Integer, Real) or ``""`` (String); so has
+  an attribute of a deselected feature, and ``sum`` and ``avg`` leave deselected
+  features out (``avg`` of none selected makes its comparison false);
+* numbers are rationals: ``/`` divides exactly, and a comparison whose expression
+  divides by zero is false;
+* a Boolean feature where a number is expected is 1 when selected, 0 when not; an
+  attribute named in an equation but given no value is a variable;
+* a feature with cardinality ``[a..b]`` is selected with ``a..b`` instances (``b``
+  ``*``: any number from ``a``), or not at all; instances are not told apart, so a
+  product is the set of selected features, and counting counts those.
+
+:class:`SmtFormula` answers what :class:`~spl.resolver.analysis.formula.FeatureModelFormula`
+answers for a Boolean model (``spl analyze`` uses either), by one incremental solver.
+"""
+
+from __future__ import annotations
+
+import time
+from fractions import Fraction
+from typing import Any
+
+import z3  # type: ignore[import-untyped]  # z3-solver ships no stubs
+
+from spl.dsl.interop.uvl_typed import TypedFeatureModel
+from spl.resolver.analysis.cnf import FeatureModelCNF, encode
+from spl.resolver.analysis.operations.product_count import ProductCount
+
+_DEFAULTS = {"Integer": 0, "Real": 0, "String": ""}
+
+
+class SmtFormula:
+    """One typed model on one z3 solver; every answer computed once."""
+
+    def __init__(self, model: TypedFeatureModel) -> None:
+        self.model = model
+        self.cnf: FeatureModelCNF = encode(model)
+        cnf = self.cnf
+        self.solver = z3.Solver()
+        self.bools = [z3.Bool(f"b{v}") for v in range(cnf.num_vars + 1)]
+        bools = self.bools
+        self.solver.add(
+            *(
+                z3.Or([bools[lit] if lit > 0 else z3.Not(bools[-lit]) for lit in clause])
+                for clause in cnf.clauses
+            )
+        )
+        self.values: dict[str, Any] = {}
+        for number, (name, kind) in enumerate(sorted(model.types.items())):
+            make = {"Integer": z3.Int, "Real": z3.Real, "String": z3.String}[kind]
+            value = make(f"v{number}")
+            self.values[name] = value
+            self.solver.add(z3.Or(self.selected(name), value == _DEFAULTS[kind]))
+        for number, (name, (lower, upper, _)) in enumerate(sorted(model.cardinalities.items())):
+            instances = z3.Int(f"n{number}")
+            bounds = [instances >= lower] + ([instances <= upper] if upper != -1 else [])
+            self.solver.add(z3.If(self.selected(name), z3.And(bounds), instances == 0))
+        self.free: dict[tuple[str, str], Any] = {}
+        for equation in model.equations:
+            self.solver.add(self.condition(equation.formula))
+        self._satisfiable: bool | None = None
+        self._backbone: tuple[set[str], set[str]] | None = None
+        self._false_optional: list[str] | None = None
+
+    def __enter__(self) -> SmtFormula:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        return None
+
+    def selected(self, name: str) -> Any:
+        return self.bools[self.cnf.var[name]]
+
+    # -- equations as z3 terms -----------------------------------------------------------
+    def condition(self, node: tuple) -> Any:
+        head = node[0]
+        if head == "ref":
+            return self.selected(node[1])
+        if head == "not":
+            return z3.Not(self.condition(node[1]))
+        if head == "cmp":
+            divisors: list[Any] = []
+            left = self.term(node[2], divisors)
+            right = self.term(node[3], divisors)
+            compared = {
+                "==": lambda: left == right,
+                "!=": lambda: left != right,
+                "<": lambda: left < right,
+                "<=": lambda: left <= right,
+                ">": lambda: left > right,
+                ">=": lambda: left >= right,
+            }[node[1]]()
+            return z3.And(*(d != 0 for d in divisors), compared) if divisors else compared
+        left, right = self.condition(node[1]), self.condition(node[2])
+        if head == "and":
+            return z3.And(left, right)
+        if head == "or":
+            return z3.Or(left, right)
+        if head == "implies":
+            return z3.Implies(left, right)
+        return left == right  # iff
+
+    def term(self, node: tuple, divisors: list[Any]) -> Any:
+        """A number as a z3 Real (or a string as a z3 String); divisors met are listed."""
+        head = node[0]
+        if head == "num":
+            return z3.RealVal(Fraction(node[1]))
+        if head == "str":
+            return z3.StringVal(node[1])
+        if head == "value":
+            value = self.values[node[1]]
+            return z3.ToReal(value) if value.sort() == z3.IntSort() else value
+        if head == "selected":
+            return z3.If(self.selected(node[1]), z3.RealVal(1), z3.RealVal(0))
+        if head == "attr":
+            return self.attribute(node)
+        if head == "arith":
+            left, right = self.term(node[2], divisors), self.term(node[3], divisors)
+            if node[1] == "/":
+                divisors.append(right)
+                return left / right
+            return {"+": left + right, "-": left - right, "*": left * right}[node[1]]
+        if head == "len":
+            return z3.ToReal(z3.Length(self.term(node[1], divisors)))
+        if head == "floor":
+            return z3.ToReal(z3.ToInt(self.term(node[1], divisors)))
+        if head == "ceil":
+            return -z3.ToReal(z3.ToInt(-self.term(node[1], divisors)))
+        total = z3.Sum(
+            [z3.If(self.selected(f), self.term(v, divisors), z3.RealVal(0)) for f, v in node[1]]
+        )
+        if head == "sum":
+            return total
+        count = z3.Sum([z3.If(self.selected(f), z3.RealVal(1), z3.RealVal(0)) for f, _ in node[1]])
+        divisors.append(count)
+        return total / count
+
+    def attribute(self, node: tuple) -> Any:
+        _, feature, name, sort, value, _ = node
+        if value is None:  # declared without a value: a variable, 0 or "" when deselected
+            key = (feature, name)
+            if key not in self.free:
+                variable = (z3.String if sort == "str" else z3.Real)(f"a{len(self.free)}")
+                self.free[key] = variable
+                zero = z3.StringVal("") if sort == "str" else z3.RealVal(0)
+                self.solver.add(z3.Or(self.selected(feature), variable == zero))
+            return self.free[key]
+        if sort == "str":
+            written = z3.StringVal(value)
+            return z3.If(self.selected(feature), written, z3.StringVal(""))
+        return z3.If(self.selected(feature), z3.RealVal(Fraction(value)), z3.RealVal(0))
+
+    # -- analyses ------------------------------------------------------------------------
+    def check(self, *assumptions: Any) -> z3.ModelRef | None:
+        if self.solver.check(*assumptions) == z3.sat:
+            return self.solver.model()
+        return None
+
+    def satisfiable(self) -> bool:
+        if self._satisfiable is None:
+            self._satisfiable = self.check() is not None
+        return self._satisfiable
+
+    def backbone(self) -> tuple[set[str], set[str]]:
+        """(core, dead): one call per feature no model found so far settles."""
+        if self._backbone is None:
+            names = self.cnf.names
+            if not self.satisfiable():
+                self._backbone = (set(), set(names))
+                return self._backbone
+            maybe_core, maybe_dead = set(names), set(names)
+            core: set[str] = set()
+            dead: set[str] = set()
+
+            def seen(found: z3.ModelRef) -> None:
+                for name in names:
+                    on = z3.is_true(found.eval(self.selected(name), model_completion=True))
+                    (maybe_dead if on else maybe_core).discard(name)
+
+            seen(self.check())
+            for name in names:
+                for pending, settled, literal in (
+                    (maybe_core, core, z3.Not(self.selected(name))),
+                    (maybe_dead, dead, self.selected(name)),
+                ):
+                    if name in pending:
+                        found = self.check(literal)
+                        if found is None:
+                            settled.add(name)
+                        else:
+                            seen(found)
+            self._backbone = (core, dead)
+        return self._backbone
+
+    def core_features(self) -> list[str]:
+        return sorted(self.backbone()[0])
+
+    def dead_features(self) -> list[str]:
+        return sorted(self.backbone()[1])
+
+    def false_optional_features(self) -> list[str]:
+        """Modelled as optional, yet in every product with their parent (as
+        :mod:`spl.resolver.analysis.operations.false_optional` defines it)."""
+        if self._false_optional is None:
+            cnf = self.cnf
+            core, dead = self.backbone()
+            found: list[str] = []
+            if self.satisfiable():
+                for name in cnf.names[1:]:
+                    parent = cnf.parent.get(name)
+                    if parent is None or name in cnf.modelled_mandatory or parent in dead:
+                        continue
+                    if name in core or (
+                        parent not in core
+                        and self.check(self.selected(parent), z3.Not(self.selected(name))) is None
+                    ):
+                        found.append(name)
+            self._false_optional = sorted(found)
+        return self._false_optional
+
+    def count(self, seconds: float | None = None) -> ProductCount:
+        """The number of products (sets of selected features), one solver call each, or
+        ``None`` past ``seconds``."""
+        if not self.satisfiable():
+            return ProductCount(0)
+        if seconds is not None and seconds <= 0:
+            return ProductCount(None, f"count skipped after {seconds:g} s")
+        deadline = None if seconds is None else time.monotonic() + seconds
+        features = [self.selected(name) for name in self.cnf.names]
+        counted = 0
+        self.solver.push()
+        try:
+            while (found := self.check()) is not None:
+                counted += 1
+                if deadline is not None and time.monotonic() > deadline:
+                    return ProductCount(None, f"count skipped after {seconds:g} s")
+                self.solver.add(
+                    z3.Or([f != found.eval(f, model_completion=True) for f in features])
+                )
+        finally:
+            self.solver.pop()
+        return ProductCount(counted)

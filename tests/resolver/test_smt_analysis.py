@@ -1,0 +1,136 @@
+"""Analysis of UVL's Arithmetic and Type levels (typed features, feature cardinalities,
+equations) on z3 equals brute-force enumeration (tests/support/fm_typed_semantics.py,
+docs/fm.md's semantics), and spl analyze reports it with names as written."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+from hypothesis import HealthCheck, given, settings, strategies as st
+
+from spl.cli import main
+from spl.core.diagnostics import ModelError
+from spl.dsl.interop.formats import load_line_feature_model
+from spl.dsl.interop.uvl_reader import parse_uvl_plain
+from spl.dsl.interop.uvl_typed import TypedFeatureModel
+from spl.resolver.analysis.smt import SmtFormula
+
+from support.fm_typed_semantics import analysis, expected_analysis
+from support.hypothesis_budget import examples
+
+# -- random models of the Arithmetic and Type levels --------------------------------------
+DOMAINS = {
+    "Integer": "{name} >= 0 & {name} <= 2",
+    "Real": "{name} == 0 | {name} == 0.5 | {name} == 1.5",
+    "String": "len({name}) == 0 | {name} == 'a' | {name} == 'bc'",
+}
+
+
+@st.composite
+def typed_models(draw: st.DrawFn) -> str:
+    count = draw(st.integers(2, 4))
+    kinds = [draw(st.sampled_from([None, None, "Integer", "Real", "String"])) for _ in range(count)]
+    prices = [draw(st.sampled_from([None, "1", "2", "3", "0.5"])) for _ in range(count)]
+    group = draw(st.sampled_from(["optional", "or", "alternative", "[1..2]"]))
+    lines = ["features", "\tR", f"\t\t{group}"]
+    for index, (kind, price) in enumerate(zip(kinds, prices, strict=True)):
+        typed = f"{kind} " if kind else ""
+        attributes = f" {{Price {price}}}" if price else ""
+        cardinality = " cardinality [1..3]" if draw(st.booleans()) and index == 0 else ""
+        lines.append(f"\t\t\t{typed}F{index}{cardinality}{attributes}")
+    numbers = [f"F{i}" for i, k in enumerate(kinds) if k in ("Integer", "Real", None)]
+    numbers += [f"F{i}.Price" for i, p in enumerate(prices) if p]
+    if any(prices):
+        numbers += ["sum(Price)", "avg(Price)", "sum(Price, R)"]
+    numbers += [f"len(F{i})" for i, k in enumerate(kinds) if k == "String"]
+    numbers += [f"floor(F{i})" for i, k in enumerate(kinds) if k == "Real"]
+    numbers += ["1", "2", "0.5"]
+    strings = [f"F{i}" for i, k in enumerate(kinds) if k == "String"] + ["'a'"]
+    constraints = [DOMAINS[k].format(name=f"F{i}") for i, k in enumerate(kinds) if k]
+    for _ in range(draw(st.integers(1, 3))):
+        if draw(st.integers(0, 4)) == 0:
+            left, right = draw(st.sampled_from(strings)), draw(st.sampled_from(strings))
+            equation = f"{left} {draw(st.sampled_from(['==', '!=']))} {right}"
+        else:
+            left = draw(st.sampled_from(numbers))
+            if draw(st.booleans()):
+                left = f"({left} {draw(st.sampled_from('+-*/'))} {draw(st.sampled_from(numbers))})"
+            relation = draw(st.sampled_from(["==", "!=", "<", "<=", ">", ">="]))
+            equation = f"{left} {relation} {draw(st.sampled_from(numbers))}"
+        feature = f"F{draw(st.integers(0, count - 1))}"
+        shape = draw(st.sampled_from(["{e}", "{f} => {e}", "{e} | !{f}", "!({e})"]))
+        constraints.append(shape.format(e=equation, f=feature))
+    return "\n".join([*lines, "constraints", *(f"\t{c}" for c in constraints)]) + "\n"
+
+
+@settings(max_examples=examples(25), deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(typed_models())
+def test_the_analysis_equals_brute_force(text: str) -> None:
+    model = parse_uvl_plain(text, "random.uvl")
+    assert isinstance(model, TypedFeatureModel)
+    with SmtFormula(model) as formula:
+        assert analysis(formula) == expected_analysis(model, formula), text
+
+
+def test_precedence_and_division_as_arithmetic_writes_them() -> None:
+    text = (
+        "features\n\tA\n\t\toptional\n\t\t\tB {Price 2, Fun 12}\n\t\t\tC {Price 7, Fun 6}\n"
+        "constraints\n\tB.Fun + C.Fun * B.Price == 24\n\tB.Fun / (C.Fun + B.Price) == 1.5\n"
+        "\tB.Fun - C.Fun - B.Price == 4\n"
+    )
+    with SmtFormula(parse_uvl_plain(text, "p.uvl")) as formula:
+        assert analysis(formula) == {
+            "satisfiable": True,
+            "core": ["A", "B", "C"],
+            "dead": [],
+            "false_optional": ["B", "C"],
+            "count": 1,
+        }
+
+
+def test_a_deselected_typed_feature_is_zero_and_cardinality_bounds_instances() -> None:
+    # Size > 3 can hold only with Size selected: deselected it is 0
+    text = "features\n\tR\n\t\toptional\n\t\t\tInteger Size\nconstraints\n\tSize > 3\n"
+    with SmtFormula(parse_uvl_plain(text, "z.uvl")) as formula:
+        assert formula.core_features() == ["R", "Size"]
+    text = "features\n\tR\n\t\toptional\n\t\t\tA cardinality [2..4]\n"
+    model = parse_uvl_plain(text, "c.uvl")
+    assert isinstance(model, TypedFeatureModel) and model.cardinalities["A"][:2] == (2, 4)
+    with SmtFormula(model) as formula:
+        assert formula.count(None).value == 2
+
+
+def test_spl_analyze_reports_a_typed_model_with_names_as_written(tmp_path: Path) -> None:
+    path = tmp_path / "pizza.uvl"
+    path.write_text(
+        'features\n\t"Pizza+"\n\t\tmandatory\n\t\t\tInteger "Größe"\n\t\toptional\n'
+        "\t\t\tCheese {Price 2}\n\t\t\tHam {Price 3}\n"
+        'constraints\n\t"Größe" >= 20 & "Größe" <= 40\n\tsum(Price) < 5\n',
+        encoding="utf-8",
+    )
+    result = CliRunner().invoke(main, ["analyze", "--json", "--count", str(path)])
+    assert result.exit_code == 0, result.output
+    report = json.loads(result.output)
+    assert report["core"] == ["Größe", "Pizza+"]
+    assert (report["products"], report["constraints"], report["satisfiable"]) == (3, 2, True)
+    converted = CliRunner().invoke(main, ["convert", str(path), str(tmp_path / "p.fm")])
+    assert converted.exit_code == 1
+    assert f"{path}:4:12: error: typed feature Größe (Integer): spl convert to" in converted.output
+    assert not (tmp_path / "p.fm").exists()
+
+
+def test_check_reads_a_typed_model_and_a_product_line_refuses_it(tmp_path: Path) -> None:
+    path = tmp_path / "sized.uvl"
+    path.write_text("features\n\tR\n\t\toptional\n\t\t\tInteger Size\nconstraints\n\tSize > 3\n")
+    checked = CliRunner().invoke(main, ["check", str(path)])
+    assert checked.exit_code == 0, checked.output
+    with pytest.raises(ModelError) as refused:
+        load_line_feature_model(path)
+    assert [str(d) for d in refused.value.diagnostics] == [
+        f"{path}:4:12: error: typed feature Size (Integer): a product line's feature model "
+        "carries the Boolean level of UVL only (spl analyze reads the Arithmetic and Type "
+        "levels, docs/fm.md)"
+    ]
