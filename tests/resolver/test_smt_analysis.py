@@ -134,3 +134,32 @@ def test_check_reads_a_typed_model_and_a_product_line_refuses_it(tmp_path: Path)
         "carries the Boolean level of UVL only (spl analyze reads the Arithmetic and Type "
         "levels, docs/fm.md)"
     ]
+
+
+def test_an_imported_typed_model_joins_with_its_equations(tmp_path: Path) -> None:
+    (tmp_path / "sub.uvl").write_text(
+        "features\n\tS\n\t\toptional\n\t\t\tString T\n\t\t\tInteger N\n\t\t\tB {Price 2}\n"
+        "constraints\n\tN + B.Price * 2 > sum(Price) & !(N / 2 == 1)\n"
+        "\tavg(Price, S) >= 0 | len(T) == 2\n"
+    )
+    main_file = tmp_path / "main.uvl"
+    main_file.write_text(
+        "imports\n\tsub as s\nfeatures\n\tR\n\t\tmandatory\n\t\t\ts.S\nconstraints\n\ts.N < 10\n"
+    )
+    model = parse_uvl_plain(main_file.read_text(), str(main_file))
+    assert isinstance(model, TypedFeatureModel) and len(model.equations) == 3
+    with SmtFormula(model) as formula:
+        # B, or else T (avg over no B divides by zero) with N positive and not 2
+        assert formula.core_features() == ["R", "s_S"]
+        assert formula.count(None).value == 5
+
+
+def test_a_chain_of_thousands_of_operators_is_read_and_analysed() -> None:
+    terms = " + ".join(["A.Price"] * 5000)
+    alternatives = " | ".join(["A > 0"] * 3000)
+    text = (
+        "features\n\tR\n\t\toptional\n\t\t\tA {Price 1}\n"
+        f"constraints\n\t{terms} > 3\n\t{alternatives}\n"
+    )
+    with SmtFormula(parse_uvl_plain(text, "long.uvl")) as formula:
+        assert formula.core_features() == ["A", "R"]

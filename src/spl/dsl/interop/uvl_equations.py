@@ -23,6 +23,17 @@ from spl.dsl.interop.uvl_typed import NUMERIC_ATTRIBUTES, SORTS
 _NAMES = ("id", "qid")
 _BOOLEAN = {"<=>": "iff", "=>": "implies", "|": "or", "&": "and"}
 _NOT = 4
+_SHOWN = {"bool": "a condition", "num": "a number", "str": "a string"}
+# the operands of each inner node of a raw equation: (index, the sort wanted there)
+_PARTS: dict[str, tuple[tuple[int, str], ...]] = {
+    "and": ((1, "bool"), (2, "bool")),
+    "or": ((1, "bool"), (2, "bool")),
+    "implies": ((1, "bool"), (2, "bool")),
+    "iff": ((1, "bool"), (2, "bool")),
+    "not": ((1, "bool"),),
+    "cmp": ((2, "any"), (3, "any")),
+    "arith": ((2, "num"), (3, "num")),
+}
 
 
 def _part(kind: str, text: str) -> str:
@@ -37,6 +48,7 @@ class EquationReader:
     identifiers: dict[str, str]
     types: dict[str, str]
     by_identifier: dict[str, Feature]
+    unread: set[str]  # aliases of imports refused
     written_values: dict[tuple[str, str], tuple[str, str]]  # attributes kept as written
     error: Callable[[int, str], None]
     fail: Callable[[str], NoReturn]
@@ -141,55 +153,69 @@ class EquationReader:
         return name
 
     # -- names by where they stand ----------------------------------------------------
-    def resolved(self, node: tuple, wanted: str) -> tuple[tuple, str]:
-        """The node with its names resolved, and its sort (bool, num, str); a sort other
-        than ``wanted`` is refused, located."""
-        head = node[0]
-        position = node[-1]
-        if head in ("and", "or", "implies", "iff"):
-            left = self.resolved(node[1], "bool")[0]
-            result: tuple = (head, left, self.resolved(node[2], "bool")[0], position)
-            sort = "bool"
-        elif head == "not":
-            result, sort = ("not", self.resolved(node[1], "bool")[0], position), "bool"
-        elif head == "cmp":
-            result, sort = self.comparison(node), "bool"
-        elif head == "arith":
-            left = self.resolved(node[2], "num")[0]
-            result = ("arith", node[1], left, self.resolved(node[3], "num")[0], position)
-            sort = "num"
-        elif head == "num" or head == "str":
-            result, sort = node, head
-        elif head == "name":
-            result, sort = self.name(node[1], position, wanted)
-        else:
-            result, sort = self.call(node[1], node[2], position)
-        if sort != wanted and wanted != "any":
-            shown = {"bool": "a condition", "num": "a number", "str": "a string"}
-            self.error(position, f"expected {shown[wanted]} here, got {shown[sort]}")
-            raise Syntax
-        return result, sort
+    def resolved(self, root: tuple, wanted: str) -> tuple[tuple, str]:
+        """The tree with its names resolved, and its sort (bool, num, str); a sort other
+        than the one its place wants is refused, located. Explicit stacks, like the
+        parse: a chain of thousands of operators needs no Python stack."""
+        done: list[tuple[tuple, str]] = []
+        work: list[tuple[tuple, str, bool]] = [(root, wanted, False)]
+        while work:
+            node, want, ready = work.pop()
+            head = node[0]
+            parts = _PARTS.get(head)
+            if parts is None:  # a leaf
+                result, sort = self.leaf(node, want)
+            elif not ready:
+                work.append((node, want, True))
+                work.extend((node[i], w, False) for i, w in reversed(parts))
+                continue
+            else:
+                operands = done[len(done) - len(parts) :]
+                del done[len(done) - len(parts) :]
+                result, sort = self.combined(node, operands)
+            if sort != want and want != "any":
+                self.error(node[-1], f"expected {_SHOWN[want]} here, got {_SHOWN[sort]}")
+                raise Syntax
+            done.append((result, sort))
+        return done[0]
 
-    def comparison(self, node: tuple) -> tuple:
-        _, op, left, right, position = node
-        left, left_sort = self.resolved(left, "any")
-        right, right_sort = self.resolved(right, "any")
+    def leaf(self, node: tuple, wanted: str) -> tuple[tuple, str]:
+        head = node[0]
+        if head == "num" or head == "str":
+            return node, head
+        if head == "name":
+            return self.name(node[1], node[-1], wanted)
+        return self.call(node[1], node[2], node[-1])
+
+    def combined(self, node: tuple, operands: list[tuple[tuple, str]]) -> tuple[tuple, str]:
+        """A node over its resolved operands (``_PARTS`` gave each the sort it wants)."""
+        head, position = node[0], node[-1]
+        if head == "not":
+            return ("not", operands[0][0], position), "bool"
+        if head == "arith":
+            return ("arith", node[1], operands[0][0], operands[1][0], position), "num"
+        if head != "cmp":
+            return (head, operands[0][0], operands[1][0], position), "bool"
+        op = node[1]
+        (left, left_sort), (right, right_sort) = operands
         if left_sort != right_sort or left_sort == "bool":
             self.error(
                 position,
-                f"{op} compares two numbers or two strings, not a {left_sort} and a {right_sort}",
+                f"{op} compares two numbers or two strings, not {_SHOWN[left_sort]} and "
+                f"{_SHOWN[right_sort]}",
             )
             raise Syntax
         if left_sort == "str" and op not in ("==", "!="):
             self.error(position, f"strings compare with == and != only, not {op}")
             raise Syntax
-        return ("cmp", op, left, right, position)
+        return ("cmp", op, left, right, position), "bool"
 
     def name(self, name: str, position: int, wanted: str) -> tuple[tuple, str]:
         identifier = self.identifiers.get(name)
         if wanted == "bool":
             if identifier is None:
-                self.error(position, f"unknown feature {name}")
+                if not any(name.startswith(f"{alias}.") for alias in self.unread):
+                    self.error(position, f"unknown feature {name}")
                 raise Syntax
             return ("ref", identifier, position), "bool"
         if identifier is not None:
@@ -200,8 +226,9 @@ class EquationReader:
         owner, _, attribute = name.rpartition(".")
         identifier = self.identifiers.get(owner)
         if not owner or identifier is None:
-            self.error(position, f"unknown feature or attribute {name}")
-            raise Syntax
+            if not any(name.startswith(f"{alias}.") for alias in self.unread):
+                self.error(position, f"unknown feature or attribute {name}")
+            raise Syntax  # a feature of an import refused at the import: said there
         found = self.attribute_value(identifier, attribute)
         if found is None:  # declared without a value: a variable (docs/fm.md)
             sort = "str" if wanted == "str" else "num"

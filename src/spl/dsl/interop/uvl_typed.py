@@ -96,19 +96,45 @@ def features_of(model: FeatureModel) -> list[Feature]:
 
 
 def renamed_equation(formula: tuple, names: dict[str, str]) -> tuple:
-    """An imported model's equation over the importing model's identifiers."""
-    head = formula[0]
-    if head in ("ref", "value", "selected", "attr"):
-        return (head, names[formula[1]], *formula[2:])
-    if head in ("sum", "avg"):
-        terms = tuple((names[f], renamed_equation(v, names)) for f, v in formula[1])
-        return (head, terms, formula[2])
-    if head == "not" or head in ("len", "floor", "ceil"):
-        return (head, renamed_equation(formula[1], names), formula[2])
-    if head in ("cmp", "arith"):
-        left, right = (renamed_equation(part, names) for part in formula[2:4])
-        return (head, formula[1], left, right, formula[4])
-    if head in ("num", "str"):
-        return formula
-    left, right = (renamed_equation(part, names) for part in formula[1:3])
-    return (head, left, right, formula[3])
+    """An imported model's equation over the importing model's identifiers (explicit
+    stacks: any chain length)."""
+    done: list[tuple] = []
+    work: list[tuple[tuple, bool]] = [(formula, False)]
+    while work:
+        node, ready = work.pop()
+        head = node[0]
+        slots = _SLOTS.get(head, ())
+        children = [v for _, v in node[1]] if head in ("sum", "avg") else [node[i] for i in slots]
+        if children and not ready:
+            work.append((node, True))
+            work.extend((child, False) for child in reversed(children))
+            continue
+        built = done[len(done) - len(children) :] if children else []
+        if children:
+            del done[len(done) - len(children) :]
+        if head in ("ref", "value", "selected", "attr"):
+            done.append((head, names[node[1]], *node[2:]))
+        elif head in ("sum", "avg"):
+            terms = tuple((names[f], v) for (f, _), v in zip(node[1], built, strict=True))
+            done.append((head, terms, node[2]))
+        else:
+            rebuilt = list(node)
+            for slot, child in zip(slots, built, strict=True):
+                rebuilt[slot] = child
+            done.append(tuple(rebuilt))
+    return done[0]
+
+
+# where each inner node of an equation holds its operands
+_SLOTS = {
+    "and": (1, 2),
+    "or": (1, 2),
+    "implies": (1, 2),
+    "iff": (1, 2),
+    "not": (1,),
+    "len": (1,),
+    "floor": (1,),
+    "ceil": (1,),
+    "cmp": (2, 3),
+    "arith": (2, 3),
+}

@@ -24,6 +24,7 @@ answers for a Boolean model (``spl analyze`` uses either), by one incremental so
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 from fractions import Fraction
 from typing import Any
 
@@ -78,69 +79,80 @@ class SmtFormula:
     def selected(self, name: str) -> Any:
         return self.bools[self.cnf.var[name]]
 
-    # -- equations as z3 terms -----------------------------------------------------------
-    def condition(self, node: tuple) -> Any:
-        head = node[0]
-        if head == "ref":
-            return self.selected(node[1])
-        if head == "not":
-            return z3.Not(self.condition(node[1]))
-        if head == "cmp":
-            divisors: list[Any] = []
-            left = self.term(node[2], divisors)
-            right = self.term(node[3], divisors)
-            compared = {
-                "==": lambda: left == right,
-                "!=": lambda: left != right,
-                "<": lambda: left < right,
-                "<=": lambda: left <= right,
-                ">": lambda: left > right,
-                ">=": lambda: left >= right,
-            }[node[1]]()
-            return z3.And(*(d != 0 for d in divisors), compared) if divisors else compared
-        left, right = self.condition(node[1]), self.condition(node[2])
-        if head == "and":
-            return z3.And(left, right)
-        if head == "or":
-            return z3.Or(left, right)
-        if head == "implies":
-            return z3.Implies(left, right)
-        return left == right  # iff
+    # -- equations as z3 terms (post-order with explicit stacks: any chain length) ------
+    def condition(self, root: tuple) -> Any:
+        def build(node: tuple, operands: list[Any]) -> Any:
+            head = node[0]
+            if head == "ref":
+                return self.selected(node[1])
+            if head == "cmp":
+                return self.comparison(node)
+            if head == "not":
+                return z3.Not(operands[0])
+            left, right = operands
+            if head == "and":
+                return z3.And(left, right)
+            if head == "or":
+                return z3.Or(left, right)
+            if head == "implies":
+                return z3.Implies(left, right)
+            return left == right  # iff
 
-    def term(self, node: tuple, divisors: list[Any]) -> Any:
+        return _post_order(root, _conditions, build)
+
+    def comparison(self, node: tuple) -> Any:
+        """``left op right``, false where it divides by zero."""
+        divisors: list[Any] = []
+        left = self.term(node[2], divisors)
+        right = self.term(node[3], divisors)
+        compared = {
+            "==": lambda: left == right,
+            "!=": lambda: left != right,
+            "<": lambda: left < right,
+            "<=": lambda: left <= right,
+            ">": lambda: left > right,
+            ">=": lambda: left >= right,
+        }[node[1]]()
+        return z3.And(*(d != 0 for d in divisors), compared) if divisors else compared
+
+    def term(self, root: tuple, divisors: list[Any]) -> Any:
         """A number as a z3 Real (or a string as a z3 String); divisors met are listed."""
-        head = node[0]
-        if head == "num":
-            return z3.RealVal(Fraction(node[1]))
-        if head == "str":
-            return z3.StringVal(node[1])
-        if head == "value":
-            value = self.values[node[1]]
-            return z3.ToReal(value) if value.sort() == z3.IntSort() else value
-        if head == "selected":
-            return z3.If(self.selected(node[1]), z3.RealVal(1), z3.RealVal(0))
-        if head == "attr":
-            return self.attribute(node)
-        if head == "arith":
-            left, right = self.term(node[2], divisors), self.term(node[3], divisors)
-            if node[1] == "/":
-                divisors.append(right)
-                return left / right
-            return {"+": left + right, "-": left - right, "*": left * right}[node[1]]
-        if head == "len":
-            return z3.ToReal(z3.Length(self.term(node[1], divisors)))
-        if head == "floor":
-            return z3.ToReal(z3.ToInt(self.term(node[1], divisors)))
-        if head == "ceil":
-            return -z3.ToReal(z3.ToInt(-self.term(node[1], divisors)))
-        total = z3.Sum(
-            [z3.If(self.selected(f), self.term(v, divisors), z3.RealVal(0)) for f, v in node[1]]
-        )
-        if head == "sum":
-            return total
-        count = z3.Sum([z3.If(self.selected(f), z3.RealVal(1), z3.RealVal(0)) for f, _ in node[1]])
-        divisors.append(count)
-        return total / count
+
+        def build(node: tuple, operands: list[Any]) -> Any:
+            head = node[0]
+            if head == "num":
+                return z3.RealVal(Fraction(node[1]))
+            if head == "str":
+                return z3.StringVal(node[1])
+            if head == "value":
+                value = self.values[node[1]]
+                return z3.ToReal(value) if value.sort() == z3.IntSort() else value
+            if head == "selected":
+                return z3.If(self.selected(node[1]), z3.RealVal(1), z3.RealVal(0))
+            if head == "attr":
+                return self.attribute(node)
+            if head == "arith":
+                left, right = operands
+                if node[1] == "/":
+                    divisors.append(right)
+                    return left / right
+                return {"+": left + right, "-": left - right, "*": left * right}[node[1]]
+            if head == "len":
+                return z3.ToReal(z3.Length(operands[0]))
+            if head == "floor":
+                return z3.ToReal(z3.ToInt(operands[0]))
+            if head == "ceil":
+                return -z3.ToReal(z3.ToInt(-operands[0]))
+            zero = z3.RealVal(0)
+            chosen = [self.selected(f) for f, _ in node[1]]
+            total = z3.Sum([z3.If(c, v, zero) for c, v in zip(chosen, operands, strict=True)])
+            if head == "sum":
+                return total
+            count = z3.Sum([z3.If(c, z3.RealVal(1), zero) for c in chosen])
+            divisors.append(count)
+            return total / count
+
+        return _post_order(root, _terms, build)
 
     def attribute(self, node: tuple) -> Any:
         _, feature, name, sort, value, _ = node
@@ -247,3 +259,41 @@ class SmtFormula:
         finally:
             self.solver.pop()
         return ProductCount(counted)
+
+
+def _conditions(node: tuple) -> tuple[tuple, ...]:
+    head = node[0]
+    if head in ("ref", "cmp"):
+        return ()
+    return (node[1],) if head == "not" else (node[1], node[2])
+
+
+def _terms(node: tuple) -> tuple[tuple, ...]:
+    head = node[0]
+    if head == "arith":
+        return (node[2], node[3])
+    if head in ("len", "floor", "ceil"):
+        return (node[1],)
+    if head in ("sum", "avg"):
+        return tuple(value for _, value in node[1])
+    return ()
+
+
+def _post_order(
+    root: tuple, parts: Callable[[tuple], tuple[tuple, ...]], build: Callable[[tuple, list], Any]
+) -> Any:
+    """``build(node, its operands built)`` from the leaves up, without recursion."""
+    done: list[Any] = []
+    work: list[tuple[tuple, bool]] = [(root, False)]
+    while work:
+        node, ready = work.pop()
+        children = parts(node)
+        if children and not ready:
+            work.append((node, True))
+            work.extend((child, False) for child in reversed(children))
+            continue
+        operands = done[len(done) - len(children) :] if children else []
+        if children:
+            del done[len(done) - len(children) :]
+        done.append(build(node, operands))
+    return done[0]
