@@ -46,9 +46,8 @@ if TYPE_CHECKING:
 # The one product-line check (spl check DIR, resolver/line_checks.py) this parser makes:
 # a migration must name another, existing container.
 MIGRATION_TARGET = "SPL013"
-# The statements binding a client to its server (rm.tx)
-CONNECT_SERVER = ("connect {client} to server {server}", "connected")
-CONNECT_BRIDGE = ("connect bridge {client} -> {server}", "bridged")
+CONNECT_SERVER = ("connect {client} to server {server}", "connected")  # binding a client
+CONNECT_BRIDGE = ("connect bridge {client} -> {server}", "bridged")  # to its server (rm.tx)
 
 
 @dataclass
@@ -233,14 +232,12 @@ class _Builder:
         if problem:
             self.error(stmt, problem)
             return None
-        implementation = self.R.Implementation(node=node, package=package, executable=executable)
-        if stmt.args is not None:  # as the .tsm's args (docs/rm.md)
-            problem = rosnames.problem_args(stmt.args.value)
-            if problem:
-                self.error(stmt.args, problem)
-                return None
-            implementation.args = stmt.args.value
-        return implementation
+        args = None if stmt.args is None else stmt.args.value  # as the .tsm's (docs/rm.md)
+        if args is not None and (problem := rosnames.problem_args(args)):
+            self.error(stmt.args, problem)
+            return None
+        given = {} if args is None else {"args": args}  # unset: the node keeps its own
+        return self.R.Implementation(node=node, package=package, executable=executable, **given)
 
     def _ConnectTopicStmt(self, stmt):
         interface = self.names.interface(stmt.interface)
@@ -356,11 +353,8 @@ class _Builder:
                 self.error(stmt, f"feature {feature.name} has no attribute {value.attribute}")
                 return None
             if not literals.attribute_fits(attribute.type.name, ptype):
-                self.error(
-                    stmt,
-                    f"attribute {feature.name}.{attribute.name} is {attribute.type.name}, "
-                    f"{what} is {ptype}",
-                )
+                named = f"{feature.name}.{attribute.name}"
+                self.error(stmt, f"attribute {named} is {attribute.type.name}, {what} is {ptype}")
                 return None
             return self.R.ParameterValue(
                 parameter=parameter, refinement=refinement, attribute=attribute
@@ -396,10 +390,9 @@ class _Builder:
         return self.R.NodeMigration(node=node, target=target)
 
     def _same_type(self, stmt, a, b) -> bool:
-        if not agree(a, b):
+        if not (same := agree(a, b)):
             self.error(stmt, f"type mismatch: {a.name} is {a.type}, {b.name} is {b.type}")
-            return False
-        return True
+        return same
 
 
 def _node(interface: tsm_types.Interface) -> tsm_types.Node:
