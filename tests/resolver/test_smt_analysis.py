@@ -163,3 +163,16 @@ def test_a_chain_of_thousands_of_operators_is_read_and_analysed() -> None:
     )
     with SmtFormula(parse_uvl_plain(text, "long.uvl")) as formula:
         assert formula.core_features() == ["A", "R"]
+
+
+def test_the_sat_only_commands_refuse_a_typed_model_rather_than_drop_its_equations(
+    tmp_path: Path,
+) -> None:
+    path = tmp_path / "sized.uvl"
+    path.write_text("features\n\tR\n\t\toptional\n\t\t\tInteger Size\nconstraints\n\tSize > 3\n")
+    for command in (["products", str(path)], ["diff", str(path), str(path)]):
+        result = CliRunner().invoke(main, command)
+        assert result.exit_code == 1, result.output
+        assert f"{path}:4:12: error: typed feature Size (Integer): this command reads" in (
+            result.output
+        )

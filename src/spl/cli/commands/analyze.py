@@ -141,7 +141,7 @@ def command(
             f"{model_file}: expected a .fm, .uvl or .xml feature model", param_hint="MODEL_FILE"
         )
     started = time.perf_counter()
-    model = load_analysable_model(model_file)
+    model = load_analysable_model(model_file, typed=True)
     default = count_seconds is None and not count_unbounded
     report = analysis_report(model, count_seconds, started if default else None)
     if model_file.suffix.lower() == ".xml":  # FeatureIDE names a model by its file

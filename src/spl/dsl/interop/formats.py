@@ -51,16 +51,33 @@ def load_line_feature_model(path: str | Path, workspace: Workspace | None = None
     return load_feature_model(path, workspace, "a product line's feature model")
 
 
-def load_analysable_model(path: str | Path) -> Any:
+def load_analysable_model(path: str | Path, typed: bool = False) -> Any:
     """A feature model as analysis needs it: a UVL file stays in plain objects
     (:mod:`spl.dsl.fm.plain`: reading builds no pyecore object, which dominated the time
     on large community models); .fm and FeatureIDE .xml as :func:`load_feature_model`.
-    Both kinds give the same encoding (:func:`spl.resolver.analysis.cnf.encode`)."""
+    Both kinds give the same encoding (:func:`spl.resolver.analysis.cnf.encode`).
+
+    A UVL model of the Arithmetic or Type level is returned only to a caller that
+    analyses it on SMT (``typed``: ``spl analyze``); the SAT analyses (products, diff,
+    the configurator) would drop its equations, so for them it is refused, located."""
     path = Path(path)
     if path.suffix.lower() == ".uvl":
         from spl.dsl.interop.uvl import read_uvl_plain
+        from spl.dsl.interop.uvl_typed import TypedFeatureModel
 
-        return read_uvl_plain(path)
+        model = read_uvl_plain(path)
+        if isinstance(model, TypedFeatureModel) and not typed:
+            position, part = model.first_typed_part()
+            raise ModelError(
+                [
+                    Diagnostic(
+                        model.source.location(position),
+                        f"{part}: this command reads the Boolean level of UVL only (spl "
+                        "analyze reads the Arithmetic and Type levels, docs/fm.md)",
+                    )
+                ]
+            )
+        return model
     return load_feature_model(path)
 
 
