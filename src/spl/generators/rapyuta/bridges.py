@@ -5,7 +5,8 @@
 a Subscriber where the data is produced and a Publisher where it is consumed, or a
 ServiceProvider next to the client and a ServiceClient next to the server. Bridges are
 keyed by their two ends, so several nodes sharing a topic or a server share one
-bridge. Interface tags are the TSM's canonical endpoint-interface names:
+bridge. Interface tags are the TSM's canonical endpoint-interface names, each begun by
+the endpoint prefix of its side's kind (``InterfaceKind.endpoint_prefix``):
 ``sub_<Topic>``, ``pub_<Topic>``, ``srv_<ServerNode>_<service>``,
 ``cli_<ServerNode>_<service>`` (where another bridge of the place has that tag, the next
 name the TSM language gives, :func:`spl.resolver.architecture.endpoints.endpoint_name_choices`:
@@ -96,8 +97,22 @@ def _bridged_ends(crossing: Crossing) -> list[tuple[End, End]]:
         cls = part.message_of(server.type)
         bridged.append(
             (
-                _end(source, f"sub_{tag}", entering, cls, f"{names[0]}/{part.suffix}", server),
-                _end(target, f"pub_{tag}", delivering, cls, f"{names[1]}/{part.suffix}", server),
+                _end(
+                    source,
+                    f"{entering.endpoint_prefix}_{tag}",
+                    entering,
+                    cls,
+                    f"{names[0]}/{part.suffix}",
+                    server,
+                ),
+                _end(
+                    target,
+                    f"{delivering.endpoint_prefix}_{tag}",
+                    delivering,
+                    cls,
+                    f"{names[1]}/{part.suffix}",
+                    server,
+                ),
             )
         )
     return bridged
@@ -117,7 +132,7 @@ def _ends(crossing: Crossing) -> tuple[End, End]:
         return (
             _end(
                 crossing.source,
-                f"sub_{source_topic.name}",
+                f"{entering.endpoint_prefix}_{source_topic.name}",
                 entering,
                 source_topic.type,
                 crossing.source_name,
@@ -125,7 +140,7 @@ def _ends(crossing: Crossing) -> tuple[End, End]:
             ),
             _end(
                 crossing.target,
-                f"pub_{target_topic.name}",
+                f"{delivering.endpoint_prefix}_{target_topic.name}",
                 delivering,
                 target_topic.type,
                 crossing.target_name,
@@ -137,7 +152,7 @@ def _ends(crossing: Crossing) -> tuple[End, End]:
     return (
         _end(
             crossing.source,
-            f"srv_{tag}",
+            f"{entering.endpoint_prefix}_{tag}",
             entering,
             server.type,
             crossing.source_name,
@@ -145,7 +160,7 @@ def _ends(crossing: Crossing) -> tuple[End, End]:
         ),
         _end(
             crossing.target,
-            f"cli_{tag}",
+            f"{delivering.endpoint_prefix}_{tag}",
             delivering,
             server.type,
             crossing.target_name,
