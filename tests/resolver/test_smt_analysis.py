@@ -16,6 +16,7 @@ from spl.core.diagnostics import ModelError
 from spl.dsl.interop.formats import load_line_feature_model
 from spl.dsl.interop.uvl_reader import parse_uvl_plain
 from spl.dsl.interop.uvl_typed import TypedFeatureModel
+from spl.resolver.analysis.formula import FeatureModelFormula
 from spl.resolver.analysis.smt import SmtFormula
 
 from support.fm_typed_semantics import analysis, expected_analysis
@@ -176,3 +177,16 @@ def test_the_sat_only_commands_refuse_a_typed_model_rather_than_drop_its_equatio
         assert f"{path}:4:12: error: typed feature Size (Integer): this command reads" in (
             result.output
         )
+
+
+def test_a_boolean_model_on_z3_gets_the_answers_of_sat() -> None:
+    """A true equation sends a community model to z3: the same core, dead and
+    false-optional features as the SAT path."""
+    path = Path(__file__).parents[1] / "data" / "feature-models" / "berkeleydb.uvl"
+    text = path.read_text(encoding="utf-8").rstrip("\n") + "\n\t1 + 1 == 2\n"
+    typed = parse_uvl_plain(text, str(path))
+    assert isinstance(typed, TypedFeatureModel)
+    with SmtFormula(typed) as smt, FeatureModelFormula(parse_uvl_plain(path.read_text())) as sat:
+        assert smt.core_features() == sat.core_features()
+        assert smt.dead_features() == sat.dead_features()
+        assert smt.false_optional_features() == sat.false_optional_features()

@@ -45,6 +45,9 @@ class SmtFormula:
         self.cnf: FeatureModelCNF = encode(model)
         cnf = self.cnf
         self.solver = z3.Solver()
+        # random phases (from z3's fixed seed: the same run each time): each product found
+        # then settles about half the features still pending, not only those it must
+        self.solver.set("phase_selection", 5)
         self.bools = [z3.Bool(f"b{v}") for v in range(cnf.num_vars + 1)]
         bools = self.bools
         self.solver.add(
@@ -69,6 +72,8 @@ class SmtFormula:
         self._satisfiable: bool | None = None
         self._backbone: tuple[set[str], set[str]] | None = None
         self._false_optional: list[str] | None = None
+        self._boolean_false_optional: set[str] = set()
+        self._unrefuted: set[str] = set()
 
     def __enter__(self) -> SmtFormula:
         return self
@@ -180,21 +185,50 @@ class SmtFormula:
             self._satisfiable = self.check() is not None
         return self._satisfiable
 
+    def boolean_answers(self) -> tuple[set[str], set[str], set[str]]:
+        """(core, dead, false-optional) of the Boolean level alone, on SAT: the typed
+        model's products are some of its products, so each of these holds for the
+        typed model too (a false-optional one while its parent is not dead) and needs
+        no SMT call."""
+        from spl.resolver.analysis.formula import FeatureModelFormula
+
+        with FeatureModelFormula(self.model) as boolean:
+            return (
+                set(boolean.core_features()),
+                set(boolean.dead_features()),
+                set(boolean.false_optional_features()),
+            )
+
     def backbone(self) -> tuple[set[str], set[str]]:
-        """(core, dead): one call per feature no model found so far settles."""
+        """(core, dead): what SAT settles on the Boolean level, then one SMT call per
+        feature no product found so far settles."""
         if self._backbone is None:
             names = self.cnf.names
             if not self.satisfiable():
                 self._backbone = (set(), set(names))
                 return self._backbone
-            maybe_core, maybe_dead = set(names), set(names)
-            core: set[str] = set()
-            dead: set[str] = set()
+            core, dead, self._boolean_false_optional = self.boolean_answers()
+            maybe_core = set(names) - core - dead
+            maybe_dead = set(maybe_core)
+            parent = self.cnf.parent
+            # optional features no product found so far shows absent beside its parent
+            self._unrefuted = {n for n in maybe_core if parent.get(n) is not None}
 
             def seen(found: z3.ModelRef) -> None:
-                for name in names:
-                    on = z3.is_true(found.eval(self.selected(name), model_completion=True))
-                    (maybe_dead if on else maybe_core).discard(name)
+                """Fold a product in; only the features still pending are looked up (one
+                call into z3 each)."""
+                asked = maybe_core | maybe_dead | self._unrefuted
+                asked |= {parent[n] for n in self._unrefuted}
+                chosen = {
+                    name
+                    for name in asked
+                    if z3.is_true(found.eval(self.selected(name), model_completion=True))
+                }
+                maybe_core.difference_update(asked - chosen)
+                maybe_dead.difference_update(chosen)
+                self._unrefuted -= {
+                    n for n in self._unrefuted if n not in chosen and parent[n] in chosen
+                }
 
             seen(self.check())
             for name in names:
@@ -219,7 +253,8 @@ class SmtFormula:
 
     def false_optional_features(self) -> list[str]:
         """Modelled as optional, yet in every product with their parent (as
-        :mod:`spl.resolver.analysis.operations.false_optional` defines it)."""
+        :mod:`spl.resolver.analysis.operations.false_optional` defines it): the Boolean
+        level's, then one SMT call per candidate no product found so far refutes."""
         if self._false_optional is None:
             cnf = self.cnf
             core, dead = self.backbone()
@@ -229,9 +264,15 @@ class SmtFormula:
                     parent = cnf.parent.get(name)
                     if parent is None or name in cnf.modelled_mandatory or parent in dead:
                         continue
-                    if name in core or (
-                        parent not in core
-                        and self.check(self.selected(parent), z3.Not(self.selected(name))) is None
+                    if (
+                        name in core
+                        or name in self._boolean_false_optional
+                        or (
+                            parent not in core
+                            and name in self._unrefuted
+                            and self.check(self.selected(parent), z3.Not(self.selected(name)))
+                            is None
+                        )
                     ):
                         found.append(name)
             self._false_optional = sorted(found)
