@@ -218,7 +218,7 @@ class SmtFormula:
                 """Fold a product in; only the features still pending are looked up (one
                 call into z3 each)."""
                 asked = maybe_core | maybe_dead | self._unrefuted
-                asked |= {parent[n] for n in self._unrefuted}
+                asked |= {p for n in self._unrefuted if (p := parent[n]) is not None}
                 chosen = {
                     name
                     for name in asked
