@@ -190,3 +190,29 @@ def test_a_boolean_model_on_z3_gets_the_answers_of_sat() -> None:
         assert smt.core_features() == sat.core_features()
         assert smt.dead_features() == sat.dead_features()
         assert smt.false_optional_features() == sat.false_optional_features()
+
+
+@pytest.mark.parametrize(
+    ("entry", "equation", "where", "message"),
+    [
+        ("A cardinality [5..2]", "A", "4:18", "bad feature cardinality [5..2]"),
+        ("String A", "A + 1 > 2", "6:2", "expected a number here, got a string"),
+        (
+            "A {Price 1}",
+            "A.Price < 'x'",
+            "6:10",
+            "< compares two numbers or two strings, not a number and a string",
+        ),
+        ("String A", "A < 'x'", "6:4", "strings compare with == and != only, not <"),
+        ("A", "sum(Price) > 1", "6:2", "no feature has a number attribute Price"),
+        ("A", "B.Price > 1", "6:2", "unknown feature or attribute B.Price"),
+        ("A", "len(3) == 1", "6:6", "expected a name, got 3"),
+    ],
+)
+def test_a_bad_typed_part_is_refused_located(
+    entry: str, equation: str, where: str, message: str
+) -> None:
+    text = f"features\n\tR\n\t\toptional\n\t\t\t{entry}\nconstraints\n\t{equation}\n"
+    with pytest.raises(ModelError) as refused:
+        parse_uvl_plain(text, "bad.uvl")
+    assert [str(d) for d in refused.value.diagnostics] == [f"bad.uvl:{where}: error: {message}"]
