@@ -105,8 +105,8 @@ def browser_walk(source: Path, clicks: int, seed: int) -> tuple[float, list[floa
                 name = rng.choice(opens)
                 action = rng.choice(["select", "deselect"])
                 driver.execute_script(
-                    "document.querySelector(`[data-feature=\"${arguments[0]}\"] "
-                    "[data-action=\"${arguments[1]}\"]`).click();",
+                    'document.querySelector(`[data-feature="${arguments[0]}"] '
+                    '[data-action="${arguments[1]}"]`).click();',
                     name,
                     action,
                 )

@@ -45,7 +45,7 @@ def test_args_reach_the_ros1_and_ros2_launch_files(tmp_path: Path) -> None:
     assert f'exec="robot_controller" name="RobotController" args="{args}"' in ros2
     explained = spl("explain", folder, "--features", YOUBOT, "RobotController").output
     assert "implementation: youbot_control/robot_controller, set by" in explained
-    assert f'args: "{args}", set by \'when YouBot selected\'' in explained
+    assert f"args: \"{args}\", set by 'when YouBot selected'" in explained
 
 
 def test_without_args_the_node_keeps_its_own(tmp_path: Path) -> None:

@@ -163,7 +163,12 @@ def test_constraint_precedence() -> None:
         ("features\n\tR\n\t\tsometimes\n\t\t\tA\n", 3, 3, "expected a group"),
         ("features\n\tR\n\t\t[3..1]\n\t\t\tA\n", 3, 3, "bad cardinality"),
         ("features\n\tR\n\t\toptional\n\t\t\tA\n\t\t\tA\n", 5, 4, "duplicate feature A"),
-        ("features\n\tR\n\t\toptional\n\t\t\tA\nconstraints\n\tA > 'a'\n", 6, 4, "two numbers or two strings"),
+        (
+            "features\n\tR\n\t\toptional\n\t\t\tA\nconstraints\n\tA > 'a'\n",
+            6,
+            4,
+            "two numbers or two strings",
+        ),
         ("imports\n\tx\nfeatures\n\tR\n", 2, 2, "imported model x not found"),
         ("include\n\tTyped\nfeatures\n\tR\n", 2, 2, "expected a language level"),
         ("features\n\tR {abstract maybe}\n", 2, 14, "abstract takes true or false"),

@@ -159,9 +159,10 @@ def test_a_bare_uvl_model_propagates_and_counts(browser) -> None:
     with configurator(str(ROOT / "tests" / "data" / "feature-models" / "berkeleydb.uvl")) as url:
         browser.get(url)
         settled(browser)
-        if browser.find_element(By.CSS_SELECTOR, "[data-products]").get_attribute(
-            "data-exact"
-        ) == "false":  # not counted within the quick budgets (a loaded machine)
+        if (
+            browser.find_element(By.CSS_SELECTOR, "[data-products]").get_attribute("data-exact")
+            == "false"
+        ):  # not counted within the quick budgets (a loaded machine)
             browser.find_element(By.CSS_SELECTOR, '[data-action="count"]').click()
             settled(browser)
         assert text(browser, "[data-products]") == "4080389785 products"
