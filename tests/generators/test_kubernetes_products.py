@@ -46,7 +46,7 @@ def password_variables(line) -> list[str]:
 
 def manifests(files: dict[str, bytes]) -> dict[str, list[dict]]:
     return {
-        path: list(yaml.safe_load_all(data))
+        path: list(yaml.load_all(data, Loader=yaml.CSafeLoader))  # libyaml's safe loader
         for path, data in files.items()
         if path.startswith("kubernetes/") and path.endswith(".yaml")
         and path != "kubernetes/kustomization.yaml"

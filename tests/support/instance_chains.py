@@ -12,11 +12,11 @@ to those) as docs/deployment.md does: a private node in the robot's own instance
 
 from __future__ import annotations
 
+import json
 from collections import defaultdict
 from dataclasses import dataclass, field
 from typing import Any
 
-import json5
 import networkx as nx
 import yaml
 from lxml import etree
@@ -187,7 +187,7 @@ def kubernetes_instances(files: dict[str, bytes]) -> dict[str, set[str]]:
     for path, data in files.items():
         if not path.startswith("kubernetes/") or not path.endswith(".yaml"):
             continue
-        for document in yaml.safe_load_all(data):
+        for document in yaml.load_all(data, Loader=yaml.CSafeLoader):  # libyaml's safe loader
             labels = (document or {}).get("metadata", {}).get("labels", {})
             if document["kind"] == "ConfigMap" and labels.get("spl.robotics/sharing") == "private":
                 found[labels["spl.robotics/placement"]] = _launch_nodes(
@@ -202,7 +202,7 @@ def rapyuta_instances(files: dict[str, bytes], private: set[str]) -> dict[str, s
     for path, data in files.items():
         if "rapyuta/" not in path or not path.endswith(".json"):
             continue
-        document = json5.loads(data.decode())
+        document = json.loads(data)  # spl writes Rapyuta files as plain JSON
         for container in document.get("containers", ()):
             if container["cTag"] in private:
                 found.setdefault(container["cTag"], set())
