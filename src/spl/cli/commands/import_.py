@@ -15,6 +15,13 @@ from pathlib import Path
 import click
 
 
+def _line_errors(folder: Path) -> list[str]:
+    """The errors ``spl check`` finds in a line written, before it is moved into place."""
+    from spl.pipeline import check_models
+
+    return [str(d) for d in check_models(folder, count=False)[1] if d.severity == "error"]
+
+
 @click.group("import")
 def command() -> None:
     """Start a product line from what a team already runs (docs/import.md)."""
@@ -88,17 +95,13 @@ def launch(
         refuse_existing,
         write_line,
     )
-    from spl.pipeline import check_models
-
-    def errors_of(folder: Path) -> list[str]:
-        return [str(d) for d in check_models(folder, count=False)[1] if d.severity == "error"]
 
     try:
         refuse_existing(out)
         parsed = [parse_argument(a) for a in arguments]
         graph = read_graph(graph_master) if graph_master else None
         imported = import_launch(list(files), parsed, list(package_path), robots, graph)
-        write_line(imported.files, out, errors_of)
+        write_line(imported.files, out, _line_errors)
     except (ImportRefused, GraphUnreadable) as exc:
         click.echo(f"error: {exc}", err=True)
         # a missing program is exit 2, refused input 1 (docs/commands.md)
@@ -157,7 +160,6 @@ def graph(
     from spl.importers.graph import GraphUnreadable, import_graph
     from spl.importers.launch import ImportRefused, refuse_existing, write_line
     from spl.importers.naming import feature_name
-    from spl.pipeline import check_models
 
     uri = master or os.environ.get("ROS_MASTER_URI") or "http://localhost:11311/"
     stem = re.sub(r"[^A-Za-z0-9_]", "_", out.resolve().name)
@@ -165,9 +167,7 @@ def graph(
     try:
         refuse_existing(out)
         imported = import_graph(uri, name, list(package_path), robots)
-        write_line(imported.files, out, lambda folder: [
-            str(d) for d in check_models(folder, count=False)[1] if d.severity == "error"
-        ])  # fmt: skip
+        write_line(imported.files, out, _line_errors)
     except (ImportRefused, GraphUnreadable) as exc:
         click.echo(f"error: {exc}", err=True)
         raise SystemExit(1) from None

@@ -128,7 +128,6 @@ def build_line(
                 Omission(first.file, first.line, f"node {ros_name} left out: {problem}")
             )
             continue
-        args_text = _writable_args(first, line.warnings)
         robot = is_robot(first)
         namespace = first.namespace.strip("/")
         container = ("Robot" if robot else "Cloud") + (
@@ -138,10 +137,9 @@ def build_line(
         within = everywhere if not presence.constant else ()
         # what runs the node, with its arguments: an .rm implementation statement sets both
         commands = {
-            c: (n.package, n.executable, _writable_args(n, line.warnings) if n is not first
-                else args_text)
-            for c, n in seen.items()
-        }  # fmt: skip
+            c: (n.package, n.executable, _writable_args(n, line.warnings)) for c, n in seen.items()
+        }
+        args_text = commands[next(iter(seen))][2]  # the first combination's, the .tsm's
         implementation = Split(arguments, commands, within)
         parameters, left_out = node_parameters(ros_name, {c: by_combination[c] for c in seen})
         line.warnings.extend(left_out)
