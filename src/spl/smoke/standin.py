@@ -118,7 +118,7 @@ def _node_interface(interface: dict, node_id: str, nodes: dict, status: Status):
         entry = status.interface(name, rospy.resolve_name(name))
 
         def answer(request):
-            status.count(entry, "served")
+            status.count(entry, "served", now=True)
             return cls._response_class(server=own_id)
 
         return rospy.Service(name, cls, answer)

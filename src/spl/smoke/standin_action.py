@@ -52,8 +52,8 @@ def serve(interface: dict, own_id: str, status: Status):
         for _ in range(FEEDBACKS):
             handle.publish_feedback(feedback_class(server=own_id, seq=goal.seq))
             time.sleep(FEEDBACK_PERIOD)
+        status.count(entry, "served", now=True)
         handle.set_succeeded(result_class(server=own_id, client=goal.client, seq=goal.seq))
-        status.count(entry, "served")
 
     def take(handle) -> None:
         handle.set_accepted()

@@ -160,6 +160,7 @@ class Status:
             "interfaces": {},
         }
         self.written = ""
+        self.writing = threading.Lock()  # the writer thread and answers that write at once
 
     def interface(self, name: str, resolved: str) -> dict:
         with self.lock:
@@ -175,27 +176,33 @@ class Status:
             self.data["interfaces"][name] = entry
             return entry
 
-    def count(self, entry: dict, key: str, who: str | None = None) -> None:
+    def count(self, entry: dict, key: str, who: str | None = None, *, now: bool = False) -> None:
+        """``now`` writes the file before the caller goes on: a server counts its answer
+        that way before it sends it, so no report shows a result its server has not
+        counted yet (the periodic writer may be up to a period behind)."""
         with self.lock:
             if who is None:
                 entry[key] += 1
             else:
                 entry[key][who] = entry[key].get(who, 0) + 1
+        if now:
+            self.write()
 
     def set(self, entry: dict, key: str, value) -> None:
         with self.lock:
             entry[key] = value
 
     def write(self) -> None:
-        with self.lock:
-            text = json.dumps(self.data, sort_keys=True)
-        if text == self.written:
-            return
-        partial = self.path + ".partial"
-        with open(partial, "w", encoding="utf-8") as stream:
-            stream.write(text)
-        os.replace(partial, self.path)
-        self.written = text
+        with self.writing:
+            with self.lock:
+                text = json.dumps(self.data, sort_keys=True)
+            if text == self.written:
+                return
+            partial = self.path + ".partial"
+            with open(partial, "w", encoding="utf-8") as stream:
+                stream.write(text)
+            os.replace(partial, self.path)
+            self.written = text
 
     def keep_writing(self) -> None:
         def loop() -> None:
