@@ -181,21 +181,46 @@ def parse_model(path: Path, workspace: Workspace | None = None) -> tuple[Any, An
     return language, language.parse_file(path, workspace)
 
 
-def model_summary(path: Path, workspace: Workspace | None = None) -> str:
-    """Parse one model file; its one-line summary (ModelError with every problem). A
-    .tsm is checked without building pyecore objects (``tsm.check_file``, what the
-    editor runs too); the problems are the same."""
+def model_summary(
+    path: Path, workspace: Workspace | None = None, analyse: bool = False
+) -> tuple[str, list[Diagnostic]]:
+    """Parse one model file: its one-line summary and what checking it found beside its
+    errors (ModelError with every error). A .tsm is checked without building pyecore
+    objects (``tsm.check_file``, what the editor runs too); the problems are the same. A
+    UVL or FeatureIDE feature model is read as ``spl analyze`` reads it; with
+    ``analyse`` (``spl check FILE``: a feature model checked on its own, not as a
+    line's part) any feature model is analysed as ``spl analyze`` analyses it, a void
+    model an error, a dead feature a warning (:mod:`spl.resolver.analysis.model_findings`)."""
     if path.suffix == ".tsm":
         from spl.dsl.tsm import language as tsm
 
-        return tsm.summary(tsm.check_file(path, workspace=workspace))
-    if path.suffix.lower() in (".uvl", ".xml"):  # a feature model as spl analyze reads it
+        return tsm.summary(tsm.check_file(path, workspace=workspace)), []
+    suffix = path.suffix.lower()
+    if suffix == ".uvl":  # the plain model spl analyze reads, every level
+        from spl.dsl.interop.uvl_reader import parse_uvl_plain
+        from spl.dsl.interop.uvl_summary import summary
+        from spl.dsl.workspace import text_of
+
+        model = parse_uvl_plain(text_of(path, workspace), str(path), path.stem)
+        return summary(model), _feature_model_findings(model) if analyse else []
+    if suffix in (".xml", ".fm"):
         from spl.dsl.fm import language as fm
         from spl.dsl.interop.formats import load_feature_model
 
-        return fm.summary(load_feature_model(path, workspace))
+        model = load_feature_model(path, workspace)
+        return fm.summary(model), _feature_model_findings(model) if analyse else []
     language, model = parse_model(path, workspace)
-    return language.summary(model)
+    return language.summary(model), []
+
+
+def _feature_model_findings(model: Any) -> list[Diagnostic]:
+    """A void model's error (raised, as a parse error is), else its dead features."""
+    from spl.resolver.analysis.model_findings import feature_model_findings
+
+    found = feature_model_findings(model)
+    if any(d.severity == "error" for d in found):
+        raise ModelError(found)
+    return found
 
 
 def line_summaries(line: ProductLine) -> dict[Path, str]:
@@ -241,7 +266,9 @@ def check_models(
     does not cover, and every file when it does not load, are parsed one by one (so a
     problem in a .tsm is reported once, not again through the .rm). A line whose models
     all parse is then checked as a whole; its products are counted (bounded) unless
-    ``count`` is false (the language server shows no count).
+    ``count`` is false (the language server shows no count). A feature model given on
+    its own (a file, not a folder) is also analysed: void is an error, a dead feature a
+    warning (:func:`model_summary`); in a folder, the line's checks speak for it.
 
     The files are read as the editor's ``workspace`` has them, when given; without one,
     the check keeps a workspace of its own, which remembers only the .tsm texts it
@@ -258,7 +285,10 @@ def check_models(
     found: list[Diagnostic] = []
     for path in files:
         try:
-            summary = summaries.get(path.resolve()) or model_summary(path, workspace)
+            summary = summaries.get(path.resolve())
+            if summary is None:
+                summary, findings = model_summary(path, workspace, not target.is_dir())
+                found.extend(findings)
             report["files"].append({"path": str(path), "ok": True, "summary": summary})
         except ModelError as exc:
             report["files"].append({"path": str(path), "ok": False, "summary": None})
