@@ -170,6 +170,31 @@ def _upper(bound: int) -> str:
     return "*" if bound == -1 else str(bound)
 
 
+def converted_files(source: Path, target: Path) -> tuple[Any, dict[Path, tuple[Path, bytes]]]:
+    """What ``spl convert SOURCE TARGET`` writes: the model read (pyecore) and each output
+    path -> (the input file it converts, its bytes), ``target`` first, all rendered before
+    anything is written.
+
+    UVL to UVL keeps every language level and a composed model's submodels (written at
+    their import paths beside ``target``); to .fm and FeatureIDE XML, a UVL model of the
+    Arithmetic or Type level is refused at its first typed part (docs/fm.md, "Conversion")."""
+    if source.suffix.lower() == ".uvl":
+        from spl.dsl.interop.uvl import ecore_of, read_uvl_plain
+        from spl.dsl.interop.uvl_export import refuse_uncarried, uvl_conversion
+
+        if target.suffix.lower() == ".uvl":
+            model, texts = uvl_conversion(source, target)
+            return model, {
+                path: (read, text.encode("utf-8")) for path, (read, text) in texts.items()
+            }
+        plain = read_uvl_plain(source)
+        refuse_uncarried(plain, FORMATS[target.suffix.lower()])
+        model = ecore_of(plain)
+    else:
+        model = load_feature_model(source)
+    return model, {target: (source, render_feature_model(model, target.suffix))}
+
+
 def save_feature_model(model: Any, path: str | Path) -> None:
     """Write ``model`` to ``path`` in the format its suffix names, atomically.
 

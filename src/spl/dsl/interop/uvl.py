@@ -28,6 +28,7 @@ from spl.dsl.interop.interchange import (
 from spl.dsl.interop.uvl_lexer import KEYWORDS
 from spl.dsl.interop.uvl_reader import parse_uvl_plain
 from spl.dsl.interop.uvl_typed import TypedFeatureModel
+from spl.dsl.interop.uvl_typed_writer import UvlFile, uvl_id
 from spl.dsl.workspace import Workspace, text_of
 
 # Names spelled like a UVL keyword are quoted on export ("abstract" too: older readers
@@ -65,7 +66,8 @@ def parse_uvl(
     The pyecore model holds the Boolean level: a model of the Arithmetic or Type level
     gives its tree and Boolean constraints (what ``spl check`` and the editor show), or,
     when it is read for what carries the Boolean level only (``carried_by``: a product
-    line, a conversion to .fm), is refused at its first typed part (docs/fm.md)."""
+    line), is refused at its first typed part (docs/fm.md). ``spl convert`` reads UVL
+    with :mod:`spl.dsl.interop.uvl_export`, which keeps the typed parts."""
     plain = parse_uvl_plain(text, filename, default_name)
     if isinstance(plain, TypedFeatureModel) and carried_by is not None:
         position, part = plain.first_typed_part()
@@ -78,10 +80,15 @@ def parse_uvl(
                 )
             ]
         )
+    return ecore_of(plain)
+
+
+def ecore_of(plain: FeatureModel) -> Any:
+    """The plain model as pyecore objects; a tree too deep to build is refused, located."""
     try:
         return to_ecore(plain)
     except RecursionError:
-        raise ModelError([too_deep(filename)]) from None
+        raise ModelError([too_deep(plain.source.file)]) from None
 
 
 # -- export ---------------------------------------------------------------------------
@@ -94,35 +101,45 @@ _UVL_SYMBOLS = {
 }
 
 
-def write_uvl(model: Any) -> str:
+def write_uvl(model: Any, file: UvlFile | None = None) -> str:
     """The model as UVL text (tab-indented, as flamapy writes it).
 
     ``requires`` becomes ``=>`` and ``A excludes B`` becomes ``A => !B``: UVL has no
-    such operators, and the formulas mean the same.
+    such operators, and the formulas mean the same. ``file``: what a model read from UVL
+    holds beyond the Boolean level, and which of its elements this file writes (a
+    conversion from UVL, :mod:`spl.dsl.interop.uvl_export`).
     """
     problems: list[Diagnostic] = []
-    lines = [f"namespace {_uvl_id(model.name)}", "", "features"]
-    _write_feature(model.root, 1, lines, problems)
-    if model.constraints:
+    lines = [f"namespace {file.namespace if file else uvl_id(model.name)}", ""]
+    for section, entries in (("include", file.levels), ("imports", file.imports)) if file else ():
+        if entries:
+            lines.extend([section, *(f"\t{entry}" for entry in entries), ""])
+    lines.append("features")
+    _write_feature(model.root, 1, lines, problems, file)
+    constraints = [c for c in model.constraints if file is None or c.srcFile == file.own]
+    if constraints or (file and file.equations):
         lines.append("")
         lines.append("constraints")
-        for constraint in model.constraints:
+        for constraint in constraints:
             formula = _without_requires_excludes(constraint.formula)
             lines.append(
                 "\t"
                 + format_formula(
                     formula,
-                    name_of=lambda f: _uvl_name(f, problems),
+                    name_of=lambda f: _uvl_name(f, problems, file),
                     symbols=_UVL_SYMBOLS,
                     right_assoc_implication=False,
                 )
             )
+        lines.extend(f"\t{equation}" for equation in (file.equations if file else ()))
     if problems:
         raise ModelError(problems)
     return "\n".join(lines) + "\n"
 
 
-def _uvl_name(feature: Any, problems: list[Diagnostic]) -> str:
+def _uvl_name(feature: Any, problems: list[Diagnostic], file: UvlFile | None = None) -> str:
+    if file is not None:  # read from UVL: every name is one UVL writes
+        return file.names[feature.name]
     name = original_name(feature)
     if _UVL_PLAIN_NAME.match(name) and name not in _UVL_KEYWORDS:
         return name
@@ -137,20 +154,20 @@ def _uvl_name(feature: Any, problems: list[Diagnostic]) -> str:
     return f'"{name}"'
 
 
-def _uvl_id(identifier: str) -> str:
-    """An identifier (model or attribute name) as a UVL id, quoted when UVL needs it."""
-    if _UVL_PLAIN_NAME.match(identifier) and identifier not in _UVL_KEYWORDS:
-        return identifier
-    return f'"{identifier}"'
-
-
 def _where(element: Any) -> Location | None:
     if not getattr(element, "srcFile", None):
         return None
     return Location(element.srcFile, element.srcLine or 0, element.srcCol or 0)
 
 
-def _write_feature(feature: Any, depth: int, lines: list[str], problems: list[Diagnostic]) -> None:
+def _write_feature(
+    feature: Any, depth: int, lines: list[str], problems: list[Diagnostic], file: UvlFile | None
+) -> None:
+    if file is not None and feature.srcFile != file.own:  # an imported model's root, placed
+        _write_line(_typed_name(feature, file), [], depth, lines)
+        groups = [group for group in feature.groups if group.srcFile == file.own]
+        _write_groups(groups, depth, lines, problems, file)
+        return
     entries = []
     if feature.abstract:
         entries.append("abstract")
@@ -171,16 +188,37 @@ def _write_feature(feature: Any, depth: int, lines: list[str], problems: list[Di
             value = f"'{value}'"
         elif attribute.type.name == "double":
             value = _uvl_float(value)
-        entries.append(f"{_uvl_id(attribute.name)} {value}")
+        entries.append(f"{uvl_id(attribute.name)} {value}")
     if feature.sharing is not None:
         entries.append(f"sharing '{feature.sharing.mode.name}'")
     if feature.capabilities:
         entries.append(f"{CAPABILITY} '{format_capabilities(feature)}'")
-    text = _uvl_name(feature, problems)
+    name = _typed_name(feature, file) if file else _uvl_name(feature, problems)
+    _write_line(name, entries, depth, lines)
+    _write_groups(feature.groups, depth, lines, problems, file)
+
+
+def _typed_name(feature: Any, file: UvlFile) -> str:
+    """The feature's name with its type before it and cardinality after it."""
+    text = file.names[feature.name]
+    if feature.name in file.types:
+        text = f"{file.types[feature.name]} {text}"
+    if feature.name in file.cardinalities:
+        lower, upper = file.cardinalities[feature.name]
+        text += f" cardinality [{lower}..{'*' if upper == -1 else upper}]"
+    return text
+
+
+def _write_line(name: str, entries: list[str], depth: int, lines: list[str]) -> None:
     if entries:
-        text += " {" + ", ".join(entries) + "}"
-    lines.append("\t" * depth + text)
-    for group in feature.groups:
+        name += " {" + ", ".join(entries) + "}"
+    lines.append("\t" * depth + name)
+
+
+def _write_groups(
+    groups: Any, depth: int, lines: list[str], problems: list[Diagnostic], file: UvlFile | None
+) -> None:
+    for group in groups:
         kind = group.kind.name
         if kind == "cardinality":
             upper = "*" if group.upper == -1 else str(group.upper)
@@ -189,7 +227,7 @@ def _write_feature(feature: Any, depth: int, lines: list[str], problems: list[Di
             keyword = kind
         lines.append("\t" * (depth + 1) + keyword)
         for child in group.features:
-            _write_feature(child, depth + 2, lines, problems)
+            _write_feature(child, depth + 2, lines, problems, file)
 
 
 def _uvl_float(canonical: str) -> str:

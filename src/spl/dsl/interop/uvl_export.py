@@ -1,0 +1,189 @@
+"""``spl convert`` of a UVL model: what each target keeps of it (docs/fm.md, "Conversion").
+
+To UVL the model is kept whole, every language level: the tree, the Boolean constraints
+and the typed parts (:mod:`spl.dsl.interop.uvl_typed_writer`), and a composed model keeps
+its submodels: the converted file imports them as the input does, and each imported
+model is written, converted the same way, at its import path beside the output. A
+dotted name such as ``Size.Size`` is a UVL name only through an import, so one composed
+file could not keep the names as written.
+
+.fm and FeatureIDE XML carry the Boolean level (tree, Boolean constraints, attributes
+with fixed values): a typed model is refused at the first part, in file order, the
+target cannot carry, rather than written without it.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+from typing import Any
+
+from spl.core.diagnostics import Diagnostic, Location, ModelError
+from spl.dsl.fm.plain import Feature, FeatureModel, Source
+from spl.dsl.interop.interchange import written_names
+from spl.dsl.interop.uvl import ecore_of, read_uvl_plain, write_uvl
+from spl.dsl.interop.uvl_typed import TypedFeatureModel, features_of
+from spl.dsl.interop.uvl_typed_writer import (
+    Aggregates,
+    Unwritable,
+    UvlFile,
+    add_typed_parts,
+    equation_text,
+    uvl_id,
+)
+
+# an equation named in a refusal is cut to this many characters
+_SHOWN = 60
+
+
+def uvl_conversion(source: Path, target: Path) -> tuple[Any, dict[Path, tuple[Path, str]]]:
+    """The model read from ``source`` (pyecore) and the files converting it to UVL at
+    ``target`` writes: each output path -> (the file it converts, its text); ``target``
+    first, then the submodels at their import paths beside it."""
+    files: dict[Path, tuple[Path, str]] = {}
+    model = _convert(read_uvl_plain(source), Path(source), target, files)
+    return model, files
+
+
+def _convert(
+    plain: FeatureModel, source: Path, target: Path, files: dict[Path, tuple[Path, str]]
+) -> Any:
+    model = ecore_of(plain)
+    own = plain.source.file
+    written = written_names(model)
+    file = UvlFile(
+        own=own, names=_uvl_names(model, own, written), namespace=_dotted(plain.written_name)
+    )
+    placed = _placements(model, own)
+    submodels: list[tuple[FeatureModel, Path]] = []
+    for root in placed:
+        sub_source = Path(root.srcFile)
+        sub = read_uvl_plain(sub_source)
+        if sub.root is None or sub.root.source.file != sub.source.file:
+            raise ModelError(
+                [
+                    Diagnostic(
+                        Location(root.srcFile, root.srcLine, root.srcCol),
+                        "the root of this imported model is itself an imported model's root: "
+                        "spl convert keeps a composition whose submodels each have a root of "
+                        "their own",
+                    )
+                ]
+            )
+        relative = sub_source.relative_to(source.parent)  # imports resolve beside the file
+        path = [*relative.parent.parts, relative.stem]
+        sub_root = written_names(sub)[sub.root.name]
+        alias = written[root.name][: -len(sub_root) - 1]
+        entry = ".".join(uvl_id(part) for part in path)
+        if alias != ".".join(path):
+            entry += f" as {_dotted(alias)}"
+        file.imports.append(entry)
+        submodels.append((sub, relative))
+    if isinstance(plain, TypedFeatureModel):
+        by_name = {feature.name: feature for feature in features_of(plain)}
+        add_typed_parts(file, plain, lambda name: by_name[name].source.file == own)
+    files[target] = (source, write_uvl(model, file))
+    for sub, relative in submodels:
+        _convert(sub, Path(sub.source.file), target.parent / relative, files)
+    return model
+
+
+def _dotted(name: str) -> str:
+    return ".".join(uvl_id(part) for part in name.split("."))
+
+
+def _uvl_names(model: Any, own: str, written: dict[str, str]) -> dict[str, str]:
+    """Each feature's identifier -> its name as UVL text: quoted where UVL needs it, and
+    an imported feature's ``alias.Name`` as a reference to it."""
+    names: dict[str, str] = {}
+    stack = [model.root]
+    while stack:
+        feature = stack.pop()
+        name = written[feature.name]
+        names[feature.name] = uvl_id(name) if feature.srcFile == own else _dotted(name)
+        stack.extend(child for group in feature.groups for child in group.features)
+    return names
+
+
+def _placements(model: Any, own: str) -> list[Any]:
+    """The imported models' roots the file's tree places, in file order."""
+    found: list[Any] = []
+    stack = [model.root]
+    while stack:
+        feature = stack.pop()
+        if feature.srcFile != own:
+            found.append(feature)
+            children = [c for g in feature.groups if g.srcFile == own for c in g.features]
+        else:
+            children = [c for g in feature.groups for c in g.features]
+        stack.extend(reversed(children))
+    return found
+
+
+def refuse_uncarried(plain: FeatureModel, target: str) -> None:
+    """Raise ModelError at the first typed part of ``plain`` (file order, an imported
+    model's parts where its placement stands), naming it and the ``target`` format."""
+    if not isinstance(plain, TypedFeatureModel):
+        return
+    where, part = first_typed_part(plain)
+    raise ModelError(
+        [
+            Diagnostic(
+                where,
+                f"{part}: spl convert to {target} cannot carry it ({target} holds the Boolean "
+                "level: the tree, Boolean constraints and attributes with fixed values); "
+                'convert to UVL to keep every level (docs/fm.md, "Conversion")',
+            )
+        ]
+    )
+
+
+def first_typed_part(model: TypedFeatureModel) -> tuple[Location, str]:
+    """Where the first part only the Arithmetic and Type levels hold is, and what it is."""
+    written = written_names(model)
+    names = {name: _dotted(text) for name, text in written.items()}
+    prefixes: dict[int, tuple[tuple[int, int], ...]] = {id(model.source): ()}
+    previous: dict[int, Feature] = {}
+    parts: list[tuple[tuple[tuple[int, int], ...], Source, int, str]] = []
+    stack: list[tuple[Feature, Feature | None]] = [(model.root, None)] if model.root else []
+    while stack:
+        feature, parent = stack.pop()
+        here = id(feature.source)
+        if here not in prefixes:  # an imported root: its parts stand where it is placed
+            outer = parent.source if parent is not None else model.source
+            last = previous.get(id(outer))
+            prefixes[here] = (*prefixes[id(outer)], (_next_line(outer, last), 1))
+        previous[here] = feature
+        prefix = prefixes[here]
+        if feature.name in model.types:
+            kind = model.types[feature.name]
+            what = f"typed feature {written[feature.name]} ({kind})"
+            parts.append(((*prefix, (feature.position, 0)), feature.source, feature.position, what))
+        if feature.name in model.cardinalities:
+            at = model.cardinalities[feature.name][2]
+            what = f"feature cardinality of {written[feature.name]}"
+            parts.append(((*prefix, (at, 0)), feature.source, at, what))
+        children = [child for group in feature.groups for child in group.features]
+        stack.extend((child, feature) for child in reversed(children))
+    aggregates = Aggregates(model)
+    for equation in model.equations:
+        try:
+            text = equation_text(equation.formula, names, aggregates)[0]
+        except Unwritable:
+            text = "with an aggregate"
+        if len(text) > _SHOWN:
+            text = text[: _SHOWN - 3] + "..."
+        prefix = prefixes.get(id(equation.source), ())
+        key = (*prefix, (equation.position, 0))
+        parts.append((key, equation.source, equation.position, f"constraint {text}"))
+    _, source, position, what = min(parts, key=lambda part: part[0])
+    return source.location(position), what
+
+
+def _next_line(source: Source, feature: Feature | None) -> int:
+    """Where the line after ``feature``'s starts (0 before any feature)."""
+    if feature is None:
+        return 0
+    line = source.location(feature.position).line
+    starts = source.line_starts
+    return starts[line] if line < len(starts) else sys.maxsize
