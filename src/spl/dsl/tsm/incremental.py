@@ -40,7 +40,7 @@ MAX_SEGMENTS = 50_000  # beyond this many position segments, the text is read af
 # The classes of parse-tree objects: the ones whose first field is a position.
 _RULES = frozenset(
     value
-    for value in vars(tsm_tree).values()
+    for value in [*vars(tsm_tree).values(), *tsm_tree.INTERFACE_RULES.values()]
     if isinstance(value, type) and issubclass(value, tuple) and hasattr(value, "_fields")
 )
 Spans = dict[int, tuple[Any, int]]  # offset of a start -> (element, offset of its end)

@@ -7,8 +7,8 @@ nothing (``KEYWORD name ':' TypeRef ('name' Str)?``); any other kind names what 
 bound to after its arrow, a topic of its container or ``NODE.SERVER``
 (``KEYWORD name ((':' TypeRef (ARROW TARGET)?) | (ARROW TARGET))``), and an input of
 those may say what feeds it from outside (``('external' Str)?``). So a kind's statement
-is read from its registry entry (its keyword, rule, arrow and side), and a new kind
-needs its rule's class in ``tree.py`` and nothing here.
+is read from its registry entry (its keyword, rule, arrow and side), into the class
+``tree.py`` makes of the kind's rule, and a new kind needs nothing here.
 """
 
 from __future__ import annotations
@@ -26,7 +26,7 @@ from spl.metamodels.interface_kinds import KINDS, InterfaceKind
 OPENED_BY: dict[str, list[tuple[InterfaceKind, list[str], Any]]] = {}
 for _kind in sorted(KINDS, key=lambda k: -len(k.keyword.split())):
     _first, *_rest = _kind.keyword.split()
-    OPENED_BY.setdefault(_first, []).append((_kind, _rest, getattr(tree, _kind.rule)))
+    OPENED_BY.setdefault(_first, []).append((_kind, _rest, tree.INTERFACE_RULES[_kind.rule]))
 
 
 class InterfaceReader(ExpressionReader):

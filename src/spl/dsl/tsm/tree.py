@@ -12,7 +12,8 @@ from __future__ import annotations
 import re
 from typing import TYPE_CHECKING, Any
 
-from spl.dsl.parse_tree import Refused as Refused, Tokens
+from spl.dsl.parse_tree import Refused as Refused, Tokens, rule
+from spl.metamodels.interface_kinds import KINDS, InterfaceKind
 
 # The regular expressions of tsm.tx, as textX compiles them (re.MULTILINE is arpeggio's
 # default; tests/test_tsm_reader.py compares them with the grammar's).
@@ -111,54 +112,53 @@ class Parameter(Rule):
     value: StringValue | BoolValue | NumberValue | None
 
 
-class Publishes(Rule):
-    position: int
-    name: Name
-    type: TypeRef | None
-    topic: Ref | None
-
-
-class Subscribes(Rule):
-    position: int
-    name: Name
-    type: TypeRef | None
-    topic: Ref | None
-    external: Str | None
-
-
-class Provides(Rule):
-    position: int
-    name: Name
-    type: TypeRef
-    rosName: Str | None
-
-
-class Calls(Rule):
-    position: int
-    name: Name
-    type: TypeRef | None
-    server: QRef | None
-    external: Str | None
-
-
-class ProvidesAction(Rule):
-    position: int
-    name: Name
-    type: TypeRef
-    rosName: Str | None
-
-
-class CallsAction(Rule):
-    position: int
-    name: Name
-    type: TypeRef | None
-    server: QRef | None
-    external: Str | None
-
-
+# A node's interface statements: one rule per kind of the registry, its fields given by
+# the kind's side (docs/architecture.md, "Interface kinds"), so that a kind added there
+# needs no class here. The type checker reads the four shapes below (each named after a
+# rule of its shape); at run time each kind's rule is made with its shape's fields.
 if TYPE_CHECKING:
-    NodeInterface = Publishes | Subscribes | ProvidesAction | Provides | CallsAction | Calls
+
+    class Publishes(Rule):  # a topic's providing side
+        position: int
+        name: Name
+        type: TypeRef | None
+        topic: Ref | None
+
+    class Subscribes(Rule):  # a topic's input
+        position: int
+        name: Name
+        type: TypeRef | None
+        topic: Ref | None
+        external: Str | None
+
+    class Provides(Rule):  # a server, of any family called
+        position: int
+        name: Name
+        type: TypeRef
+        rosName: Str | None
+
+    class Calls(Rule):  # a caller of one server
+        position: int
+        name: Name
+        type: TypeRef | None
+        server: QRef | None
+        external: Str | None
+
+    NodeInterface = Publishes | Subscribes | Provides | Calls
     NodeMember = Parameter | NodeInterface
+
+
+def _interface_rule(kind: InterfaceKind) -> Any:
+    """A server may name its ROS name; any other kind names what it is bound to (its
+    ``binds``), and an input may say what feeds it from outside."""
+    fields = "name type rosName" if kind.binds is None else f"name type {kind.binds}"
+    made = rule(kind.rule, fields + ("" if kind.provides else " external"))
+    made.__module__ = __name__
+    return made
+
+
+# the class of each interface statement's rule, by the rule's name in tsm.tx
+INTERFACE_RULES: dict[str, Any] = {kind.rule: _interface_rule(kind) for kind in KINDS}
 
 
 class Topic(Rule):
