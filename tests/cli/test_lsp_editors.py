@@ -14,6 +14,7 @@ import pytest
 
 from spl.dsl import grammar_keywords
 from spl.lsp.checking import SUFFIXES
+from spl.metamodels.interface_kinds import KINDS
 
 ROOT = Path(__file__).resolve().parents[2]
 EXTENSION = ROOT / "editors" / "vscode"
@@ -54,16 +55,50 @@ def test_textmate_grammar_highlights_every_keyword_of_the_language(language: str
     }
     constants = set(_words(grammar["repository"]["constants"]["match"]))
     assert constants == set(BOOLEANS[language]())
+    # the words after an interface statement's first (``provides action``) are
+    # highlighted by their place, as the declarations' second capture
+    qualifiers = QUALIFIERS if language == "tsm" else set()
     highlighted = set(_words(grammar["repository"]["keywords"]["match"]))
-    assert highlighted == keywords - constants
+    assert highlighted == keywords - constants - qualifiers
     declaring = set(_words(grammar["repository"]["declarations"]["match"]))
     assert declaring <= keywords
-    assert _declaring_keywords(language) <= declaring
+    assert _declaring_keywords(language) - qualifiers <= declaring
     for rule in grammar["repository"].values():
         for item in rule.get("patterns", [rule]):
             for key in ("match", "begin", "end"):
                 if key in item:
                     re.compile(item[key])  # the patterns are plain regular expressions
+
+
+# the words of the interface kinds' keywords after their first (``action``)
+QUALIFIERS = {word for kind in KINDS for word in kind.keyword.split()[1:]}
+
+
+def test_textmate_grammar_highlights_an_interface_statement_by_its_place():
+    """Every interface kind's statement, and one of a kind not yet in the registry, is
+    highlighted whole: its keyword's words as keywords and the interface's name as a
+    declared name, so that a kind added to the registry needs no edit of the grammar."""
+    (entry,) = [g for g in manifest()["contributes"]["grammars"] if g["language"] == "spl-tsm"]
+    grammar = json.loads((EXTENSION / entry["path"]).read_text(encoding="utf-8"))
+    declarations = re.compile(grammar["repository"]["declarations"]["match"])
+    keywords = re.compile(grammar["repository"]["keywords"]["match"])
+    statements = [(k.keyword, f"{k.keyword} x : p/T") for k in KINDS]
+    statements += [(k.keyword, f"{k.keyword} x {k.arrow} N.s") for k in KINDS if k.arrow]
+    statements.append(("calls reconfigure", "calls reconfigure x -> N.s"))
+    for keyword, statement in statements:
+        found = declarations.match(statement)
+        assert found is not None, statement
+        first, qualifier, name = found.groups()
+        assert (first, qualifier or None, name) == (*_split(keyword), "x"), statement
+        assert keywords.match(first)
+    # a service named like a qualifier is a name: ``provides action : p/T``
+    assert declarations.match("provides action : p/T").groups() == ("provides", None, "action")
+    assert declarations.match("topic Scan : p/T").groups() == ("topic", None, "Scan")
+
+
+def _split(keyword: str) -> tuple[str, str | None]:
+    first, *rest = keyword.split()
+    return first, " ".join(rest) or None
 
 
 BOOLEANS = {
