@@ -28,19 +28,6 @@ if TYPE_CHECKING:
 
 
 @dataclass(frozen=True, order=True)
-class PartTopic:
-    """One of the ROS 1 topics an interface of a family is made of, under its name
-    (actionlib's goal, cancel, status, feedback and result, docs/deployment.md "Actions")."""
-
-    suffix: str  # the topic is NAME/suffix
-    from_consumer: bool  # sent by the consumer (a client's goals), else back from the provider
-    message: str  # its message type, "{type}" standing for the interface's type
-
-    def message_of(self, interface_type: str) -> str:
-        return self.message.format(type=interface_type)
-
-
-@dataclass(frozen=True, order=True)
 class Family:
     """How the two sides of a ROS interface meet, and what a flow between them is."""
 
@@ -89,6 +76,25 @@ SERVICE = Family(
     "server",
     in_every_legend=True,
 )
+
+
+@dataclass(frozen=True, order=True)
+class PartTopic:
+    """One of the ROS 1 topics an interface of a family is made of, under its name
+    (actionlib's goal, cancel, status, feedback and result, docs/deployment.md "Actions")."""
+
+    suffix: str  # the topic is NAME/suffix
+    from_consumer: bool  # sent by the consumer (a client's goals), else back from the provider
+    message: str  # its message type, "{type}" standing for the interface's type
+    # what the part is in ROS 1, and so what a bridge carries it as: a topic, as each of
+    # actionlib's five (a family whose parts include a service, dynamic_reconfigure's
+    # set_parameters, says so here and is bridged without an edit of the bridges)
+    carrier: Family = TOPIC
+
+    def message_of(self, interface_type: str) -> str:
+        return self.message.format(type=interface_type)
+
+
 ACTION = Family(
     "action",
     False,

@@ -26,7 +26,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, cast
 
 from spl.core.diagnostics import Diagnostic
-from spl.metamodels.interface_kinds import TOPIC, InterfaceKind, side
+from spl.metamodels.interface_kinds import InterfaceKind, side
 from spl.resolver.architecture.endpoints import endpoint_name_choices
 from spl.resolver.architecture.flows import FlowTable, node_of
 from spl.resolver.architecture.placement import Place, Placement
@@ -87,9 +87,11 @@ def _bridged_ends(crossing: Crossing) -> list[tuple[End, End]]:
         return [_ends(crossing)]
     server = crossing.target_element  # the node's server, as for a service
     node = node_of(cast("tsm_types.ServiceServer", server)).name
-    entering, delivering = side(TOPIC, False), side(TOPIC, True)
     bridged = []
-    for part in parts:
+    for part in parts:  # each bridged as what it is (Family.ros1_topics' carrier)
+        carrier = part.carrier
+        entering = side(carrier, not carrier.flows_from_provider)
+        delivering = side(carrier, carrier.flows_from_provider)
         towards = part.from_consumer
         source, target = (crossing.source, crossing.target)[:: 1 if towards else -1]
         names = (crossing.source_name, crossing.target_name)[:: 1 if towards else -1]

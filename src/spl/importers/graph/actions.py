@@ -30,15 +30,20 @@ class GraphAction:
 
 
 def find_actions(
-    publishes: dict[str, set[str]], subscribes: dict[str, set[str]], types: dict[str, str]
+    publishes: dict[str, set[str]],
+    subscribes: dict[str, set[str]],
+    types: dict[str, str],
+    families: tuple[Family, ...] = FAMILIES,
 ) -> tuple[list[GraphAction], list[str]]:
     """The actions of a graph, from what each node (by ROS name) publishes and subscribes
     and the topics' types; and a note for each group of topics that looks like an action
-    (one of its topics has an actionlib type) but is left as its topics, and why."""
+    (one of its topics has an actionlib type) but is left as its topics, and why. Of the
+    registry's ``families``, those made of topics alone are looked for: the master lists
+    every part of those, and no other's service (``PartTopic.carrier``)."""
     found: list[GraphAction] = []
     notes: list[str] = []
     used = {t for topics in (*publishes.values(), *subscribes.values()) for t in topics}
-    for family in (f for f in FAMILIES if f.ros1_topics):
+    for family in (f for f in families if f.ros1_topics and _all_topics(f)):
         suffixes = {part.suffix for part in family.ros1_topics}
         groups = sorted({t.rsplit("/", 1)[0] for t in used if t.rsplit("/", 1)[-1] in suffixes})
         for group in (g for g in groups if g):
@@ -48,6 +53,10 @@ def find_actions(
             elif problem is not None:
                 notes.append(f"{family} {group} imported as its topics: {problem}")
     return found, notes
+
+
+def _all_topics(family: Family) -> bool:
+    return all(part.carrier.on_topic for part in family.ros1_topics)
 
 
 def _action_type(family: Family, group: str, types: dict[str, str]) -> str | None:
