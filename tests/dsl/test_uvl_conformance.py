@@ -109,6 +109,7 @@ SEMANTIC = (
     *("unknown feature", "duplicate feature", "bad cardinality", "sharing must", "attribute"),
     "abstract takes",
     *("imported model", "import cycle", "only the root feature"),  # composition
+    "no feature has",  # an aggregate of an attribute no feature declares (Arithmetic level)
 )
 
 

@@ -6,7 +6,8 @@ a string) becomes an attribute of that type; one they cannot hold (a nested ``{.
 or vector ``[...]`` value, a name that is not an identifier) is kept as written
 (``UVL_ATTRIBUTES``, :mod:`spl.dsl.interop.interchange`) and written back verbatim:
 attributes take no part in Boolean analysis (docs/fm.md, "Language levels and
-composition").
+composition"). A constraint written in the attributes, at any depth of a nested value,
+is a constraint of the model.
 """
 
 from __future__ import annotations
@@ -64,8 +65,8 @@ class AttributeReader:
         if value[0] in ("bool", "int", "float", "string"):
             self.index += 1
         elif value[0] in ("{", "["):
-            self.nested_value()
-            self.keep_as_written(feature, position)
+            kept = self.nested_value()
+            self.keep_as_written(feature, position, self.text[position : value[2]] + kept)
             return
         elif value[0] in _NAMES:  # a word where a value would be: not UVL
             what = "abstract takes true or false" if name == "abstract" else "expected a value"
@@ -119,66 +120,85 @@ class AttributeReader:
             self.attribute_constraints.append((start, self.index))
             return
         self.expect("[", "'[' opening the list of constraints")
-        while True:
-            start = self.index
-            depth = 0
+        if self.tokens[self.index][0] != "]":  # the grammar allows an empty list
             while True:
-                token = self.tokens[self.index][0]
-                if token == "EOF" or (depth == 0 and token in (",", "]")):
+                start = self.index
+                depth = 0
+                while True:
+                    token = self.tokens[self.index][0]
+                    if token == "EOF" or (depth == 0 and token in (",", "]")):
+                        break
+                    depth += OPENING.get(token, 0)
+                    self.index += 1
+                self.attribute_constraints.append((start, self.index))
+                if self.tokens[self.index][0] != ",":
                     break
-                depth += OPENING.get(token, 0)
                 self.index += 1
-            self.attribute_constraints.append((start, self.index))
-            if self.tokens[self.index][0] != ",":
-                break
-            self.index += 1
         self.expect("]", "',' or ']' in the list of constraints")
 
-    def keep_as_written(self, feature: Feature, start: int) -> None:
+    def keep_as_written(self, feature: Feature, start: int, written: str | None = None) -> None:
         """The attribute read from ``start`` to the last token taken, kept as its text
-        (``UVL_ATTRIBUTES``, :mod:`spl.dsl.interop.interchange`)."""
-        _, text, at = self.tokens[self.index - 1]
-        written = self.text[start : at + len(text)]
+        (``UVL_ATTRIBUTES``, :mod:`spl.dsl.interop.interchange`), or as ``written``: that
+        text less the constraints read out of its nested values."""
+        if written is None:
+            written = self.text[start : self.end_of_last_token()]
         for attribute in feature.attributes:
             if attribute.name == UVL_ATTRIBUTES:
                 attribute.value += ", " + written
                 return
         feature.attributes.append(Attribute(self.source, start, UVL_ATTRIBUTES, "string", written))
 
-    def nested_value(self) -> None:
+    def end_of_last_token(self) -> int:
+        _, text, at = self.tokens[self.index - 1]
+        return at + len(text)
+
+    def nested_value(self) -> str:
         """Past one ``value`` of the grammar, checked: a literal, ``{attribute, ...}``
-        or ``[value, ...]``."""
+        or ``[value, ...]``; the value as kept. A ``constraint`` or ``constraints``
+        entry of a nested ``{...}`` is a constraint of the model, as one written
+        directly in the feature's attributes is (the grammar's ``attribute`` rule holds
+        both; docs/fm.md, "Attributes kept as written"): it is read with the model's
+        constraints and left out of the kept text, so a written-back model holds it once."""
         tokens = self.tokens
-        kind = tokens[self.index][0]
+        kind, text, start = tokens[self.index]
         if kind in ("bool", "int", "float", "string"):
             self.index += 1
-            return
+            return text
         if kind not in ("{", "["):
             self.fail("expected a value (true, false, a number, a 'string', {...} or [...])")
         close = "}" if kind == "{" else "]"
         self.index += 1
+        entries: list[tuple[str, str] | None] = []
         if tokens[self.index][0] != close:
-            self.nested_entry(kind)
+            entries.append(self.nested_entry(kind))
             while tokens[self.index][0] == ",":
                 self.index += 1
-                self.nested_entry(kind)
+                entries.append(self.nested_entry(kind))
         self.expect(close, f"',' or '{close}'")
+        if all(entry is not None and entry[0] == entry[1] for entry in entries):
+            return self.text[start : self.end_of_last_token()]
+        return kind + ", ".join(entry[1] for entry in entries if entry is not None) + close
 
-    def nested_entry(self, opening: str) -> None:
-        """One attribute of a nested ``{...}`` (``key value?``), or one value of a vector."""
-        if opening == "[":
-            self.nested_value()
-            return
+    def nested_entry(self, opening: str) -> tuple[str, str] | None:
+        """One attribute of a nested ``{...}`` (``key value?``), or one value of a
+        vector: (its text, its text as kept); None for a constraint entry, read as a
+        constraint of the model (:meth:`nested_value`)."""
         kind, _, position = self.tokens[self.index]
+        if opening == "[":
+            kept = self.nested_value()
+            return self.text[position : self.end_of_last_token()], kept
         if kind in ("constraint", "constraints"):
-            self.error(position, "attribute constraints are not supported")
-            self.skip_value()
-            return
+            self.constraint_attribute(kind)
+            return None
         if kind not in _NAMES:
             self.fail("expected an attribute name")
         self.index += 1
-        if self.tokens[self.index][0] in ("bool", "int", "float", "string", "{", "["):
-            self.nested_value()
+        value = self.tokens[self.index]
+        if value[0] not in ("bool", "int", "float", "string", "{", "["):
+            written = self.text[position : self.end_of_last_token()]
+            return written, written
+        kept = self.nested_value()
+        return self.text[position : self.end_of_last_token()], self.text[position : value[2]] + kept
 
     def skip_value(self) -> None:
         """Past one attribute whose content is not read (to the next ',' or '}')."""

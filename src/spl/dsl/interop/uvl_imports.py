@@ -18,6 +18,7 @@ position and the diagnostics (docs/fm.md, "Language levels and composition").
 from __future__ import annotations
 
 from collections.abc import Callable
+from itertools import pairwise
 from pathlib import Path
 from typing import TYPE_CHECKING, NoReturn
 
@@ -83,11 +84,20 @@ class ImportReader:
             level = "".join(text for _, text, _ in line)
             major, _, minor = level.partition(".")
             position = line[0][2]
-            if major not in MAJOR_LEVELS or (minor and minor not in (*MINOR_LEVELS, "*")):
+            # the grammar's tokens: the major level one word, the minor one after the dot
+            # (blanks may stand only around the dot)
+            gaps = [a[2] + len(a[1]) != b[2] for a, b in pairwise(line)]
+            apart = any(
+                gap and "." not in (line[at][1], line[at + 1][1]) for at, gap in enumerate(gaps)
+            )
+            written = line[0][1] + "".join(
+                (" " if gap else "") + token[1] for gap, token in zip(gaps, line[1:], strict=True)
+            )
+            if apart or major not in MAJOR_LEVELS or (minor and minor not in (*MINOR_LEVELS, "*")):
                 self.error(
                     position,
                     f"expected a language level ({', '.join(MAJOR_LEVELS)}, each optionally "
-                    f"followed by .minor or .*), got {level}",
+                    f"followed by .minor or .*), got {written}",
                 )
 
     def imports(self, read_file: Callable[[Path, tuple[str, ...]], FeatureModel]) -> None:
