@@ -200,6 +200,29 @@ def test_a_composed_model_keeps_its_submodels_beside_the_output(tmp_path: Path) 
     assert answers(again)["core"] == ["Dough.Dough", "Pizza", "Size.Size", "top.Topping"]
 
 
+def test_what_the_importing_file_writes_on_an_imported_root_stays_in_it(tmp_path: Path) -> None:
+    (tmp_path / "sub.uvl").write_text(
+        "features\n\tS\n\t\toptional\n\t\t\tN {Price 1}\nconstraints\n\tN.Price < 3\n"
+    )
+    (tmp_path / "main.uvl").write_text(
+        "imports\n\tsub as s\nfeatures\n\tR\n\t\toptional\n"
+        "\t\t\tInteger s.S cardinality [1..2] {Price 4}\n\t\t\t\tmandatory\n\t\t\t\t\tExtra\n"
+        "constraints\n\ts.S > 1 & sum(Price) > 3\n"
+    )
+    (tmp_path / "out").mkdir()
+    result = convert(tmp_path / "main.uvl", tmp_path / "out" / "main.uvl")
+    assert result.exit_code == 0, result.output
+    assert (
+        "\t\t\tInteger s.S cardinality [1..2] {Price 4}\n\t\t\t\tmandatory\n\t\t\t\t\tExtra\n"
+        in ((tmp_path / "out" / "main.uvl").read_text())
+    )
+    assert "N {Price 1}" in (tmp_path / "out" / "sub.uvl").read_text()
+    original = read_uvl_plain(tmp_path / "main.uvl")
+    again = read_uvl_plain(tmp_path / "out" / "main.uvl")
+    assert shape(again) == shape(original)
+    assert answers(again) == answers(original)
+
+
 def test_a_conversion_beside_its_input_leaves_the_submodels_and_replaces_no_input(
     tmp_path: Path,
 ) -> None:
@@ -299,3 +322,20 @@ def test_a_refused_part_is_a_model_error_for_callers_too(tmp_path: Path) -> None
     with pytest.raises(ModelError) as refused:
         converted_files(source, tmp_path / "out.fm")
     assert str(refused.value.diagnostics[0]).startswith(f"{source}:4:12: error: typed feature N")
+
+
+def test_an_average_uvl_cannot_say_again_is_refused_located(tmp_path: Path) -> None:
+    # avg over an attribute kept as written, of typed features: no UVL text counts the
+    # selected ones (a typed feature's name is its value), so the conversion says so
+    source = tmp_path / "avg.uvl"
+    source.write_text(
+        'features\n\tR\n\t\toptional\n\t\t\tInteger A {"My Price" 2}\n\t\t\tB {"My Price" 3}\n'
+        'constraints\n\tA < 5\n\tavg("My Price") > 2\n'
+    )
+    result = convert(source, tmp_path / "out.uvl")
+    assert result.exit_code == 1
+    assert result.output == (
+        f'{source}:8:2: error: avg("My Price") over typed features cannot be written as UVL '
+        "that reads back\n"
+    )
+    assert not (tmp_path / "out.uvl").exists()

@@ -36,7 +36,6 @@ def command(source: Path, target: Path) -> None:
     original_name and written back when exporting.
     """
     from spl.core.atomic_write import write_atomically
-    from spl.dsl.fm.language import summary
     from spl.dsl.interop.formats import FORMATS, converted_files, unsupported_format_message
 
     for path, role in ((source, "IN"), (target, "OUT")):
@@ -48,7 +47,7 @@ def command(source: Path, target: Path) -> None:
         raise click.UsageError(f"OUT: directory {target.parent} does not exist")
     if target.exists() and target.samefile(source):  # the rename would replace the input
         raise click.UsageError(f"OUT: {target} is IN itself; give another file")
-    model, files = converted_files(source, target)
+    summary, files = converted_files(source, target)
     read = {path.resolve() for path, _ in files.values()}
     written = []
     for path, (converted, data) in files.items():
@@ -62,6 +61,6 @@ def command(source: Path, target: Path) -> None:
     for path, data in written:
         path.parent.mkdir(parents=True, exist_ok=True)
         write_atomically(path, data)
-    click.echo(f"{source} -> {target}: {summary(model)}")
+    click.echo(f"{source} -> {target}: {summary}")
     for path, _ in written[1:]:
         click.echo(f"  and its submodel {path}")

@@ -170,29 +170,32 @@ def _upper(bound: int) -> str:
     return "*" if bound == -1 else str(bound)
 
 
-def converted_files(source: Path, target: Path) -> tuple[Any, dict[Path, tuple[Path, bytes]]]:
-    """What ``spl convert SOURCE TARGET`` writes: the model read (pyecore) and each output
-    path -> (the input file it converts, its bytes), ``target`` first, all rendered before
-    anything is written.
+def converted_files(source: Path, target: Path) -> tuple[str, dict[Path, tuple[Path, bytes]]]:
+    """What ``spl convert SOURCE TARGET`` writes: the model's summary line and each
+    output path -> (the input file it converts, its bytes), ``target`` first, all
+    rendered before anything is written.
 
     UVL to UVL keeps every language level and a composed model's submodels (written at
     their import paths beside ``target``); to .fm and FeatureIDE XML, a UVL model of the
-    Arithmetic or Type level is refused at its first typed part (docs/fm.md, "Conversion")."""
-    if source.suffix.lower() == ".uvl":
-        from spl.dsl.interop.uvl import ecore_of, read_uvl_plain
-        from spl.dsl.interop.uvl_export import refuse_uncarried, uvl_conversion
+    Arithmetic or Type level is refused at its first typed part (docs/fm.md, "Conversion:
+    what each target keeps")."""
+    if source.suffix.lower() != ".uvl":
+        from spl.dsl.fm.language import summary
 
-        if target.suffix.lower() == ".uvl":
-            model, texts = uvl_conversion(source, target)
-            return model, {
-                path: (read, text.encode("utf-8")) for path, (read, text) in texts.items()
-            }
-        plain = read_uvl_plain(source)
-        refuse_uncarried(plain, FORMATS[target.suffix.lower()])
-        model = ecore_of(plain)
-    else:
         model = load_feature_model(source)
-    return model, {target: (source, render_feature_model(model, target.suffix))}
+        return summary(model), {target: (source, render_feature_model(model, target.suffix))}
+    from spl.dsl.interop.uvl import ecore_of, read_uvl_plain
+    from spl.dsl.interop.uvl_export import refuse_uncarried, uvl_conversion
+    from spl.dsl.interop.uvl_summary import summary as typed_summary
+
+    if target.suffix.lower() == ".uvl":
+        plain, texts = uvl_conversion(source, target)
+        files = {path: (read, text.encode("utf-8")) for path, (read, text) in texts.items()}
+        return typed_summary(plain), files
+    plain = read_uvl_plain(source)
+    refuse_uncarried(plain, FORMATS[target.suffix.lower()])
+    data = render_feature_model(ecore_of(plain), target.suffix)
+    return typed_summary(plain), {target: (source, data)}
 
 
 def save_feature_model(model: Any, path: str | Path) -> None:

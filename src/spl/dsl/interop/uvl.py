@@ -163,15 +163,15 @@ def _where(element: Any) -> Location | None:
 def _write_feature(
     feature: Any, depth: int, lines: list[str], problems: list[Diagnostic], file: UvlFile | None
 ) -> None:
-    if file is not None and feature.srcFile != file.own:  # an imported model's root, placed
-        _write_line(_typed_name(feature, file), [], depth, lines)
-        groups = [group for group in feature.groups if group.srcFile == file.own]
-        _write_groups(groups, depth, lines, problems, file)
-        return
+    # an imported model's root, placed: its own file writes the rest of it
+    placed = file is not None and feature.srcFile != file.own
+    attributes = exported_attributes(feature)
+    if file is not None and placed:
+        attributes = [a for a in attributes if a.srcFile == file.own]
     entries = []
-    if feature.abstract:
+    if feature.abstract and not placed:
         entries.append("abstract")
-    for attribute in exported_attributes(feature):
+    for attribute in attributes:
         value = attribute.value or ""
         if attribute.name == UVL_ATTRIBUTES:  # UVL attributes kept as written
             entries.append(value)
@@ -189,13 +189,16 @@ def _write_feature(
         elif attribute.type.name == "double":
             value = _uvl_float(value)
         entries.append(f"{uvl_id(attribute.name)} {value}")
-    if feature.sharing is not None:
+    if feature.sharing is not None and not placed:
         entries.append(f"sharing '{feature.sharing.mode.name}'")
-    if feature.capabilities:
+    if feature.capabilities and not placed:
         entries.append(f"{CAPABILITY} '{format_capabilities(feature)}'")
     name = _typed_name(feature, file) if file else _uvl_name(feature, problems)
     _write_line(name, entries, depth, lines)
-    _write_groups(feature.groups, depth, lines, problems, file)
+    groups = feature.groups
+    if file is not None and placed:
+        groups = [group for group in groups if group.srcFile == file.own]
+    _write_groups(groups, depth, lines, problems, file)
 
 
 def _typed_name(feature: Any, file: UvlFile) -> str:

@@ -36,18 +36,19 @@ from spl.dsl.interop.uvl_typed_writer import (
 _SHOWN = 60
 
 
-def uvl_conversion(source: Path, target: Path) -> tuple[Any, dict[Path, tuple[Path, str]]]:
-    """The model read from ``source`` (pyecore) and the files converting it to UVL at
-    ``target`` writes: each output path -> (the file it converts, its text); ``target``
-    first, then the submodels at their import paths beside it."""
+def uvl_conversion(source: Path, target: Path) -> tuple[FeatureModel, dict[Path, tuple[Path, str]]]:
+    """The model read from ``source`` and the files converting it to UVL at ``target``
+    writes: each output path -> (the file it converts, its text); ``target`` first, then
+    the submodels at their import paths beside it."""
     files: dict[Path, tuple[Path, str]] = {}
-    model = _convert(read_uvl_plain(source), Path(source), target, files)
-    return model, files
+    plain = read_uvl_plain(source)
+    _convert(plain, Path(source), target, files)
+    return plain, files
 
 
 def _convert(
     plain: FeatureModel, source: Path, target: Path, files: dict[Path, tuple[Path, str]]
-) -> Any:
+) -> None:
     model = ecore_of(plain)
     own = plain.source.file
     written = written_names(model)
@@ -81,11 +82,35 @@ def _convert(
         submodels.append((sub, relative))
     if isinstance(plain, TypedFeatureModel):
         by_name = {feature.name: feature for feature in features_of(plain)}
-        add_typed_parts(file, plain, lambda name: by_name[name].source.file == own)
+
+        def owned(name: str) -> bool:
+            return by_name[name].source.file == own
+
+        file.types = {name: kind for name, kind in plain.types.items() if owned(name)}
+        file.cardinalities = {
+            name: (lower, upper)
+            for name, (lower, upper, _) in plain.cardinalities.items()
+            if owned(name)
+        }
+        for root, (sub, _) in zip(placed, submodels, strict=True):
+            _placement_parts(file, plain, root.name, sub)
+        add_typed_parts(file, plain, owned)
     files[target] = (source, write_uvl(model, file))
     for sub, relative in submodels:
         _convert(sub, Path(sub.source.file), target.parent / relative, files)
-    return model
+
+
+def _placement_parts(file: UvlFile, plain: TypedFeatureModel, name: str, sub: FeatureModel) -> None:
+    """A type or cardinality the importing file writes on an imported root (``Integer
+    sub.S``): the composed model has it and the submodel alone does not."""
+    if sub.root is None:  # refused where the submodel is read
+        return
+    types = sub.types if isinstance(sub, TypedFeatureModel) else {}
+    cardinalities = sub.cardinalities if isinstance(sub, TypedFeatureModel) else {}
+    if name in plain.types and sub.root.name not in types:
+        file.types[name] = plain.types[name]
+    if name in plain.cardinalities and sub.root.name not in cardinalities:
+        file.cardinalities[name] = plain.cardinalities[name][:2]
 
 
 def _dotted(name: str) -> str:

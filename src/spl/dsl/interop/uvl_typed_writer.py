@@ -68,16 +68,10 @@ class UvlFile:
 
 
 def add_typed_parts(parts: UvlFile, model: TypedFeatureModel, owned: Callable[[str], bool]) -> None:
-    """The typed parts of ``model`` the file writes (``owned``: whether it holds a
-    feature's declaration, by identifier; an equation belongs to the file it was read
-    from)."""
+    """The equations of ``model`` the file writes (those read from it) and the levels
+    the file uses, its types and cardinalities given (``owned``: whether the file
+    declares a feature, by identifier)."""
     names = parts.names
-    parts.types = {name: kind for name, kind in model.types.items() if owned(name)}
-    parts.cardinalities = {
-        name: (lower, upper)
-        for name, (lower, upper, _) in model.cardinalities.items()
-        if owned(name)
-    }
     file = model.source.file
     used: set[str] = set()
     aggregates = Aggregates(model)
