@@ -1,4 +1,5 @@
-"""``spl convert`` of a UVL model: what each target keeps of it (docs/fm.md, "Conversion").
+"""``spl convert`` of a UVL model: what each target keeps of it (docs/fm.md, "Conversion:
+what each target keeps").
 
 To UVL the model is kept whole, every language level: the tree, the Boolean constraints
 and the typed parts (:mod:`spl.dsl.interop.uvl_typed_writer`), and a composed model keeps
@@ -52,9 +53,7 @@ def _convert(
     model = ecore_of(plain)
     own = plain.source.file
     written = written_names(model)
-    file = UvlFile(
-        own=own, names=_uvl_names(model, own, written), namespace=_dotted(plain.written_name)
-    )
+    file = UvlFile(own=own, names=_uvl_names(model, own, written), namespace=_namespace(plain))
     placed = _placements(model, own)
     submodels: list[tuple[FeatureModel, Path]] = []
     for root in placed:
@@ -113,6 +112,15 @@ def _placement_parts(file: UvlFile, plain: TypedFeatureModel, name: str, sub: Fe
         file.cardinalities[name] = plain.cardinalities[name][:2]
 
 
+def _namespace(plain: FeatureModel) -> str:
+    """The namespace as the file writes it (a file stem, without one), or as an
+    identifier where UVL cannot quote a part of it (a stem holding '"' or '..')."""
+    parts = plain.written_name.split(".")
+    if all(part and not any(c in part for c in '"\r\n') for part in parts):
+        return _dotted(plain.written_name)
+    return uvl_id(plain.name)
+
+
 def _dotted(name: str) -> str:
     return ".".join(uvl_id(part) for part in name.split("."))
 
@@ -157,7 +165,7 @@ def refuse_uncarried(plain: FeatureModel, target: str) -> None:
                 where,
                 f"{part}: spl convert to {target} cannot carry it ({target} holds the Boolean "
                 "level: the tree, Boolean constraints and attributes with fixed values); "
-                'convert to UVL to keep every level (docs/fm.md, "Conversion")',
+                "convert to UVL to keep every level (docs/fm.md)",
             )
         ]
     )

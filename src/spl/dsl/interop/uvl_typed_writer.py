@@ -1,10 +1,11 @@
 """Writing the Arithmetic and Type levels of UVL back: equations, levels, typed parts.
 
-``spl convert`` from UVL to UVL keeps a typed model whole (docs/fm.md, "Conversion"):
-the tree is written by :func:`spl.dsl.interop.uvl.write_uvl`, and this module gives it
-what only a typed model has: each feature's type and cardinality, the equations as
-text the UVL reader reads back to the same tree (:mod:`spl.dsl.interop.uvl_equations`),
-and the ``include`` lines naming the levels the file uses.
+``spl convert`` from UVL to UVL keeps a typed model whole (docs/fm.md, "Conversion:
+what each target keeps"): the tree is written by :func:`spl.dsl.interop.uvl.write_uvl`,
+and this module gives it what only a typed model has: each feature's type and
+cardinality, the equations as text the UVL reader reads back to the same tree
+(:mod:`spl.dsl.interop.uvl_equations`), and the ``include`` lines naming the levels the
+file uses.
 
 An equation is printed with explicit stacks, like it is read: a chain of thousands of
 ``+`` needs no Python stack. Aggregates come back as the reader expanded them:
