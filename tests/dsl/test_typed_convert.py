@@ -339,3 +339,11 @@ def test_an_average_uvl_cannot_say_again_is_refused_located(tmp_path: Path) -> N
         "that reads back\n"
     )
     assert not (tmp_path / "out.uvl").exists()
+
+
+def test_a_file_stem_uvl_cannot_quote_becomes_an_identifier_namespace(tmp_path: Path) -> None:
+    source = tmp_path / 'odd"stem..uvl'
+    source.write_text("features\n\tR\n\t\toptional\n\t\t\tInteger N\n")
+    assert convert(source, tmp_path / "out.uvl").exit_code == 0
+    assert (tmp_path / "out.uvl").read_text().startswith("namespace odd_stem_\n")
+    assert read_uvl_plain(tmp_path / "out.uvl").written_name == "odd_stem_"
