@@ -49,6 +49,9 @@ class Family:
     # type (an action's type is its .action file, move_base_msgs/MoveBase, never the
     # move_base_msgs/MoveBaseAction message actionlib generates from it)
     generated_types: tuple[str, ...] = ()
+    # whether `spl smoke` plays its kinds with actionlib, and so leaves them out, with a
+    # warning, where actionlib is not installed (docs/smoke.md, "Actions")
+    needs_actionlib: bool = False
 
     @property
     def flows_from_provider(self) -> bool:
@@ -109,6 +112,7 @@ ACTION = Family(
         PartTopic("result", False, "{type}ActionResult"),
     ),
     generated_types=("Action", "ActionGoal", "ActionResult", "ActionFeedback"),
+    needs_actionlib=True,
 )
 
 

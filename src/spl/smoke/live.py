@@ -18,7 +18,7 @@ from pathlib import Path
 from typing import Any
 
 from spl.core.diagnostics import counted
-from spl.metamodels.interface_kinds import FAMILIES, KINDS, TOPIC, InterfaceKind, side
+from spl.metamodels.interface_kinds import FAMILIES, KINDS, InterfaceKind, side
 from spl.smoke.plan import ContainerPlan, Interface, NodePlan
 
 CALLER = "/spl_smoke"
@@ -183,8 +183,9 @@ def _interface_row(
         if registry is not None and node.ros_name not in registry.get(name, ()):
             notes.append(f"not registered on {name}")
             registered = False
-        elif registry is not None and name != topic and graph.types.get(name) != part_type:
-            notes.append(f"{name} type {graph.types.get(name)}")  # an action's topic
+        elif side_kind.on_topic and name != topic and graph.types.get(name) != part_type:
+            # a part that is a topic (a master lists no service's type)
+            notes.append(f"{name} type {graph.types.get(name)}")
             registered = False
     ok = registered
     # an action (its family's ROS 1 topics): goals, answered by a result and feedback
@@ -306,17 +307,21 @@ def _unexpected(
 
 def registrations(interface: Interface) -> list[tuple[InterfaceKind, str, str]]:
     """``(kind, ROS name, type)`` of what the master lists for ``interface``: the
-    interface itself, or, for a kind that is its family's ROS 1 topics (an action, the
-    five of actionlib), each topic under its name with the side that publishes or
-    subscribes it (a client publishes goals and cancels, its server the rest)."""
+    interface itself, or, for a kind that is its family's ROS 1 interfaces (an action,
+    the five topics of actionlib), each part under its name with the side of the part's
+    carrier that sends it or takes it (a client publishes goals and cancels, its server
+    the rest; a part that is a service is served by the server, called by the client)."""
     parts = interface.kind.family.ros1_topics
     if not parts:
         return [(interface.kind, interface.ros_name, interface.type)]
-    return [
-        (side(TOPIC, part.from_consumer != interface.kind.provides),
-         f"{interface.ros_name}/{part.suffix}", part.message_of(interface.type))
-        for part in parts
-    ]  # fmt: skip
+    found = []
+    for part in parts:
+        sends = part.from_consumer != interface.kind.provides
+        found.append(
+            (side(part.carrier, sends == part.carrier.flows_from_provider),
+             f"{interface.ros_name}/{part.suffix}", part.message_of(interface.type))
+        )  # fmt: skip
+    return found
 
 
 def _interface_bound_to(status: dict[str, Any] | None, topic: str) -> str:

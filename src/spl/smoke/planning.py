@@ -85,21 +85,21 @@ def _refuse_unrehearsed(system: Any) -> None:
 
 
 def actions_of(system: Any) -> list[str]:
-    """The node interfaces of ``system`` that actionlib plays (a kind whose ROS 1 form is
-    its family's topics: actionlib's), as a message names them, in model order."""
+    """The node interfaces of ``system`` that actionlib plays (``Family.needs_actionlib``),
+    as a message names them, in model order."""
     return [
         f"{kind_of(i).title} {container.name}.{node.name}.{i.name}"
         for container in system.containers
         for node in container.nodes
         for i in node.interfaces
-        if kind_of(i).family.ros1_topics
+        if kind_of(i).family.needs_actionlib
     ]
 
 
 def _leave_out_actions(plans: list[ContainerPlan]) -> None:
     for container in plans:
         for node in container.nodes:
-            node.interfaces = [i for i in node.interfaces if not i.kind.family.ros1_topics]
+            node.interfaces = [i for i in node.interfaces if not i.kind.family.needs_actionlib]
 
 
 def data_fields(system: Any) -> dict[str, list[tuple[str, str]]]:
