@@ -12,7 +12,7 @@ from collections.abc import Iterator
 
 from pyecore.ecore import EAttribute, EObject
 
-from spl.core.emf import all_features
+from spl.core.emf_copy import all_features
 
 
 def _path(obj: EObject | None) -> str:

@@ -16,7 +16,6 @@ from typing import TYPE_CHECKING, cast
 
 from spl.core.cyclic_gc import release, without_cyclic_gc
 from spl.core.diagnostics import DiagnosticSink, Location, ModelError, location_of
-from spl.core.emf import copy_with_map
 from spl.dsl import literals
 from spl.metamodels import tsm
 from spl.resolver.architecture.checks import (
@@ -92,7 +91,7 @@ def _resolve(line: ProductLine, selection: ProductSelection) -> Resolution:
     ]
     # step 2: what the product drops before anything reads it is not copied (pruning.py)
     left = pruning.left_out(line.unreferred_optionals, active)
-    system, copies = copy_with_map(line.tsm, left)
+    [system], copies = line.template_image.copy(left_out=left)
     trace = Trace()
     for feature in completion.added:
         trace.record(feature, "selected", "added by completion of the selection (feature model)")

@@ -13,6 +13,7 @@ from spl.core.diagnostics import Diagnostic, Location, ModelError
 from spl.dsl.rm import language as rm
 
 if TYPE_CHECKING:
+    from spl.core.emf_copy import TreeImage
     from spl.dsl.workspace import Workspace
     from spl.metamodels import fm_types, rm_types, tsm_types
     from spl.resolver.analysis.formula import FeatureModelFormula
@@ -42,6 +43,15 @@ class ProductLine:
         from spl.resolver.analysis.formula import formula_of
 
         return formula_of(self.fm)
+
+    @cached_property
+    def template_image(self) -> TreeImage:
+        """The template read once for the copy each product's resolution starts from
+        (:class:`spl.core.emf_copy.TreeImage`): a line check resolves dozens of witness
+        products of one line."""
+        from spl.core.emf_copy import TreeImage
+
+        return TreeImage([self.tsm])
 
     @cached_property
     def template_flows(self) -> FlowTable:
