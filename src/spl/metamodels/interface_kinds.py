@@ -28,6 +28,18 @@ if TYPE_CHECKING:
 
 
 @dataclass(frozen=True, order=True)
+class Answers:
+    """How `spl smoke` says a family's calls and what comes back (docs/smoke.md): one call
+    a server counts, what a client expects back, one answer it saw, and what else its
+    server sends back that must reach it too (an action's feedback)."""
+
+    call: str = "call"
+    expected: str = "answer"
+    answered: str = "answered by"
+    back: str | None = None
+
+
+@dataclass(frozen=True, order=True)
 class Family:
     """How the two sides of a ROS interface meet, and what a flow between them is."""
 
@@ -52,6 +64,7 @@ class Family:
     # whether `spl smoke` plays its kinds with actionlib, and so leaves them out, with a
     # warning, where actionlib is not installed (docs/smoke.md, "Actions")
     needs_actionlib: bool = False
+    answers: Answers = Answers()
 
     @property
     def flows_from_provider(self) -> bool:
@@ -113,6 +126,7 @@ ACTION = Family(
     ),
     generated_types=("Action", "ActionGoal", "ActionResult", "ActionFeedback"),
     needs_actionlib=True,
+    answers=Answers("goal", "result and feedback", "result from", "feedback"),
 )
 
 

@@ -188,8 +188,7 @@ def _interface_row(
             notes.append(f"{name} type {graph.types.get(name)}")
             registered = False
     ok = registered
-    # an action (its family's ROS 1 topics): goals, answered by a result and feedback
-    action = bool(kind.family.ros1_topics)
+    words = kind.family.answers  # how its calls are said: an action's goals, results...
     if kind.publishes:
         expected = f"{kind.keyword} {interface.type}"
         live_type = graph.types.get(topic)
@@ -212,26 +211,27 @@ def _interface_row(
             notes.append("not in the model: " + ", ".join(short(s, plan.name) for s in extra))
     elif kind.serves:
         expected = f"{kind.keyword} {interface.type}"
-        answered = counted(entry.get("served", 0), "goal" if action else "call")
+        answered = counted(entry.get("served", 0), words.call)
         seen = f"{kind.keyword} ({answered} answered)" if registered else ""
     else:
-        answer = "result and feedback" if action else "answer"
         expected = (
-            f"{answer} from {short(interface.server, plan.name)}"
+            f"{words.expected} from {short(interface.server, plan.name)}"
             if interface.server
             else f"nothing: {interface.gap}"
             if interface.gap
             else ("an answer (no server in the model)" if interface.required else "calls forwarded")
         )
         answers = entry.get("answered_by", {})
-        feedback = entry.get("feedback_from", {}) if action else {}
-        said = "result from" if action else "answered by"
+        feedback = entry.get("feedback_from", {}) if words.back else {}
         seen = ", ".join(
-            [f"{said} {short(s, plan.name)} ({n})" for s, n in sorted(answers.items())]
-            + [f"feedback from {short(s, plan.name)} ({n})" for s, n in sorted(feedback.items())]
+            [f"{words.answered} {short(s, plan.name)} ({n})" for s, n in sorted(answers.items())]
+            + [
+                f"{words.back} from {short(s, plan.name)} ({n})"
+                for s, n in sorted(feedback.items())
+            ]
         )
         wrong = [s for s in {*answers, *feedback} if s != interface.server]
-        reached = interface.server in answers and (not action or interface.server in feedback)
+        reached = interface.server in answers and (not words.back or interface.server in feedback)
         ok = ok and not wrong and (reached or not interface.required)
         if not seen:
             error = entry.get("last_error")
