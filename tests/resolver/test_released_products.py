@@ -22,13 +22,18 @@ ROOT = Path(__file__).resolve().parents[2]
 
 
 def left_for_the_collector(work: Callable[[], None]) -> int:
-    """How many objects ``work`` leaves in reference cycles, once it is done."""
+    """How many objects ``work`` leaves in reference cycles, once it is done. What was
+    alive before is frozen (no collection visits it): the count is the same, and it
+    takes a pass over what ``work`` allocated, not over everything the test process
+    holds (in a worker of the whole suite, most of it)."""
     gc.collect()
     gc.disable()
+    gc.freeze()
     try:
         work()
         return gc.collect()
     finally:
+        gc.unfreeze()
         gc.enable()
 
 
