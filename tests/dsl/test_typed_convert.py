@@ -75,7 +75,7 @@ def shape(model: FeatureModel) -> dict[str, object]:
     typed = model if isinstance(model, TypedFeatureModel) else None
     return {
         "name": model.written_name,
-        "features": sorted(written.values()),
+        "tree": tree(model, written),
         "constraints": sorted(repr(normal(c.formula, written)) for c in model.constraints),
         "types": sorted((written[n], k) for n, k in typed.types.items()) if typed else [],
         "cardinalities": sorted(
@@ -89,6 +89,24 @@ def shape(model: FeatureModel) -> dict[str, object]:
     }
 
 
+def tree(model: FeatureModel, written: dict[str, str]) -> list[tuple]:
+    """Each feature in pre-order with its attributes and groups, by written names."""
+    found: list[tuple] = []
+    stack = [model.root] if model.root is not None else []
+    while stack:
+        feature = stack.pop()
+        attributes = sorted(
+            (a.name, a.type, a.value) for a in feature.attributes if a.name != "original_name"
+        )
+        groups = [
+            (g.kind, g.lower, g.upper, [written[c.name] for c in g.features])
+            for g in feature.groups
+        ]
+        found.append((written[feature.name], feature.abstract, attributes, groups))
+        stack.extend(reversed([c for g in feature.groups for c in g.features]))
+    return found
+
+
 @pytest.mark.parametrize("path", VALID, ids=[str(p.relative_to(CORPUS)) for p in VALID])
 def test_every_valid_parser_model_converts_to_uvl_and_reads_back_the_same(
     path: Path, tmp_path: Path
@@ -97,10 +115,15 @@ def test_every_valid_parser_model_converts_to_uvl_and_reads_back_the_same(
     result = convert(path, target)
     assert result.exit_code == 0, result.output
     original, again = read_uvl_plain(path), read_uvl_plain(target)
-    assert shape(again) == shape(original)
-    assert answers(again) == answers(original)
-    for written in tmp_path.rglob("*.uvl"):  # and the UVL project's grammar reads each file
-        assert reference_accepts_text(written.read_text(encoding="utf-8")), written
+    assert shape(again) == shape(original)  # the same tree and constraints: the same model
+    if isinstance(original, TypedFeatureModel):  # and what z3 answers of it
+        assert answers(again) == answers(original)
+    # and the UVL project's grammar reads each file (but the five 80 KB generated Boolean
+    # models, on which its Python parser takes seconds each: the other models hold every
+    # construct the writer emits)
+    if path.parent.name != "generated":
+        for written in tmp_path.rglob("*.uvl"):
+            assert reference_accepts_text(written.read_text(encoding="utf-8")), written
     once = target.read_bytes()  # converting the output again changes no byte
     (tmp_path / "twice").mkdir()
     assert convert(target, tmp_path / "twice" / path.name).exit_code == 0
