@@ -370,3 +370,18 @@ def test_a_file_stem_uvl_cannot_quote_becomes_an_identifier_namespace(tmp_path: 
     assert convert(source, tmp_path / "out.uvl").exit_code == 0
     assert (tmp_path / "out.uvl").read_text().startswith("namespace odd_stem_\n")
     assert read_uvl_plain(tmp_path / "out.uvl").written_name == "odd_stem_"
+
+
+def test_an_import_the_tree_never_places_is_left_out(tmp_path: Path) -> None:
+    (tmp_path / "main.uvl").write_text(
+        "imports\n\tDough\n\tTopping\nfeatures\n\tR\n\t\tmandatory\n\t\t\tDough.Dough\n"
+    )
+    for name in ("Dough", "Topping"):
+        (tmp_path / f"{name}.uvl").write_bytes((PIZZAS / f"{name}.uvl").read_bytes())
+    (tmp_path / "out").mkdir()
+    result = convert(tmp_path / "main.uvl", tmp_path / "out" / "main.uvl")
+    assert result.exit_code == 0, result.output
+    assert sorted(p.name for p in (tmp_path / "out").iterdir()) == ["Dough.uvl", "main.uvl"]
+    assert "imports\n\tDough\n\nfeatures\n" in (tmp_path / "out" / "main.uvl").read_text()
+    original = read_uvl_plain(tmp_path / "main.uvl")
+    assert shape(read_uvl_plain(tmp_path / "out" / "main.uvl")) == shape(original)
