@@ -63,15 +63,16 @@ def load_analysable_model(path: str | Path, typed: bool = False) -> Any:
     path = Path(path)
     if path.suffix.lower() == ".uvl":
         from spl.dsl.interop.uvl import read_uvl_plain
+        from spl.dsl.interop.uvl_export import first_typed_part
         from spl.dsl.interop.uvl_typed import TypedFeatureModel
 
         model = read_uvl_plain(path)
         if isinstance(model, TypedFeatureModel) and not typed:
-            position, part = model.first_typed_part()
+            where, part = first_typed_part(model)
             raise ModelError(
                 [
                     Diagnostic(
-                        model.source.location(position),
+                        where,
                         f"{part}: this command reads the Boolean level of UVL only (spl "
                         "analyze reads the Arithmetic and Type levels, docs/fm.md)",
                     )

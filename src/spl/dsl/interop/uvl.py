@@ -70,11 +70,13 @@ def parse_uvl(
     with :mod:`spl.dsl.interop.uvl_export`, which keeps the typed parts."""
     plain = parse_uvl_plain(text, filename, default_name)
     if isinstance(plain, TypedFeatureModel) and carried_by is not None:
-        position, part = plain.first_typed_part()
+        from spl.dsl.interop.uvl_export import first_typed_part  # it imports this module
+
+        where, part = first_typed_part(plain)
         raise ModelError(
             [
                 Diagnostic(
-                    plain.source.location(position),
+                    where,
                     f"{part}: {carried_by} carries the Boolean level of UVL only (spl analyze "
                     "reads the Arithmetic and Type levels, docs/fm.md)",
                 )

@@ -26,7 +26,6 @@ An equation is a tuple tree, position last, like a Boolean formula
 from __future__ import annotations
 
 from spl.dsl.fm.plain import Feature, FeatureModel, Located, Source
-from spl.dsl.interop.interchange import written_names
 
 # UVL type keyword -> the sort of its value ("Boolean" features are plain features)
 SORTS = {"Integer": "num", "Real": "num", "String": "str"}
@@ -59,19 +58,6 @@ class TypedFeatureModel(FeatureModel):
         self.types: dict[str, str] = {}
         self.cardinalities: dict[str, tuple[int, int, int]] = {}
         self.equations: list[Equation] = []
-
-    def first_typed_part(self) -> tuple[int, str]:
-        """Where the first part .fm and FeatureIDE XML cannot carry is, and what it is."""
-        parts: list[tuple[int, str]] = []
-        features = {f.name: f for f in _features(self.root)}
-        written = written_names(self)
-        for name, kind in self.types.items():
-            parts.append((features[name].position, f"typed feature {written[name]} ({kind})"))
-        for name, (_, _, position) in self.cardinalities.items():
-            parts.append((position, f"feature cardinality of {written[name]}"))
-        for equation in self.equations:
-            parts.append((equation.position, "arithmetic or attribute constraint"))
-        return min(parts)
 
 
 def is_typed(model: object) -> bool:
