@@ -197,11 +197,17 @@ def model_summary(
         return tsm.summary(tsm.check_file(path, workspace=workspace)), []
     suffix = path.suffix.lower()
     if suffix == ".uvl":  # the plain model spl analyze reads, every level
+        from spl.dsl.fm.plain import to_ecore
+        from spl.dsl.fm.vocabulary import too_deep
         from spl.dsl.interop.uvl_reader import parse_uvl_plain
         from spl.dsl.interop.uvl_summary import summary
         from spl.dsl.workspace import text_of
 
         model = parse_uvl_plain(text_of(path, workspace), str(path), path.stem)
+        try:  # as every other command builds it: which checks the capability conditions
+            to_ecore(model)
+        except RecursionError:
+            raise ModelError([too_deep(str(path))]) from None
         return summary(model), _feature_model_findings(model) if analyse else []
     if suffix in (".xml", ".fm"):
         from spl.dsl.fm import language as fm

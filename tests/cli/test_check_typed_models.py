@@ -146,3 +146,13 @@ def test_a_boolean_model_gets_the_same_findings_in_every_format(tmp_path: Path) 
         findings[suffix] = result.stderr.split(": warning: ")[1]
     assert set(findings.values()) == {"feature A is dead: no product of the model contains it\n"}
     assert check(uvl).stderr.startswith(f"{uvl}:4:4: warning:")
+
+
+def test_a_uvl_model_is_still_checked_whole(tmp_path: Path) -> None:
+    """The check reads the plain model spl analyze reads and builds it as every other
+    command does, which checks a capability condition (docs/fm.md, "Capabilities")."""
+    path = tmp_path / "robot.uvl"
+    path.write_text("features\n\tR\n\t\toptional\n\t\t\tA {capability 'base = '}\n")
+    result = check(path)
+    assert result.exit_code == 1 and "Traceback" not in result.output
+    assert result.output.startswith(f"{path}:4:7: error: capability 'base = ': syntax error")
