@@ -13,6 +13,7 @@ import re
 from typing import TYPE_CHECKING, Any
 
 from spl.dsl.parse_tree import Refused as Refused, Tokens, rule
+from spl.dsl.tsm.options import Option, options
 from spl.metamodels.interface_kinds import KINDS, InterfaceKind
 
 # The regular expressions of tsm.tx, as textX compiles them (re.MULTILINE is arpeggio's
@@ -148,11 +149,18 @@ if TYPE_CHECKING:
     NodeMember = Parameter | NodeInterface
 
 
+# the options closing each interface statement, by its rule's name in tsm.tx: read by the
+# fast reader, copied by the builder and written back by the printer
+INTERFACE_OPTIONS: dict[str, tuple[Option, ...]] = {kind.rule: options(kind.rule) for kind in KINDS}
+
+
 def _interface_rule(kind: InterfaceKind) -> Any:
-    """A server may name its ROS name; any other kind names what it is bound to (its
-    ``binds``), and an input may say what feeds it from outside."""
-    fields = "name type rosName" if kind.binds is None else f"name type {kind.binds}"
-    made = rule(kind.rule, fields + ("" if kind.provides else " external"))
+    """A server is bound to nothing; any other kind names what it is bound to (its
+    ``binds``). The options closing the statement (a server's ROS name, an input's
+    ``external``) are the grammar's (``spl.dsl.tsm.options``)."""
+    fields = ["name", "type"] if kind.binds is None else ["name", "type", kind.binds]
+    fields += [option.attribute for option in INTERFACE_OPTIONS[kind.rule]]
+    made = rule(kind.rule, " ".join(fields))
     made.__module__ = __name__
     return made
 
