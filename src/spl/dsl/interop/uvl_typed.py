@@ -65,7 +65,8 @@ def is_typed(model: object) -> bool:
     return isinstance(model, TypedFeatureModel)
 
 
-def _features(root: Feature | None) -> list[Feature]:
+def subtree_features(root: Feature | None) -> list[Feature]:
+    """``root`` and every feature below it, in pre-order."""
     found: list[Feature] = []
     work = [root] if root is not None else []
     while work:
@@ -78,7 +79,7 @@ def _features(root: Feature | None) -> list[Feature]:
 
 def features_of(model: FeatureModel) -> list[Feature]:
     """Every feature in pre-order (the encoding's numbering, docs/analysis.md)."""
-    return _features(model.root)
+    return subtree_features(model.root)
 
 
 def renamed_equation(formula: tuple, names: dict[str, str]) -> tuple:

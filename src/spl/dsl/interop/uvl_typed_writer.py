@@ -22,7 +22,12 @@ from dataclasses import dataclass, field
 from spl.core.diagnostics import Diagnostic, ModelError
 from spl.dsl.fm.plain import Feature
 from spl.dsl.interop.uvl_lexer import KEYWORDS
-from spl.dsl.interop.uvl_typed import NUMERIC_ATTRIBUTES, TypedFeatureModel, features_of
+from spl.dsl.interop.uvl_typed import (
+    NUMERIC_ATTRIBUTES,
+    TypedFeatureModel,
+    features_of,
+    subtree_features,
+)
 
 _PLAIN = re.compile(r"[A-Za-z][A-Za-z0-9_]*\Z")
 _KEYWORDS = KEYWORDS | {"abstract"}
@@ -131,21 +136,10 @@ class Aggregates:
             return self.order[0].name
         feature: Feature | None = self.by_name.get(terms[0]) if terms else None
         while feature is not None:  # the scope holds the first term: one of its ancestors
-            if self.with_attribute(attribute, _subtree(feature)) == terms:
+            if self.with_attribute(attribute, subtree_features(feature)) == terms:
                 return feature.name
             feature = self.parents.get(feature.name)
         return None
-
-
-def _subtree(root: Feature) -> list[Feature]:
-    found: list[Feature] = []
-    work = [root]
-    while work:
-        feature = work.pop()
-        found.append(feature)
-        for group in reversed(feature.groups):
-            work.extend(reversed(group.features))
-    return found
 
 
 def equation_text(
