@@ -21,6 +21,7 @@ from typing import Any
 
 from spl.dsl.tsm import tree
 from spl.dsl.tsm.expression_reader import ExpressionReader
+from spl.dsl.tsm.options import INTERFACE_OPTIONS
 from spl.dsl.tsm.tree import IDENT, ROS_TYPE, Ref, TypeRef
 from spl.metamodels.interface_kinds import KINDS, InterfaceKind
 
@@ -34,7 +35,7 @@ OPENED_BY: dict[str, list[tuple[InterfaceKind, list[str], Any, Options]]] = {}
 for _kind in sorted(KINDS, key=lambda k: -len(k.keyword.split())):
     _first, *_rest = _kind.keyword.split()
     _options = tuple(
-        (o.keyword, getattr(tree, o.value), o.terminal) for o in tree.INTERFACE_OPTIONS[_kind.rule]
+        (o.keyword, getattr(tree, o.value), o.terminal) for o in INTERFACE_OPTIONS[_kind.rule]
     )
     OPENED_BY.setdefault(_first, []).append(
         (_kind, _rest, tree.INTERFACE_RULES[_kind.rule], _options)

@@ -15,6 +15,7 @@ import re
 from dataclasses import dataclass
 
 from spl.dsl.grammar_text import Expr, rules
+from spl.metamodels.interface_kinds import KINDS
 
 
 @dataclass(frozen=True)
@@ -70,3 +71,8 @@ def options(rule: str) -> tuple[Option, ...]:
         keyword, attribute, value = option
         found.append(Option(keyword, attribute, value, _terminal(value)))
     return tuple(reversed(found))
+
+
+# the options closing each interface statement, by its rule's name in tsm.tx: read by the
+# fast reader, copied by the builder and written back by the printer
+INTERFACE_OPTIONS: dict[str, tuple[Option, ...]] = {kind.rule: options(kind.rule) for kind in KINDS}

@@ -13,7 +13,7 @@ import re
 from typing import TYPE_CHECKING, Any
 
 from spl.dsl.parse_tree import Refused as Refused, Tokens, rule
-from spl.dsl.tsm.options import Option, options
+from spl.dsl.tsm.options import INTERFACE_OPTIONS
 from spl.metamodels.interface_kinds import KINDS, InterfaceKind
 
 # The regular expressions of tsm.tx, as textX compiles them (re.MULTILINE is arpeggio's
@@ -113,10 +113,9 @@ class Parameter(Rule):
     value: StringValue | BoolValue | NumberValue | None
 
 
-# A node's interface statements: one rule per kind of the registry, its fields given by
-# the kind's side (docs/architecture.md, "Interface kinds"), so that a kind added there
-# needs no class here. The type checker reads the four shapes below (each named after a
-# rule of its shape); at run time each kind's rule is made with its shape's fields.
+# A node's interface statements: one rule per kind of the registry (docs/architecture.md,
+# "Interface kinds"), so a new kind needs no class here. The type checker reads the four
+# shapes below; at run time each kind's rule is made with its shape's fields.
 if TYPE_CHECKING:
 
     class Publishes(Rule):  # a topic's providing side
@@ -149,15 +148,8 @@ if TYPE_CHECKING:
     NodeMember = Parameter | NodeInterface
 
 
-# the options closing each interface statement, by its rule's name in tsm.tx: read by the
-# fast reader, copied by the builder and written back by the printer
-INTERFACE_OPTIONS: dict[str, tuple[Option, ...]] = {kind.rule: options(kind.rule) for kind in KINDS}
-
-
 def _interface_rule(kind: InterfaceKind) -> Any:
-    """A server is bound to nothing; any other kind names what it is bound to (its
-    ``binds``). The options closing the statement (a server's ROS name, an input's
-    ``external``) are the grammar's (``spl.dsl.tsm.options``)."""
+    """A server binds nothing, any other kind its ``binds``; then the grammar's options."""
     fields = ["name", "type"] if kind.binds is None else ["name", "type", kind.binds]
     fields += [option.attribute for option in INTERFACE_OPTIONS[kind.rule]]
     made = rule(kind.rule, " ".join(fields))
