@@ -1,7 +1,8 @@
 """An option added to a statement of ``tsm.tx`` (a closing ``('KEYWORD' attr=VALUE)?``)
-needs no edit of the fast reader (docs/architecture.md, "Adding one .tsm element, end to
-end"): rehearsed on a copy of the source tree whose grammar gives service clients a
-``timeout``, the fast reader reads every form of the statement as textX reads it."""
+with its attribute in ``tsm.ecore`` needs no edit of the fast reader or the builder (docs/architecture.md, "Adding one .tsm element, end to end"): rehearsed on a
+copy of the source tree whose grammar and metamodel give service clients a ``timeout``,
+the fast reader reads every form of the statement as textX reads it, the builder copies
+the value into the model and refuses one out of its type's range at its column."""
 
 from __future__ import annotations
 
@@ -20,6 +21,13 @@ ROOT = Path(__file__).resolve().parents[2]
 CALLS = """Calls: 'calls' name=Name ( (':' type=TypeRef ('->' server=QRef)?) | ('->' server=QRef) )
     ('external' external=Str)?;"""
 TIMEOUT = CALLS.replace("('external'", "('timeout' timeout=NumberLiteral)? ('external'")
+SERVICE_CLIENT = (
+    '<eClassifiers xsi:type="ecore:EClass" name="ServiceClient" eSuperTypes="#//Interface">\n'
+)
+TIMEOUT_ATTRIBUTE = (
+    '<eStructuralFeatures xsi:type="ecore:EAttribute" name="timeout" '
+    'eType="ecore:EDataType http://www.eclipse.org/emf/2002/Ecore#//EDouble"/>\n'
+)
 
 REHEARSAL = r"""
 import spl
@@ -44,6 +52,20 @@ for form in forms:
 (container,) = reader.read(head + forms[0] + "\n }\n}\n").elements
 client = container.members[1].members[0]
 print(type(client).__name__, client._fields, client.timeout.value)
+
+from spl.core.diagnostics import ModelError
+from spl.dsl.tsm import printer
+text = head + forms[1] + "\n  calls d -> M.s\n }\n}\n"
+model = language.parse_text(text, "m.tsm")
+first, second = model.containers[0].nodes[1].interfaces
+print(first.timeout, first.external, second.timeout)
+printed = printer.print_model(model)
+print([line.strip() for line in printed.splitlines() if line.strip().startswith("calls")])
+assert printer.print_model(language.parse_text(printed, "again.tsm")) == printed
+try:
+    language.parse_text(head + "calls c -> M.s timeout 1e999\n }\n}\n", "bad.tsm")
+except ModelError as error:
+    print(error)
 """
 
 
@@ -57,6 +79,10 @@ def _rehearsal_tree(tmp_path: Path) -> Path:
     text = grammar.read_text(encoding="utf-8")
     assert CALLS in text
     grammar.write_text(text.replace(CALLS, TIMEOUT), encoding="utf-8")
+    metamodel = source / "spl" / "metamodels" / "tsm.ecore"
+    text = metamodel.read_text(encoding="utf-8")
+    assert SERVICE_CLIENT in text
+    metamodel.write_text(text.replace(SERVICE_CLIENT, SERVICE_CLIENT + TIMEOUT_ATTRIBUTE))
     return source
 
 
@@ -72,9 +98,10 @@ def test_an_option_added_to_the_grammar_is_read_as_textx_reads_it(tmp_path: Path
         cwd=tmp_path,
     )
     assert done.returncode == 0, done.stderr
-    assert done.stdout.split("\n")[0] == (
-        "Calls ('position', 'name', 'type', 'server', 'timeout', 'external') 2.5"
-    )
+    read, built, _, refused = done.stdout.split("\n")[:4]
+    assert read == "Calls ('position', 'name', 'type', 'server', 'timeout', 'external') 2.5"
+    assert built == "0.5 a driver 0.0"  # the metamodel's default where none is written
+    assert refused == "bad.tsm:5:26: error: timeout 1e999 is out of range of EDouble"
 
 
 @pytest.mark.parametrize(

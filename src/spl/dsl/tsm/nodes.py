@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING, Any, cast
 from spl.dsl import literals, rosnames
 from spl.dsl.tsm.calling import call_problem
 from spl.dsl.tsm.names import Names, find_interface
+from spl.dsl.tsm.options import INTERFACE_OPTIONS, Option
 from spl.dsl.tsm.syntax import decode, kind
 from spl.metamodels.interface_kinds import KINDS, InterfaceKind, kind_of
 
@@ -170,7 +171,39 @@ def _interface(
         else:
             ros_name = f"/{name}"
         interface.rosName = ros_name
+    for option in INTERFACE_OPTIONS[interface_kind.rule]:
+        value = getattr(tree, option.attribute)
+        if value is not None and option.attribute not in _CHECKED_HERE:
+            _plain_option(names, interface, option, value)
     return interface
+
+
+# the options of an interface statement this module checks by their own rules, above
+_CHECKED_HERE = frozenset({"external", "rosName"})
+
+
+def _plain_option(names: Names, element: Any, option: Option, tree: Any) -> None:
+    """An option with no rule of its own beyond its type: copied into the model's
+    attribute of its name, in the range of the metamodel's type (docs/architecture.md,
+    "Adding one .tsm element, end to end")."""
+    feature = element.eClass.findEStructuralFeature(option.attribute)
+    if feature is None:
+        raise LookupError(f"tsm.ecore: {element.eClass.name} has no {option.attribute}")
+    text, kind_name = tree.value, feature.eType.name
+    value: Any = None
+    if kind_name == "EString":
+        value = decode(text) if option.quoted else text
+    elif kind_name in ("EInt", "EIntegerObject"):
+        value = literals.int_literal(text, literals.INT32_MAX)
+    elif kind_name in ("EDouble", "EDoubleObject"):
+        number = float(text)
+        value = number if math.isfinite(number) else None
+    elif kind_name == "EBoolean":
+        value = text == "true"
+    if value is None:
+        names.error(tree, f"{option.keyword} {text} is out of range of {kind_name}")
+        return
+    element.eSet(option.attribute, value)
 
 
 def _refuse_generated_type(
