@@ -1,8 +1,10 @@
 """An option added to a statement of ``tsm.tx`` (a closing ``('KEYWORD' attr=VALUE)?``)
-with its attribute in ``tsm.ecore`` needs no edit of the fast reader or the builder (docs/architecture.md, "Adding one .tsm element, end to end"): rehearsed on a
+with its attribute in ``tsm.ecore`` needs no edit of the fast reader, the builder or the
+printer (docs/architecture.md, "Adding one .tsm element, end to end"): rehearsed on a
 copy of the source tree whose grammar and metamodel give service clients a ``timeout``,
 the fast reader reads every form of the statement as textX reads it, the builder copies
-the value into the model and refuses one out of its type's range at its column."""
+the value into the model and refuses one out of its type's range at its column, and
+the printer writes it back (``resolved.tsm``)."""
 
 from __future__ import annotations
 
@@ -98,9 +100,10 @@ def test_an_option_added_to_the_grammar_is_read_as_textx_reads_it(tmp_path: Path
         cwd=tmp_path,
     )
     assert done.returncode == 0, done.stderr
-    read, built, _, refused = done.stdout.split("\n")[:4]
+    read, built, printed, refused = done.stdout.split("\n")[:4]
     assert read == "Calls ('position', 'name', 'type', 'server', 'timeout', 'external') 2.5"
     assert built == "0.5 a driver 0.0"  # the metamodel's default where none is written
+    assert printed == str(['calls c -> M.s timeout 0.5 external "a driver"', "calls d -> M.s"])
     assert refused == "bad.tsm:5:26: error: timeout 1e999 is out of range of EDouble"
 
 

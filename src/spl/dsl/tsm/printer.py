@@ -13,6 +13,7 @@ import re
 from typing import Any
 
 from spl.dsl.tsm.bridges import bridged_clients
+from spl.dsl.tsm.options import INTERFACE_OPTIONS, Option
 from spl.metamodels.interface_kinds import kind_of
 
 _INDENT = "    "
@@ -207,9 +208,29 @@ def _typed(interface: Any, peer_type: str | None) -> str:
 
 
 def _interface(interface: Any) -> str:
-    """An interface's line; an input fed from outside keeps its reason (docs/tsm.md)."""
+    """An interface's line, then the options its statement closes with as ``tsm.tx``
+    declares them (an input fed from outside keeps its reason, docs/tsm.md), each left
+    out where it has its metamodel's default; a server's ROS name is ``_wired``'s."""
     text = _wired(interface)
-    return f"{text} external {_quote(interface.external)}" if interface.external else text
+    for option in INTERFACE_OPTIONS[kind_of(interface).rule]:
+        if option.attribute != "rosName":
+            text += _option(interface, option)
+    return text
+
+
+def _option(element: Any, option: Option) -> str:
+    """`` KEYWORD value`` of a set option, in the syntax of its value's rule."""
+    value = element.eGet(option.attribute)
+    feature = element.eClass.findEStructuralFeature(option.attribute)
+    if value is None or value == "" or value == feature.get_default_value():
+        return ""
+    if option.quoted:
+        written = _quote(value)
+    elif isinstance(value, bool):
+        written = "true" if value else "false"
+    else:
+        written = _number(value) if isinstance(value, float) else str(value)
+    return f" {option.keyword} {written}"
 
 
 def _wired(interface: Any) -> str:
