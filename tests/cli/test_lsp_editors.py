@@ -13,6 +13,7 @@ from pathlib import Path
 import pytest
 
 from spl.dsl import grammar_keywords
+from spl.dsl.tsm.options import INTERFACE_OPTIONS
 from spl.lsp.checking import SUFFIXES
 from spl.metamodels.interface_kinds import KINDS
 
@@ -59,7 +60,11 @@ def test_textmate_grammar_highlights_every_keyword_of_the_language(language: str
     # highlighted by their place, as the declarations' second capture
     qualifiers = QUALIFIERS if language == "tsm" else set()
     highlighted = set(_words(grammar["repository"]["keywords"]["match"]))
-    assert highlighted == keywords - constants - qualifiers
+    # an interface statement's option keyword (``timeout 2.5``) may be highlighted by its
+    # place alone, as the options pattern does (the next test)
+    by_place = OPTION_KEYWORDS if language == "tsm" else set()
+    assert highlighted <= keywords - constants - qualifiers
+    assert keywords - constants - qualifiers - highlighted <= by_place
     declaring = set(_words(grammar["repository"]["declarations"]["match"]))
     assert declaring <= keywords
     assert _declaring_keywords(language) - qualifiers <= declaring
@@ -94,6 +99,32 @@ def test_textmate_grammar_highlights_an_interface_statement_by_its_place():
     # a service named like a qualifier is a name: ``provides action : p/T``
     assert declarations.match("provides action : p/T").groups() == ("provides", None, "action")
     assert declarations.match("topic Scan : p/T").groups() == ("topic", None, "Scan")
+
+
+# the keywords of the options closing an interface statement (tsm.tx)
+OPTION_KEYWORDS = {o.keyword for found in INTERFACE_OPTIONS.values() for o in found}
+
+
+def test_textmate_grammar_highlights_a_statement_option_by_its_place():
+    """The keyword of an option, a word right before its string or number, is highlighted
+    whatever the word, so that an option added to tsm.tx (``timeout 2.5``) needs no edit
+    of the grammar; a name or an expression's operand before a number is not."""
+    (entry,) = [g for g in manifest()["contributes"]["grammars"] if g["language"] == "spl-tsm"]
+    grammar = json.loads((EXTENSION / entry["path"]).read_text(encoding="utf-8"))
+    options = re.compile(grammar["repository"]["options"]["match"])
+    assert {"name", "external"} <= OPTION_KEYWORDS
+    lines = {
+        'provides s : p/T name "/s"': "name",
+        'calls c -> N.s external "a driver"': "external",
+        "calls c -> N.s timeout 2.5": "timeout",
+        "calls c -> N.s retries\t3": "retries",
+        "calls c -> N.s every .5": "every",
+    }
+    for line, keyword in lines.items():
+        found = [m.group() for m in options.finditer(line)]
+        assert found == [keyword], line
+    for line in ("topic Scan : p/T", "x = a - 3", "param p : int = 3", "x = f(a, 3)"):
+        assert options.search(line) is None, line
 
 
 def _split(keyword: str) -> tuple[str, str | None]:
