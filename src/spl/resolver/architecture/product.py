@@ -9,6 +9,7 @@ selection, attribute values, which nodes were migrated).
 
 from __future__ import annotations
 
+from collections import Counter
 from dataclasses import dataclass, field
 from functools import cached_property
 from typing import TYPE_CHECKING
@@ -65,14 +66,12 @@ def node_keys(
     product's copy of its template names with its own the nodes it left out of each
     container (``left_out``, by the container's id: :mod:`spl.resolver.resolution.pruning`)."""
     left = left_out or {}
-    nodes = [(c.name, n) for c in system.containers for n in [*c.nodes, *left.get(id(c), ())]]
-    counts: dict[str, int] = {}
-    for _, node in nodes:
-        counts[node.name] = counts.get(node.name, 0) + 1
-    return {
-        id(node): node.name if counts[node.name] == 1 else f"{container}.{node.name}"
-        for container, node in nodes
-    }
+    nodes = []  # each name read once: the line checks name every node of dozens of products
+    for container in system.containers:
+        held = container.name
+        nodes += [(held, n.name, id(n)) for n in [*container.nodes, *left.get(id(container), ())]]
+    counts = Counter(name for _, name, _ in nodes)
+    return {key: name if counts[name] == 1 else f"{where}.{name}" for where, name, key in nodes}
 
 
 def topic_ros_name(topic: tsm_types.Topic) -> str:

@@ -155,7 +155,8 @@ def rewire(
         if server is None:
             client.server = None
         elif _container(server) is _container(client):
-            client.server = server
+            if client.server is not server:  # most are bound so already: pyecore notifies
+                client.server = server
             if id(client) not in local_before:
                 causes.record(
                     trace,
