@@ -51,7 +51,7 @@ ENVIRONMENT = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTEC
 WITHOUT_READERS = (
     "import importlib, sys\n"
     "for name in sys.argv.pop(1).split(','):\n"
-    "    importlib.import_module(f'spl.dsl.{name}_reader').read = lambda text: None\n"
+    "    importlib.import_module(f'spl.dsl.{name}.reader').read = lambda text: None\n"
     "from spl.cli import main\n"
     "sys.argv[0] = 'spl'\n"
     "main()\n"
