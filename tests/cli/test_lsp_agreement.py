@@ -2,15 +2,15 @@
 and of the bad-input models the tests keep (tests/models), the diagnostics ``spl lsp``
 publishes are those ``spl check --json`` prints (same line, column, severity, code and
 text; but the product-line checks' errors, which the editor shows as warnings on the
-element), and for UVL and FeatureIDE files those ``spl analyze`` prints. Edited lines
-are checked from the editor's unsaved text against the same edit saved in another
-folder.
+element); a feature model checked on its own (a UVL or FeatureIDE file, a .fm outside a
+product line) gets those of ``spl check FILE``, its analysis included (a void model, the
+dead features). Edited lines are checked from the editor's unsaved text against the same
+edit saved in another folder.
 """
 
 from __future__ import annotations
 
 import json
-import re
 import shutil
 import subprocess
 import sys
@@ -18,8 +18,11 @@ from pathlib import Path
 
 import pytest
 import pytest_lsp
+from click.testing import CliRunner
 from lsprotocol import types
 from pytest_lsp import LanguageClient
+
+from spl.cli import main
 
 from support.lsp_client import SERVER, change, close, diagnostics, open_file, start
 
@@ -29,7 +32,6 @@ FEATURE_MODEL_SUFFIXES = {".uvl", ".xml"}
 # product-line checks spl check reports as errors and the editor as warnings:
 # an element no product activates, a reachable conflict, a product-dependent statement
 LINE_CHECK_ERRORS = {"SPL010", "SPL012", "SPL016"}
-LOCATED = re.compile(r"^(.*?):(\d+):(\d+): (error|warning|info): (.*?)(?: \[(SPL\d+)\])?$")
 pytestmark = pytest.mark.asyncio(loop_scope="module")
 
 
@@ -60,28 +62,41 @@ def spl_check(folder: Path) -> dict[Path, list[tuple]]:
         text=True,
         cwd=ROOT,
     )
+    return by_file(json.loads(done.stdout))
+
+
+def spl_check_file(path: Path) -> dict[Path, list[tuple]]:
+    """``spl check FILE --json`` (in this process): its diagnostics by the file they are
+    in (an imported UVL model's in its own)."""
+    done = CliRunner().invoke(main, ["check", "--json", str(path)])
+    assert done.exit_code in (0, 1), done.output
+    return by_file(json.loads(done.stdout))
+
+
+def by_file(report: dict) -> dict[Path, list[tuple]]:
     found: dict[Path, list[tuple]] = {}
-    for d in json.loads(done.stdout)["diagnostics"]:
+    for d in report["diagnostics"]:
         key = (d["line"], d["col"], d["severity"], d["code"], d["message"])
         found.setdefault(Path(d["file"]).resolve(), []).append(key)
     return found
 
 
-def spl_analyze(path: Path) -> list[tuple]:
-    """The located findings ``spl analyze FILE`` prints for a UVL or FeatureIDE file."""
-    done = subprocess.run(
-        [sys.executable, "-m", "spl", "analyze", "--count-seconds", "0", str(path)],
-        capture_output=True,
-        text=True,
-        cwd=ROOT,
-    )
-    found = []
-    for line in done.stderr.splitlines():
-        match = LOCATED.match(line)
-        if match:
-            _, row, col, severity, message, code = match.groups()
-            found.append((int(row), int(col), severity, code, message))
-    return found
+def analysed_alone(path: Path) -> bool:
+    """A feature model ``spl check FILE`` analyses: any but a product line's .fm (in a
+    folder holding exactly one .rm)."""
+    if path.suffix in FEATURE_MODEL_SUFFIXES:
+        return True
+    return path.suffix == ".fm" and len(list(path.parent.glob("*.rm"))) != 1
+
+
+def expected(folder: Path, files: list[Path]) -> dict[Path, list[tuple]]:
+    """What the editor shows on each file of ``folder`` when all of ``files`` are open:
+    the folder's check, and ``spl check FILE`` of each feature model checked alone."""
+    checked = spl_check(folder) if any(p.suffix in MODEL_SUFFIXES for p in files) else {}
+    for path in filter(analysed_alone, files):
+        for file, found in spl_check_file(path).items():
+            checked[file] = list(dict.fromkeys([*checked.get(file, []), *found]))
+    return checked
 
 
 def as_spl(diagnostic: types.Diagnostic, text: str) -> tuple:
@@ -126,16 +141,12 @@ async def test_every_file_gets_the_diagnostics_of_spl_check(
     copy = tmp_path / folder.name
     shutil.copytree(folder, copy)
     files = sorted(p for p in copy.iterdir() if p.suffix in MODEL_SUFFIXES | FEATURE_MODEL_SUFFIXES)
-    checked = spl_check(copy) if any(p.suffix in MODEL_SUFFIXES for p in files) else {}
+    checked = expected(copy, files)
     for path in files:
         open_file(client, path, path.read_text(encoding="utf-8"))
     for path in files:
         text = path.read_text(encoding="utf-8")
-        if path.suffix in MODEL_SUFFIXES:
-            wanted = checked.get(path.resolve(), [])
-        else:
-            wanted = spl_analyze(path)
-        await agree(client, path, text, wanted)
+        await agree(client, path, text, checked.get(path.resolve(), []))
     close(client, *files)
 
 
@@ -212,3 +223,83 @@ async def test_a_dead_resolution_element_is_a_warning_on_its_line(
         d[:2] + d[3:] for d in dead
     }
     close(client, rm)
+
+
+DATA = ROOT / "tests" / "data"
+TYPED = DATA / "uvl-parser" / "test_models"
+ALONE = [  # a feature model opened alone, and what its analysis finds
+    (DATA / "feature-models" / "axTLS.xml", "dead"),  # FeatureIDE, SAT
+    (TYPED / "complex" / "Horcas2026_Pizza.uvl", "dead"),  # Type level, z3
+    (TYPED / "arithmetic_level" / "aggregate_functions" / "aggregateFunctions03.uvl", "void"),
+    (ROOT / "tests" / "models" / "analysis" / "void.fm", "void"),  # a .fm in no line, SAT
+]
+
+
+@pytest.mark.parametrize("source,finding", ALONE, ids=[a[0].name for a in ALONE])
+async def test_a_feature_model_alone_shows_its_analysis(
+    client: LanguageClient, source: Path, finding: str, tmp_path: Path
+):
+    """A void model's error at its root, or each dead feature's warning at its
+    declaration: what spl check FILE prints, on the file."""
+    path = tmp_path / source.name
+    shutil.copyfile(source, path)
+    wanted = spl_check_file(path)
+    assert list(wanted) == [path.resolve()]
+    found = wanted[path.resolve()]
+    if finding == "void":
+        assert [d[2] for d in found] == ["error"] and "has no product" in found[0][4]
+    else:
+        assert found and all(d[2] == "warning" and " is dead: " in d[4] for d in found)
+    open_file(client, path)
+    await agree(client, path, path.read_text(encoding="utf-8"), found)
+    close(client, path)
+
+
+async def test_a_dead_feature_of_an_imported_model_is_shown_in_its_file(
+    client: LanguageClient, tmp_path: Path
+):
+    """The importing model's constraint kills a feature of the submodel: the warning is
+    on the submodel's declaration, as spl check FILE places it, though only the importing
+    file is open."""
+    sub = tmp_path / "sub.uvl"
+    sub.write_text("features\n\tSub\n\t\toptional\n\t\t\tA\n\t\t\tB\n", encoding="utf-8")
+    root = tmp_path / "root.uvl"
+    text = "imports\n\tsub as s\nfeatures\n\tR\n\t\toptional\n\t\t\ts.Sub\nconstraints\n\t!s.A\n"
+    root.write_text(text, encoding="utf-8")
+    wanted = spl_check_file(root)
+    assert wanted == {
+        sub.resolve(): [
+            (4, 4, "warning", None, "feature s.A is dead: no product of the model contains it")
+        ]
+    }
+    open_file(client, root, text)
+    await agree(client, sub, sub.read_text(encoding="utf-8"), wanted[sub.resolve()])
+    await agree(client, root, text, [])
+    close(client, root)
+
+
+async def test_an_edited_feature_model_shows_the_analysis_of_its_unsaved_text(
+    client: LanguageClient, tmp_path: Path
+):
+    """Through edits: a constraint that kills two features, a syntax error (its error
+    alone, the warnings of the text before gone), its fix, the constraint removed; each
+    time what spl check FILE prints for the same text saved elsewhere."""
+    model = "features\n\tCar\n\t\tmandatory\n\t\t\tEngine\n\t\toptional\n\t\t\tRadio\n"
+    model += "\t\t\tNavigation\nconstraints\n\tNavigation => Radio\n"
+    killed = model + "\t!Radio\n"
+    edits = [model, killed, killed.replace("!Radio", "!Radio &"), killed, model]
+    editor, saved = tmp_path / "editor" / "car.uvl", tmp_path / "saved" / "car.uvl"
+    editor.parent.mkdir()
+    saved.parent.mkdir()
+    editor.write_text(model, encoding="utf-8")
+    open_file(client, editor, model)
+    shown = []
+    for version, text in enumerate(edits, start=1):
+        if version > 1:
+            change(client, editor, text, version)
+        saved.write_text(text, encoding="utf-8")
+        wanted = spl_check_file(saved).get(saved.resolve(), [])
+        shown.append(sorted({d[2] for d in wanted}))
+        await agree(client, editor, text, wanted)
+    assert shown == [[], ["warning"], ["error"], ["warning"], []]
+    close(client, editor)

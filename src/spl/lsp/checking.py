@@ -9,7 +9,10 @@ The editor must report what ``spl check`` prints, so this module calls what
   of the whole line), and shows the findings located in it;
 * any other .tsm, .fm or .rm is checked as ``spl check FILE`` (a .rm with the .tsm and
   .fm it names);
-* a UVL or FeatureIDE .xml feature model as ``spl analyze`` and ``spl convert`` read it.
+* a UVL or FeatureIDE .xml feature model as ``spl analyze`` and ``spl convert`` read it;
+* a feature model checked on its own (any but a line's .fm) is then analysed as ``spl
+  check FILE`` analyses it (:func:`feature_model_findings`), beside the checks
+  (:mod:`spl.lsp.model_analyses`).
 
 When spl gains one pipeline (load line, check selection, resolve, emit), this is the
 one module to re-point.
@@ -48,6 +51,9 @@ class FileCheck:
     path: str
     diagnostics: tuple[Diagnostic, ...]
     model: Any = None  # tsm System, fm FeatureModel, or rm ResolutionModelFiles
+    # a feature model as its analysis reads it: a UVL model's plain objects, which keep
+    # the Arithmetic and Type levels the pyecore model leaves out; else ``model``
+    analysable: Any = None
 
 
 def product_line(path: str) -> str | None:
@@ -62,6 +68,16 @@ def product_line(path: str) -> str | None:
     except OSError:
         return None
     return folder if len(models) == 1 else None
+
+
+def analysed_alone(path: str) -> bool:
+    """Whether ``spl check`` analyses ``path`` as a feature model on its own: a .uvl or
+    .xml, or a .fm outside a product-line folder (a line's .fm is judged by the line's
+    checks, docs/commands.md, "spl check")."""
+    suffix = os.path.splitext(path)[1].lower()
+    if suffix in FEATURE_MODEL_SUFFIXES:
+        return True
+    return suffix == ".fm" and product_line(path) is None
 
 
 def is_featureide(text: str) -> bool:
@@ -87,15 +103,34 @@ def check_file(path: str, workspace: Workspace, trees: Trees | None = None) -> F
 
             return FileCheck(path, (), tsm.check_file(path, trees, workspace))
         if suffix in MODEL_SUFFIXES:
-            return FileCheck(path, (), _parse_model(path, suffix, workspace))
+            model = _parse_model(path, suffix, workspace)
+            return FileCheck(path, (), model, model if suffix == ".fm" else None)
+        if suffix == ".uvl":  # what spl check FILE.uvl reads: the plain model, then pyecore
+            from spl.dsl.interop.uvl import ecore_of
+            from spl.dsl.interop.uvl_reader import parse_uvl_plain
+            from spl.dsl.workspace import text_of
+
+            plain = parse_uvl_plain(text_of(path, workspace), path, Path(path).stem)
+            return FileCheck(path, (), ecore_of(plain), plain)
         text = workspace.texts.get(os.path.abspath(path))
         if suffix == ".xml" and text is not None:
-            return FileCheck(path, (), _parse_featureide(path, text))
+            model = _parse_featureide(path, text)
+            return FileCheck(path, (), model, model)
         from spl.dsl.interop.formats import load_feature_model
 
-        return FileCheck(path, (), load_feature_model(path, workspace))
+        model = load_feature_model(path, workspace)
+        return FileCheck(path, (), model, model)
     except ModelError as exc:
         return FileCheck(path, tuple(dict.fromkeys(exc.diagnostics)))
+
+
+def feature_model_findings(result: FileCheck) -> tuple[Diagnostic, ...]:
+    """What ``spl check FILE`` adds for a feature model that read without error: a void
+    model's error at its root, else a warning at each dead feature's declaration
+    (:mod:`spl.resolver.analysis.model_findings`, on SAT or z3 as ``spl analyze``)."""
+    from spl.resolver.analysis.model_findings import feature_model_findings as findings
+
+    return tuple(dict.fromkeys(findings(result.analysable)))
 
 
 def _parse_model(path: str, suffix: str, workspace: Workspace) -> Any:

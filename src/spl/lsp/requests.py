@@ -145,6 +145,7 @@ def build_server() -> SplLanguageServer:
         if ls.check_task is not None:
             ls.check_task.cancel()
         ls.checker.shutdown(wait=False, cancel_futures=True)
+        ls.analyses.shutdown()
 
     return server
 

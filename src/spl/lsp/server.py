@@ -2,7 +2,8 @@
 FeatureIDE .xml feature models, for diagnostics).
 
 Diagnostics are checked in one background thread, a short while after the last
-change (debounced), from the editor's unsaved texts; requests (definition,
+change (debounced), from the editor's unsaved texts; a feature model checked on its
+own is then analysed in another (:mod:`spl.lsp.model_analyses`); requests (definition,
 references, hover, completion, outline, formatting) are answered on the event loop
 from the last models that parsed and the current text, so a long check never
 blocks them. A failure while answering one request answers that request with an
@@ -32,6 +33,7 @@ from spl.core.diagnostics import Diagnostic
 from spl.dsl.tsm.incremental import Trees
 from spl.dsl.workspace import Workspace
 from spl.lsp import checking
+from spl.lsp.model_analyses import Findings, ModelAnalyses
 from spl.lsp.positions import LineIndex
 from spl.lsp.project import Project
 from spl.lsp.symbols import Decl
@@ -86,6 +88,7 @@ class SplLanguageServer(LanguageServer):
         # the stack of a main thread, not a small thread default
         threading.stack_size(CHECK_STACK_BYTES)
         self.checker = ThreadPoolExecutor(max_workers=1, thread_name_prefix="spl-check")
+        self.analyses = ModelAnalyses()  # lone feature models' analyses, beside the checks
         self.changed: set[str] = set()
         self.last_change = 0.0
         self.wake: asyncio.Event | None = None
@@ -94,6 +97,7 @@ class SplLanguageServer(LanguageServer):
         self.stopping = False  # a shutdown request came
         self.exit_code = 0
         self.findings: dict[Unit, dict[str, tuple[Diagnostic, ...]]] = {}
+        self.analysed: set[Unit] = set()  # units whose findings shown are an analysis's
         self.published: dict[str, tuple[Diagnostic, ...]] = {}
 
     # -- documents and checks ----------------------------------------------------------------
@@ -180,13 +184,17 @@ class SplLanguageServer(LanguageServer):
 
     def _check_units(self, units: list[Unit], texts: dict[str, str], loop: Any) -> None:
         for unit in units:
+            analysing = False
             try:
-                found = self._findings(unit, texts)
+                found, analysing = self._findings(unit, texts, loop)
             except Exception as exc:  # an spl bug: shown on the document, never fatal
                 logger.error("checking %s failed:\n%s", unit[1], traceback.format_exc())
                 path = unit[1] if unit[0] == "file" else self._first_open(unit[1])
                 found = {path: (checking.internal_error(path, exc),)}
-            loop.call_soon_threadsafe(self.publish, unit, found)
+            # a text that read is shown with its analysis, and the last analysis stays
+            # until then; a syntax error, or its fix, is shown at once
+            if not (analysing and unit in self.analysed):
+                loop.call_soon_threadsafe(self.publish, unit, found)
         for path in self._model_files(texts):
             text = self.project.text(path)
             if text is not None and self.project.read_texts.get(path) != text:
@@ -206,17 +214,51 @@ class SplLanguageServer(LanguageServer):
         found = [p for p in list(self.project.documents) if os.path.dirname(p) == folder]
         return found[0] if found else os.path.join(folder, ".")
 
-    def _findings(self, unit: Unit, texts: dict[str, str]) -> dict[str, tuple[Diagnostic, ...]]:
+    def _findings(
+        self, unit: Unit, texts: dict[str, str], loop: Any
+    ) -> tuple[dict[str, Findings], bool]:
+        """A unit's findings by file, and whether its analysis was started."""
         kind, where = unit
+        analysing = False
         if kind == "file":
             text = self.project.text(where)
             result = checking.check_file(where, self.files(texts), self.trees)
             self._keep_models(result, texts, text)
             diagnostics: Iterable[Diagnostic] = result.diagnostics
+            analysing = self._analyse(result, texts.get(where), loop)
         else:
             diagnostics, plain = self.line_checks.check(where, texts, self.trees, self.inputs(unit))
             for result in plain:  # the models requests use: not built again below
                 self._keep_models(result, texts, self.project.text(result.path))
+        return self._placed(unit, diagnostics), analysing
+
+    def _analyse(self, result: checking.FileCheck, text: str | None, loop: Any) -> bool:
+        """Start the analysis ``spl check FILE`` runs on a lone feature model that read
+        (docs/editors.md, "How fast"); whether it was started."""
+        path = result.path
+        if text is None or result.diagnostics or result.analysable is None:
+            return False
+        if not checking.analysed_alone(path):
+            return False
+
+        def current() -> bool:
+            return self.project.text(path) == text
+
+        def done(path: str, text: str, found: Findings) -> None:
+            loop.call_soon_threadsafe(self.publish_analysis, path, text, found)
+
+        self.analyses.submit(text, result, current, done)
+        return True
+
+    def publish_analysis(self, path: str, text: str, found: Findings) -> None:
+        """Show an analysis's findings while the text it analysed is the editor's."""
+        if self.project.text(path) == text:
+            unit = ("file", path)
+            self.publish(unit, self._placed(unit, found), analysed=True)
+
+    def _placed(self, unit: Unit, diagnostics: Iterable[Diagnostic]) -> dict[str, Findings]:
+        """Findings by the file they are located in."""
+        where = unit[1]
         # every file the check covers gets its findings, none when it has none
         found: dict[str, list[Diagnostic]] = {
             p: [] for p in self.inputs(unit) if p.endswith(checking.SUFFIXES)
@@ -253,15 +295,23 @@ class SplLanguageServer(LanguageServer):
                 found += self.project.header(path).values()
         return [p for p in dict.fromkeys(found) if os.path.isfile(p) or p in texts]
 
-    def publish(self, unit: Unit, found: dict[str, tuple[Diagnostic, ...]]) -> None:
-        """Record a unit's findings and send every file whose diagnostics changed."""
+    def publish(
+        self, unit: Unit, found: dict[str, tuple[Diagnostic, ...]], analysed: bool = False
+    ) -> None:
+        """Record a unit's findings (``analysed``: with its analysis's) and send every
+        file whose diagnostics changed."""
         if unit in self.active_units():
             self.findings[unit] = found
+            if analysed:
+                self.analysed.add(unit)
+            else:
+                self.analysed.discard(unit)
         self.flush()
 
     def flush(self) -> None:
         active = set(self.active_units())
         self.findings = {u: f for u, f in self.findings.items() if u in active}
+        self.analysed &= active
         merged: dict[str, list[Diagnostic]] = {}
         for found in self.findings.values():
             for path, diagnostics in found.items():
