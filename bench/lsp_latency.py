@@ -22,11 +22,20 @@ min and median; and the same break/fix on the .rm of the shipped orchard line, w
 check is ``spl check FOLDER`` (parse plus the SAT product-line checks). The target is
 under a second for a 10,000-node .tsm on the 2-core development machine.
 
+With ``--feature-models FILE...`` (a UVL or FeatureIDE model opened alone, checked as
+``spl check FILE``: read, then analysed, docs/editors.md), per file: open, until the
+dead features' warnings are shown (the whole check); a syntax error (a dangling ``|``
+in the constraints) and its fix; and a valid edit that the analysis alone sees, a
+constraint ``!F`` that kills a live feature F, until the warning naming F shows and,
+undone, clears (the model needs dead features: the open is timed until they show).
+``bench/lsp_latency.py --sizes --feature-models tests/data/feature-models/automotive01.uvl``
+measures the 18,616-feature model only.
+
 The server runs without PYTHONDONTWRITEBYTECODE, as a user's install does (with
 bytecode). textX words syntax errors, from an excerpt of the file that leaves out the
 declarations before the one in error (``tsm_syntax_excerpt.error_excerpt``).
 
-    python bench/lsp_latency.py [--sizes 1000 10000] [--runs 5]
+    python bench/lsp_latency.py [--sizes 1000 10000] [--runs 5] [--feature-models FILE...]
 """
 
 from __future__ import annotations
@@ -84,11 +93,13 @@ class Session:
         self, uri: str, since: float, errors: bool, timeout: float = 600, about: str = ""
     ) -> float:
         """Seconds from ``since`` until ``uri`` shows (or no longer shows) an error, or,
-        with ``about``, any finding whose message names it."""
+        with ``about``, any finding whose message names it (``about`` ``*``: any finding)."""
         deadline = time.perf_counter() + timeout
         while time.perf_counter() < deadline:
             arrived, found = self.seen.get(uri, (0.0, []))
-            if about:
+            if about == "*":
+                shown = bool(found)
+            elif about:
                 shown = any(about in d.message for d in found)
             else:
                 shown = any(d.severity == types.DiagnosticSeverity.Error for d in found)
@@ -124,9 +135,12 @@ class Session:
         return started
 
 
-async def measure(path: Path, text: str, edits: list[tuple[int, str, str]], runs: int) -> list:
+async def measure(
+    path: Path, text: str, edits: list[tuple[int, str, str]], runs: int, opened: str = ""
+) -> list:
     """Open, then each edit (at, inserted, about) made and undone ``runs`` times: the
-    open time, and per edit the times the error took to show and to clear. An edit that
+    open time (until the file shows no error, or with ``opened`` a finding as ``about``
+    selects it), and per edit the times the error took to show and to clear. An edit that
     leaves the model valid (``about`` not empty) is timed until the line's finding whose
     message names ``about`` shows and clears, each time with a new text (the run's count
     in place of ``{run}``): the line's checks must run on it."""
@@ -135,7 +149,7 @@ async def measure(path: Path, text: str, edits: list[tuple[int, str, str]], runs
     times: list = []
     try:
         uri, started = session.open(path, text)
-        times.append(await session.until(uri, started, errors=False))
+        times.append(await session.until(uri, started, errors=opened != "", about=opened))
         version = 1
         for at, inserted, about in edits:
             shown, cleared = [], []
@@ -158,12 +172,58 @@ def spread(times: list[float]) -> str:
     return f"{min(times):.2f} / {statistics.median(times):.2f}"
 
 
-async def main_async(sizes: list[int], runs: int, in_line: bool) -> None:
+def live_feature(path: Path) -> str:
+    """The last feature in file order that is neither core nor dead, as the file writes
+    it: a constraint ``!F`` kills it and leaves the model satisfiable."""
+    from spl.dsl.fm.language import all_features
+    from spl.dsl.interop.formats import load_analysable_model
+    from spl.dsl.interop.interchange import written_names
+    from spl.resolver.analysis.formula import FeatureModelFormula
+
+    model = load_analysable_model(path)
+    with FeatureModelFormula(model) as formula:
+        core, dead = formula.backbone()
+    written = written_names(model)
+    live = [f.name for f in all_features(model) if f.name not in core | dead]
+    return written[live[-1]]
+
+
+async def feature_model_rows(paths: list[Path], runs: int) -> None:
+    """A feature model opened alone: read and analysed as ``spl check FILE``."""
+    for source in paths:
+        with tempfile.TemporaryDirectory() as tmp:
+            path = Path(tmp) / source.name
+            shutil.copyfile(source, path)
+            text = path.read_text(encoding="utf-8")
+            feature = live_feature(path)
+            quoted = '"' + feature.replace('"', '\\"') + '"'
+            if "\nconstraints" not in text:
+                text += "\nconstraints\n"
+            at = len(text.rstrip("\n"))
+            edits = {
+                "constraints, syntax": (at, "\n\t| ", ""),
+                f"constraints, kills {feature}": (at, f"\n\t!{quoted} // {{run}}", feature),
+            }
+            opened, *found = await measure(path, text, list(edits.values()), runs, opened="*")
+            for name, (shown, cleared) in zip(edits, found, strict=True):
+                print(
+                    f"| {source.name}, alone | {text.count(chr(10))} | {name} | {opened:.2f} "
+                    f"| {spread(shown)} | {spread(cleared)} |",
+                    flush=True,
+                )
+
+
+async def main_async(
+    sizes: list[int], runs: int, in_line: bool, feature_models: list[Path]
+) -> None:
     print(
         "| model | lines | edit | open (s) | error shown (s), min / median "
         "| error cleared (s), min / median |"
     )
     print("| --- | ---: | --- | ---: | ---: | ---: |")
+    await feature_model_rows(feature_models, runs)
+    if not sizes:
+        return
     with tempfile.TemporaryDirectory() as tmp:
         for size in sizes:
             folder = Path(tmp) / f"n{size}"
@@ -231,15 +291,22 @@ async def main_async(sizes: list[int], runs: int, in_line: bool) -> None:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--sizes", type=int, nargs="+", default=[1000, 10000])
+    parser.add_argument("--sizes", type=int, nargs="*", default=[1000, 10000])
     parser.add_argument("--runs", type=int, default=5, help="breaks and fixes of each edit")
     parser.add_argument(
         "--in-line",
         action="store_true",
         help="the .tsm with the line's .fm and .rm beside it: checked as spl check FOLDER",
     )
+    parser.add_argument(
+        "--feature-models",
+        type=Path,
+        nargs="*",
+        default=[],
+        help="UVL files, each opened alone (spl check FILE: read and analysed)",
+    )
     args = parser.parse_args()
-    asyncio.run(main_async(args.sizes, args.runs, args.in_line))
+    asyncio.run(main_async(args.sizes, args.runs, args.in_line, args.feature_models))
 
 
 if __name__ == "__main__":
