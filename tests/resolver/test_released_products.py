@@ -22,18 +22,13 @@ ROOT = Path(__file__).resolve().parents[2]
 
 
 def left_for_the_collector(work: Callable[[], None]) -> int:
-    """How many objects ``work`` leaves in reference cycles, once it is done. What was
-    alive before is frozen (no collection visits it): the count is the same, and it
-    takes a pass over what ``work`` allocated, not over everything the test process
-    holds (in a worker of the whole suite, most of it)."""
+    """How many objects ``work`` leaves in reference cycles, once it is done."""
     gc.collect()
     gc.disable()
-    gc.freeze()
     try:
         work()
         return gc.collect()
     finally:
-        gc.unfreeze()
         gc.enable()
 
 
@@ -49,8 +44,16 @@ def test_a_released_product_leaves_its_copy_to_no_collector() -> None:
     def as_witnesses(rounds: int) -> Callable[[], None]:
         return lambda: [witness_warnings(line, features) for features in products * rounds]
 
-    kept = left_for_the_collector(kept_whole)
-    released = left_for_the_collector(as_witnesses(1))
-    released_thrice = left_for_the_collector(as_witnesses(3))
+    # what was alive before is frozen (no collection visits it): the counts are the same,
+    # and each collection passes over what the test allocated, not over everything its
+    # process holds (in a worker of the whole suite, most of it)
+    gc.collect()
+    gc.freeze()
+    try:
+        kept = left_for_the_collector(kept_whole)
+        released = left_for_the_collector(as_witnesses(1))
+        released_thrice = left_for_the_collector(as_witnesses(3))
+    finally:
+        gc.unfreeze()
     assert kept > 100 * len(products), kept  # the measure sees a product's cycles
     assert released_thrice <= max(released, 10) * 1.2, (released_thrice, released)
