@@ -63,8 +63,8 @@ def load_analysable_model(path: str | Path, typed: bool = False) -> Any:
     path = Path(path)
     if path.suffix.lower() == ".uvl":
         from spl.dsl.interop.uvl import read_uvl_plain
-        from spl.dsl.interop.uvl_export import first_typed_part
         from spl.dsl.interop.uvl_typed import TypedFeatureModel
+        from spl.dsl.interop.uvl_typed_parts import first_typed_part
 
         model = read_uvl_plain(path)
         if isinstance(model, TypedFeatureModel) and not typed:

@@ -70,7 +70,7 @@ def parse_uvl(
     with :mod:`spl.dsl.interop.uvl_export`, which keeps the typed parts."""
     plain = parse_uvl_plain(text, filename, default_name)
     if isinstance(plain, TypedFeatureModel) and carried_by is not None:
-        from spl.dsl.interop.uvl_export import first_typed_part  # it imports this module
+        from spl.dsl.interop.uvl_typed_parts import first_typed_part
 
         where, part = first_typed_part(plain)
         raise ModelError(

@@ -15,26 +15,20 @@ target cannot carry, rather than written without it.
 
 from __future__ import annotations
 
-import sys
 from pathlib import Path
 from typing import Any
 
 from spl.core.diagnostics import Diagnostic, Location, ModelError
-from spl.dsl.fm.plain import Feature, FeatureModel, Source
+from spl.dsl.fm.plain import FeatureModel
 from spl.dsl.interop.interchange import written_names
 from spl.dsl.interop.uvl import ecore_of, read_uvl_plain, write_uvl
 from spl.dsl.interop.uvl_typed import TypedFeatureModel, features_of
+from spl.dsl.interop.uvl_typed_parts import dotted_name, first_typed_part
 from spl.dsl.interop.uvl_typed_writer import (
-    Aggregates,
-    Unwritable,
     UvlFile,
     add_typed_parts,
-    equation_text,
     uvl_id,
 )
-
-# an equation named in a refusal is cut to this many characters
-_SHOWN = 60
 
 
 def uvl_conversion(source: Path, target: Path) -> tuple[FeatureModel, dict[Path, tuple[Path, str]]]:
@@ -76,7 +70,7 @@ def _convert(
         alias = written[root.name][: -len(sub_root) - 1]
         entry = ".".join(uvl_id(part) for part in path)
         if alias != ".".join(path):
-            entry += f" as {_dotted(alias)}"
+            entry += f" as {dotted_name(alias)}"
         file.imports.append(entry)
         submodels.append((sub, relative))
     if isinstance(plain, TypedFeatureModel):
@@ -117,12 +111,8 @@ def _namespace(plain: FeatureModel) -> str:
     identifier where UVL cannot quote a part of it (a stem holding '"' or '..')."""
     parts = plain.written_name.split(".")
     if all(part and not any(c in part for c in '"\r\n') for part in parts):
-        return _dotted(plain.written_name)
+        return dotted_name(plain.written_name)
     return uvl_id(plain.name)
-
-
-def _dotted(name: str) -> str:
-    return ".".join(uvl_id(part) for part in name.split("."))
 
 
 def _uvl_names(model: Any, own: str, written: dict[str, str]) -> dict[str, str]:
@@ -133,7 +123,7 @@ def _uvl_names(model: Any, own: str, written: dict[str, str]) -> dict[str, str]:
     while stack:
         feature = stack.pop()
         name = written[feature.name]
-        names[feature.name] = uvl_id(name) if feature.srcFile == own else _dotted(name)
+        names[feature.name] = uvl_id(name) if feature.srcFile == own else dotted_name(name)
         stack.extend(child for group in feature.groups for child in group.features)
     return names
 
@@ -169,54 +159,3 @@ def refuse_uncarried(plain: FeatureModel, target: str) -> None:
             )
         ]
     )
-
-
-def first_typed_part(model: TypedFeatureModel) -> tuple[Location, str]:
-    """Where the first part only the Arithmetic and Type levels hold is, and what it is."""
-    written = written_names(model)
-    names = {name: _dotted(text) for name, text in written.items()}
-    prefixes: dict[int, tuple[tuple[int, int], ...]] = {id(model.source): ()}
-    previous: dict[int, Feature] = {}
-    parts: list[tuple[tuple[tuple[int, int], ...], Source, int, str]] = []
-    stack: list[tuple[Feature, Feature | None]] = [(model.root, None)] if model.root else []
-    while stack:
-        feature, parent = stack.pop()
-        here = id(feature.source)
-        if here not in prefixes:  # an imported root: its parts stand where it is placed
-            outer = parent.source if parent is not None else model.source
-            last = previous.get(id(outer))
-            prefixes[here] = (*prefixes[id(outer)], (_next_line(outer, last), 1))
-        previous[here] = feature
-        prefix = prefixes[here]
-        if feature.name in model.types:
-            kind = model.types[feature.name]
-            what = f"typed feature {written[feature.name]} ({kind})"
-            parts.append(((*prefix, (feature.position, 0)), feature.source, feature.position, what))
-        if feature.name in model.cardinalities:
-            at = model.cardinalities[feature.name][2]
-            what = f"feature cardinality of {written[feature.name]}"
-            parts.append(((*prefix, (at, 0)), feature.source, at, what))
-        children = [child for group in feature.groups for child in group.features]
-        stack.extend((child, feature) for child in reversed(children))
-    aggregates = Aggregates(model)
-    for equation in model.equations:
-        try:
-            text = equation_text(equation.formula, names, aggregates)[0]
-        except Unwritable:
-            text = "with an aggregate"
-        if len(text) > _SHOWN:
-            text = text[: _SHOWN - 3] + "..."
-        prefix = prefixes.get(id(equation.source), ())
-        key = (*prefix, (equation.position, 0))
-        parts.append((key, equation.source, equation.position, f"constraint {text}"))
-    _, source, position, what = min(parts, key=lambda part: part[0])
-    return source.location(position), what
-
-
-def _next_line(source: Source, feature: Feature | None) -> int:
-    """Where the line after ``feature``'s starts (0 before any feature)."""
-    if feature is None:
-        return 0
-    line = source.location(feature.position).line
-    starts = source.line_starts
-    return starts[line] if line < len(starts) else sys.maxsize
