@@ -10,23 +10,16 @@ launch file that started them says the same.
 
 from __future__ import annotations
 
-import os
-import signal
-import socket
 import subprocess
-import time
-import uuid
-import xmlrpc.client
 from pathlib import Path
 
 import pytest
 
 from spl.pipeline import check_models
 
-from support.launch_round_trip import import_launch, ros_python, stub_packages
+from support.launch_round_trip import import_launch, stub_packages
+from support.live_master import launched, system_state, wait_for, write_nodes
 from support.smoke_runs import (
-    TAG,
-    leftovers,
     rows_by_interface,
     smoke_json,
     spl_command,
@@ -63,51 +56,14 @@ LAUNCH = """<launch>
 TOPICS = {f"/add/{part}" for part in ("goal", "cancel", "status", "feedback", "result")}
 
 
-def free_port() -> int:
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        return probe.getsockname()[1]
-
-
-def system_state(master: str) -> list | None:
-    """The master's publishers, subscribers and services, or None while there is none."""
-    try:
-        return xmlrpc.client.ServerProxy(master).getSystemState("/test")[2]
-    except OSError:
-        return None
-
-
-def wait_for(what: str, ready, deadline: float = 120.0) -> None:
-    """Polls ``ready()`` until it holds; fails after ``deadline`` seconds."""
-    end = time.monotonic() + deadline
-    while not ready():
-        assert time.monotonic() < end, f"{what} not ready after {deadline} s"
-        time.sleep(0.2)
-
-
 @pytest.fixture(scope="module")
 def live_graph(tmp_path_factory):
     folder = tmp_path_factory.mktemp("graph")
     packages = stub_packages(folder / "packages", "adding")
-    scripts = packages / "adding" / "scripts"
-    scripts.mkdir()
-    for name, text in NODES.items():
-        (scripts / name).write_text(f"#!{ros_python()}\n{text}")  # the Python with actionlib
-        (scripts / name).chmod(0o755)
+    write_nodes(packages / "adding" / "scripts", NODES)
     launch = packages / "adding" / "adding.launch"
     launch.write_text(LAUNCH)
-    port = free_port()
-    master = f"http://127.0.0.1:{port}/"
-    tag = uuid.uuid4().hex
-    env = {**os.environ, "ROS_MASTER_URI": master, "ROS_HOME": str(folder / "ros"), TAG: tag,
-           "ROS_PACKAGE_PATH": str(packages)}  # fmt: skip
-    started = [subprocess.Popen(["roscore", "-p", str(port)], env=env, cwd=folder,
-                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)]  # fmt: skip
-    try:
-        wait_for("roscore", lambda: system_state(master) is not None)
-        started.append(subprocess.Popen(["roslaunch", "--wait", str(launch)], env=env,
-                                        cwd=folder, stdout=subprocess.DEVNULL,
-                                        stderr=subprocess.DEVNULL))  # fmt: skip
+    with launched(folder, packages, launch) as master:
 
         def registered() -> bool:
             # each of the five topics has its publisher and its subscriber
@@ -116,15 +72,6 @@ def live_graph(tmp_path_factory):
 
         wait_for("the action's topics", registered)
         yield master, packages, launch
-    finally:
-        for process in reversed(started):
-            process.send_signal(signal.SIGINT)
-        for process in started:
-            try:
-                process.wait(timeout=60)
-            except subprocess.TimeoutExpired:
-                process.kill()
-        assert leftovers(tag, wait=30) == []
 
 
 def test_an_actionlib_action_imports_as_an_action_and_smokes_green(live_graph, tmp_path: Path):

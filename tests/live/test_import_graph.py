@@ -8,21 +8,17 @@ resolves, and whose product ``spl smoke`` brings up green with the real ROS 1; a
 from __future__ import annotations
 
 import os
-import signal
-import socket
 import subprocess
-import time
-import uuid
-import xmlrpc.client
-from collections.abc import Callable
 from pathlib import Path
 
 import pytest
 
 from spl.pipeline import check_models
+from spl.smoke.processes import free_port
 
-from support.launch_round_trip import import_launch, ros_python, stub_packages
-from support.smoke_runs import TAG, leftovers, smoke_json, spl_command, write_product
+from support.launch_round_trip import import_launch, stub_packages
+from support.live_master import launched, system_state, wait_for, write_nodes
+from support.smoke_runs import smoke_json, spl_command, write_product
 
 NODES = {
     "talker.py": """import rospy
@@ -58,27 +54,13 @@ LAUNCH = """<launch>
 """
 
 
-def free_port() -> int:
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        return probe.getsockname()[1]
-
-
-def wait_for(what: str, ready: Callable[[], bool], deadline: float = 120.0) -> None:
-    """Polls ``ready()`` until it holds; fails after ``deadline`` seconds."""
-    end = time.monotonic() + deadline
-    while not ready():
-        assert time.monotonic() < end, f"{what} not ready after {deadline} s"
-        time.sleep(0.2)
-
-
 def graph_state(master: str) -> tuple[set[str], set[str]] | None:
     """The nodes publishing or subscribing, and the services, or None while there is
     no master."""
-    try:
-        _, _, (pubs, subs, srvs) = xmlrpc.client.ServerProxy(master).getSystemState("/test")
-    except OSError:
+    state = system_state(master)
+    if state is None:
         return None
+    pubs, subs, srvs = state
     nodes = {n for _, names in pubs + subs for n in names}
     return nodes, {s for s, _ in srvs}
 
@@ -87,26 +69,11 @@ def graph_state(master: str) -> tuple[set[str], set[str]] | None:
 def live_graph(tmp_path_factory):
     folder = tmp_path_factory.mktemp("graph")
     packages = stub_packages(folder / "packages", "chatter_demo")
-    scripts = packages / "chatter_demo" / "scripts"
-    scripts.mkdir()
-    for name, text in NODES.items():
-        (scripts / name).write_text(f"#!{ros_python()}\n{text}")  # the Python with rospy
-        (scripts / name).chmod(0o755)
+    write_nodes(packages / "chatter_demo" / "scripts", NODES)
     (packages / "chatter_demo" / "launch").mkdir()
     launch = packages / "chatter_demo" / "launch" / "chatter.launch"
     launch.write_text(LAUNCH)
-    port = free_port()
-    master = f"http://127.0.0.1:{port}/"
-    tag = uuid.uuid4().hex
-    env = {**os.environ, "ROS_MASTER_URI": master, "ROS_HOME": str(folder / "ros"), TAG: tag,
-           "ROS_PACKAGE_PATH": str(packages)}  # fmt: skip
-    started = [subprocess.Popen(["roscore", "-p", str(port)], env=env, cwd=folder,
-                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)]  # fmt: skip
-    try:
-        wait_for("roscore", lambda: graph_state(master) is not None)
-        started.append(subprocess.Popen(["roslaunch", "--wait", str(launch)], env=env,
-                                        cwd=folder, stdout=subprocess.DEVNULL,
-                                        stderr=subprocess.DEVNULL))  # fmt: skip
+    with launched(folder, packages, launch) as master:
 
         def registered() -> bool:
             state = graph_state(master)
@@ -114,16 +81,6 @@ def live_graph(tmp_path_factory):
 
         wait_for("the nodes", registered)
         yield master, packages, launch
-    finally:
-        for process in reversed(started):
-            process.send_signal(signal.SIGINT)
-        for process in started:
-            try:
-                process.wait(timeout=60)
-            except subprocess.TimeoutExpired:
-                process.kill()
-        # roscore ends its rosmaster and rosout on SIGINT: nothing of this graph is left
-        assert leftovers(tag, wait=30) == []
 
 
 def run(*args: str, master: str) -> subprocess.CompletedProcess:

@@ -3,21 +3,20 @@
 pytest-lsp drives the server the way the protocol says; this drives it the way an editor
 does (its own document synchronisation, position encoding, filetype detection and
 diagnostics store), from the ``init.lua`` lines docs/editors.md tells users to write, so
-a snippet there that no longer works fails here. Neovim is a Debian package (``apt-get
-install neovim``) that ``.ci/run`` installs; without it this test fails, never skips.
+a snippet there that no longer works fails here (the session: tests/support/
+neovim_session.py). Without Neovim this test fails, never skips.
 """
 
 from __future__ import annotations
 
 import json
-import os
-import re
 import shutil
 import subprocess
 import sys
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[2]
+from support.neovim_session import ROOT, run_probe, shown
+
 BROKEN = "    require FruitDetektor"  # line 7 of orchard.rm reads "    require FruitDetector"
 LINE = 7
 
@@ -25,15 +24,6 @@ LINE = 7
 # diagnostic, undo, wait for it to go, then ask where FruitDetector is declared.
 PROBE = """
 local out = { diagnostics = {} }
-local function seen()
-  local found = {}
-  for _, d in ipairs(vim.diagnostic.get(0)) do
-    local item = { severity = d.severity, message = d.message }
-    item.line, item.col = d.lnum + 1, d.col + 1
-    table.insert(found, item)
-  end
-  return found
-end
 local original = vim.api.nvim_buf_get_lines(0, %(index)d, %(index)d + 1, false)
 vim.api.nvim_buf_set_lines(0, %(index)d, %(index)d + 1, false, { %(broken)s })
 out.shown = vim.wait(%(wait)d, function() return #vim.diagnostic.get(0) > 0 end, 50)
@@ -55,23 +45,6 @@ vim.cmd("qa!")
 """
 
 
-def neovim_version() -> tuple[int, int]:
-    nvim = shutil.which("nvim")
-    assert nvim, "Neovim is not installed: apt-get install neovim (tests/live/test_lsp_neovim.py)"
-    first = subprocess.run([nvim, "--version"], capture_output=True, text=True).stdout
-    major, minor = re.match(r"NVIM v(\d+)\.(\d+)", first).groups()
-    return int(major), int(minor)
-
-
-def documented_snippet(version: tuple[int, int]) -> str:
-    """The init.lua lines docs/editors.md gives for this Neovim version."""
-    marker = "neovim-0.11" if version >= (0, 11) else "neovim-0.7"
-    page = (ROOT / "docs" / "editors.md").read_text()
-    block = re.search(rf"<!-- {marker} -->\n```lua\n(.*?)```", page, re.S)
-    assert block, f"docs/editors.md has no <!-- {marker} --> block"
-    return block.group(1)
-
-
 def spl_check_of(text: str, folder: Path) -> list[tuple[int, int, str, str]]:
     """What ``spl check --json`` reports on orchard.rm when it holds ``text``."""
     (folder / "orchard.rm").write_text(text)
@@ -88,7 +61,6 @@ def spl_check_of(text: str, folder: Path) -> list[tuple[int, int, str, str]]:
 
 
 def test_documented_neovim_setup_shows_checks_and_definitions(tmp_path):
-    version = neovim_version()
     line_dir = tmp_path / "orchard"
     shutil.copytree(ROOT / "product_lines" / "orchard", line_dir)
     original = (line_dir / "orchard.rm").read_text()
@@ -99,52 +71,17 @@ def test_documented_neovim_setup_shows_checks_and_definitions(tmp_path):
     expected = spl_check_of("".join([*lines[: LINE - 1], BROKEN + "\n", *lines[LINE:]]), saved)
     assert expected, "the planted error must be one spl check reports"
 
-    config = tmp_path / "config"
-    config.mkdir()
-    (config / "init.lua").write_text(documented_snippet(version))
-    result = tmp_path / "result.json"
-    probe = tmp_path / "probe.lua"
-    probe.write_text(
-        PROBE
-        % {
-            "index": LINE - 1,
-            "line": LINE,
-            "broken": json.dumps(BROKEN),
-            "wait": 60_000,
-            "result": json.dumps(str(result)),
-        }
+    seen = run_probe(
+        tmp_path,
+        line_dir / "orchard.rm",
+        PROBE,
+        index=LINE - 1,
+        line=LINE,
+        broken=json.dumps(BROKEN),
     )
-    # the documented set-up runs `spl lsp` from the PATH: the spl of this test run
-    env = dict(os.environ, PATH=f"{Path(sys.executable).parent}{os.pathsep}{os.environ['PATH']}")
-    env.update(XDG_CONFIG_HOME=str(tmp_path / "xdg"), XDG_STATE_HOME=str(tmp_path / "state"))
-    done = subprocess.run(
-        [
-            "nvim",
-            "--headless",
-            "-n",
-            "-i",
-            "NONE",
-            "-u",
-            str(config / "init.lua"),
-            str(line_dir / "orchard.rm"),
-            "-c",
-            f"luafile {probe}",
-        ],
-        cwd=line_dir,
-        env=env,
-        capture_output=True,
-        text=True,
-        timeout=240,
-    )
-    assert result.exists(), f"Neovim ended without a result: {done.stdout}{done.stderr}"
-    seen = json.loads(result.read_text())
 
     assert seen["shown"], "no diagnostic reached Neovim"
-    severities = {1: "error", 2: "warning", 3: "info", 4: "hint"}
-    shown = [
-        (d["line"], d["col"], severities[d["severity"]], d["message"]) for d in seen["diagnostics"]
-    ]
-    assert shown == expected
+    assert shown(seen["diagnostics"]) == expected
     assert seen["cleared"], "undoing the edit did not clear the diagnostic"
     assert seen["definitions"] == [
         {"uri": (line_dir / "orchard.tsm").as_uri(), "line": declaration_line(line_dir)}

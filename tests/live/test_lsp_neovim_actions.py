@@ -7,15 +7,11 @@ Like tests/live/test_lsp_neovim.py, it fails without Neovim, never skips."""
 from __future__ import annotations
 
 import json
-import os
 import shutil
-import subprocess
-import sys
 from pathlib import Path
 
-from live.test_lsp_neovim import documented_snippet, neovim_version
+from support.neovim_session import ROOT, run_probe
 
-ROOT = Path(__file__).resolve().parents[2]
 NAVIGATION = ROOT / "tests" / "models" / "navigation"
 
 PROBE = """
@@ -47,7 +43,6 @@ vim.cmd("qa!")
 
 
 def test_neovim_follows_and_completes_an_action(tmp_path: Path) -> None:
-    version = neovim_version()
     line_dir = tmp_path / "navigation"
     shutil.copytree(NAVIGATION, line_dir)
     tsm = line_dir / "navigation.tsm"
@@ -57,36 +52,16 @@ def test_neovim_follows_and_completes_an_action(tmp_path: Path) -> None:
     client = next(i for i, t in enumerate(lines, 1) if "calls action navigate" in t)
     typed = "        calls action spare : "
 
-    config = tmp_path / "config"
-    config.mkdir()
-    (config / "init.lua").write_text(documented_snippet(version))
-    result = tmp_path / "result.json"
-    probe = tmp_path / "probe.lua"
-    probe.write_text(
-        PROBE
-        % {
-            "wait": 60_000,
-            "bridge_line": bridge,
-            "bridge_col": lines[bridge - 1].index("move_base") + 1,  # 0-based, inside it
-            "client_line": client,  # the new line goes after the client's
-            "typed": json.dumps(typed),
-            "typed_length": len(typed),
-            "result": json.dumps(str(result)),
-        }
+    seen = run_probe(
+        tmp_path,
+        tsm,
+        PROBE,
+        bridge_line=bridge,
+        bridge_col=lines[bridge - 1].index("move_base") + 1,  # 0-based, inside it
+        client_line=client,  # the new line goes after the client's
+        typed=json.dumps(typed),
+        typed_length=len(typed),
     )
-    env = dict(os.environ, PATH=f"{Path(sys.executable).parent}{os.pathsep}{os.environ['PATH']}")
-    env.update(XDG_CONFIG_HOME=str(tmp_path / "xdg"), XDG_STATE_HOME=str(tmp_path / "state"))
-    editor = ["nvim", "--headless", "-n", "-i", "NONE", "-u", str(config / "init.lua")]
-    done = subprocess.run(
-        [*editor, str(tsm), "-c", f"luafile {probe}"],
-        cwd=line_dir,
-        env=env,
-        capture_output=True,
-        text=True,
-        timeout=240,
-    )
-    assert result.exists(), f"Neovim ended without a result: {done.stdout}{done.stderr}"
-    seen = json.loads(result.read_text())
     assert seen["shown"], "the line's findings never reached Neovim"
     column = lines[server - 1].index("move_base") + 1
     assert seen["definitions"] == [{"uri": tsm.as_uri(), "line": server, "col": column}]

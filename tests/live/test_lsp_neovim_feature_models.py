@@ -7,12 +7,11 @@ nothing. Like tests/live/test_lsp_neovim.py, it fails without Neovim, never skip
 from __future__ import annotations
 
 import json
-import os
 import subprocess
 import sys
 from pathlib import Path
 
-from live.test_lsp_neovim import documented_snippet, neovim_version
+from support.neovim_session import run_probe, shown
 
 MODEL = (
     "features\n\tCar\n\t\tmandatory\n\t\t\tEngine\n\t\toptional\n\t\t\tRadio\n"
@@ -24,15 +23,6 @@ KILLING, BROKEN = "\t!Radio", "\t!Radio &"
 # make it a syntax error, wait until only errors show; remove it, wait until none show.
 PROBE = """
 local out = {}
-local function seen()
-  local found = {}
-  for _, d in ipairs(vim.diagnostic.get(0)) do
-    local item = { severity = d.severity, message = d.message }
-    item.line, item.col = d.lnum + 1, d.col + 1
-    table.insert(found, item)
-  end
-  return found
-end
 local function all(severity, least)
   local shown = vim.diagnostic.get(0)
   for _, d in ipairs(shown) do
@@ -68,7 +58,6 @@ def spl_check_of(text: str, path: Path) -> list[tuple[int, int, str, str]]:
 
 
 def test_neovim_shows_the_analysis_of_an_unsaved_feature_model(tmp_path: Path) -> None:
-    version = neovim_version()
     folder = tmp_path / "models"
     folder.mkdir()
     uvl = folder / "car.uvl"
@@ -80,43 +69,11 @@ def test_neovim_shows_the_analysis_of_an_unsaved_feature_model(tmp_path: Path) -
     assert broken and {d[2] for d in broken} == {"error"}
     assert spl_check_of(MODEL, saved) == []
 
-    config = tmp_path / "config"
-    config.mkdir()
-    (config / "init.lua").write_text(documented_snippet(version))
-    result = tmp_path / "result.json"
-    probe = tmp_path / "probe.lua"
-    probe.write_text(
-        PROBE
-        % {
-            "killing": json.dumps(KILLING),
-            "broken": json.dumps(BROKEN),
-            "wait": 60_000,
-            "result": json.dumps(str(result)),
-        }
-    )
-    # the documented set-up runs `spl lsp` from the PATH: the spl of this test run
-    env = dict(os.environ, PATH=f"{Path(sys.executable).parent}{os.pathsep}{os.environ['PATH']}")
-    env.update(XDG_CONFIG_HOME=str(tmp_path / "xdg"), XDG_STATE_HOME=str(tmp_path / "state"))
-    editor = ["nvim", "--headless", "-n", "-i", "NONE", "-u", str(config / "init.lua")]
-    done = subprocess.run(
-        [*editor, str(uvl), "-c", f"luafile {probe}"],
-        cwd=folder,
-        env=env,
-        capture_output=True,
-        text=True,
-        timeout=240,
-    )
-    assert result.exists(), f"Neovim ended without a result: {done.stdout}{done.stderr}"
-    seen = json.loads(result.read_text())
-    severities = {1: "error", 2: "warning", 3: "info", 4: "hint"}
-
-    def shown(key: str) -> list[tuple[int, int, str, str]]:
-        found = seen[key] if isinstance(seen[key], list) else []  # Lua's {} reads as {}
-        return sorted((d["line"], d["col"], severities[d["severity"]], d["message"]) for d in found)
+    seen = run_probe(tmp_path, uvl, PROBE, killing=json.dumps(KILLING), broken=json.dumps(BROKEN))
 
     assert seen["killed"], "the dead features' warnings never reached Neovim"
-    assert shown("killed_diagnostics") == killed
+    assert sorted(shown(seen["killed_diagnostics"])) == killed
     assert seen["broken"], "the syntax error never replaced the warnings"
-    assert shown("broken_diagnostics") == broken
+    assert sorted(shown(seen["broken_diagnostics"])) == broken
     assert seen["cleared"], "undoing the edits did not clear the diagnostics"
     assert uvl.read_text(encoding="utf-8") == MODEL  # the editor never saved
