@@ -197,7 +197,6 @@ def _read(src: EObject) -> Entry:
 # filled in directly, since its __init__ (with a default value computed only to be
 # replaced) was half of setting an attribute in a copy. tests/dsl/test_emf_copy.py
 # checks the slots equal to pyecore's own.
-_ATTRIBUTE_SLOT = {"is_ref": False, "is_cont": False, "generic_type": None}
 _new_slot = object.__new__
 
 
@@ -207,10 +206,7 @@ def _set_attribute(obj: EObject, attribute: EAttribute, name: str, value: object
     attribute of the original (so it has the type), and nobody can listen to the new
     object yet, so pyecore's type check and notification (which walks up to the
     object's resource every time) have nothing to do; they were a third of a copy."""
-    slot = _new_slot(EValue)
-    slot.__dict__ = {"owner": obj, "feature": attribute, **_ATTRIBUTE_SLOT, "_value": value}
-    obj.__dict__[name] = slot
-    obj._isset[attribute] = None
+    _set_attributes(obj, ((name, attribute, value),))
 
 
 def _set_attributes(obj: EObject, attributes: tuple) -> None:
