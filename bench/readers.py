@@ -1,7 +1,7 @@
 """Benchmark: does each fast reader (src/spl/dsl/*/reader.py) pay against textX?
 
-    .venv/bin/python bench/readers.py [--sizes 1000 10000] [--repeat 3] [--runs 5]
-        [--each] [--no-in-process] [--limit-gb 4]
+    .venv/bin/python bench/readers.py [--sizes 1000 10000] [--folder-sizes 1000]
+        [--repeat 3] [--runs 5] [--each] [--no-in-process] [--limit-gb 4]
 
 The readers exist only for speed (textX parses whatever they leave, and must give the
 same tree: tests/dsl/test_*_reader.py). For each grammar, in process (CPU seconds):
@@ -17,7 +17,10 @@ Then whole ``spl check`` processes, ``--runs`` each, interleaved, median CPU tim
 + system: on a loaded machine the wall time also measures waiting for a core): with the
 readers, and with them switched off (each ``read`` returning None, so textX reads
 everything, as it would without the reader; ``--each``: also one reader at a time): on
-the shipped mapping3d line and on the synthetic line's .tsm and folder. The processes
+the shipped mapping3d line, on the synthetic line's .tsm, and on its folder at the
+``--folder-sizes`` (default 1,000 nodes only: a 10,000-node folder's check is minutes of
+the line checks' witness resolutions, which no reader touches, so its rows would take
+hours and measure the resolver, docs/performance.md "Large product lines"). The processes
 keep cached bytecode, as an installed spl does; each may take ``--limit-gb`` of address
 space, and one that needs more is reported as over it instead of timed.
 """
@@ -174,6 +177,13 @@ def whole_processes(targets: dict[str, Path], runs: int, each: bool, limit: int)
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--sizes", type=int, nargs="+", default=[1000, 10000])
+    parser.add_argument(
+        "--folder-sizes",
+        type=int,
+        nargs="*",
+        default=[1000],
+        help="the --sizes whose line folder is also checked whole (default 1000)",
+    )
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--runs", type=int, default=5)
     parser.add_argument("--each", action="store_true", help="also switch off one reader at a time")
@@ -201,7 +211,8 @@ def main() -> None:
                 text = (folder / f"synthetic.{language}").read_text(encoding="utf-8")
                 texts[language][f"synthetic {size}"] = [text]
             targets[f"synthetic {size}: .tsm"] = folder / "synthetic.tsm"
-            targets[f"synthetic {size}: folder"] = folder
+            if size in options.folder_sizes:
+                targets[f"synthetic {size}: folder"] = folder
         if not options.no_in_process:
             in_process(texts, options.repeat)
             print()
