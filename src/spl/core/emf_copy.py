@@ -143,6 +143,10 @@ class TreeImage:
                     _set_reference(dst, feature, name, mapped(value), False)
                 else:
                     setattr(dst, name, mapped(value))
+        # clone refers to itself through its closure, a cycle the collector alone breaks:
+        # what it holds must not be the copy's elements, which a caller done with the
+        # copy releases (Resolution.release; a 10,000-node line's witness products)
+        pending.clear()
         return copies, mapping
 
 

@@ -30,7 +30,7 @@ import bisect
 import dataclasses
 from typing import Any
 
-from spl.core.cyclic_gc import collect_young
+from spl.core.cyclic_gc import collect_young, without_cyclic_gc
 from spl.core.diagnostics import Diagnostic, ModelError
 from spl.core.emf import fingerprint
 from spl.dsl.tsm.declarations import BuiltTemplate, Declarations, Key, path_of
@@ -98,14 +98,18 @@ def _resolved(line: ProductLine, witness: Witness) -> tuple[Warnings, bool]:
     """The product's warnings, and whether it resolved without completing the selection."""
     from spl.resolver.resolution.engine import resolve  # the engine imports the line checks' kin
 
-    try:
-        resolution = resolve(line, selection_from_list(",".join(witness)))
-    except ModelError:
-        return (), False
-    found = resolution.product.warnings, not resolution.completion.added
-    resolution.release()  # nothing reads the product again: its model goes now
-    del resolution
-    collect_young()  # and what it built around the model, with the next product's room
+    # paused until the product is released and its remains collected: resolve() alone
+    # would resume collection over the live product, and a caller not paused already
+    # (spl check and the editor are) paid a young collection over all of it
+    with without_cyclic_gc("left"):
+        try:
+            resolution = resolve(line, selection_from_list(",".join(witness)))
+        except ModelError:
+            return (), False
+        found = resolution.product.warnings, not resolution.completion.added
+        resolution.release()  # nothing reads the product again: its model goes now
+        del resolution
+        collect_young()  # and what it built around the model, with the next product's room
     return found
 
 
