@@ -21,6 +21,7 @@ clients to action servers). The family says what a flow between the two sides is
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
@@ -161,7 +162,7 @@ class InterfaceKind:
     # ("unfed in the model (SPL045)", docs/smoke.md); None where unfed_code is
     gap_word: str | None = None
 
-    @property
+    @cached_property
     def on_topic(self) -> bool:
         return self.family.on_topic
 
@@ -175,27 +176,27 @@ class InterfaceKind:
         """The class with its article, as messages say it: "an ActionServer"."""
         return with_article(self.eclass)
 
-    @property
+    @cached_property
     def publishes(self) -> bool:
         """Puts data on a topic."""
         return self.family.on_topic and self.provides
 
-    @property
+    @cached_property
     def subscribes(self) -> bool:
         """Takes data from a topic."""
         return self.family.on_topic and not self.provides
 
-    @property
+    @cached_property
     def serves(self) -> bool:
         """Answers the calls of the consumers bound to it."""
         return not self.family.on_topic and self.provides
 
-    @property
+    @cached_property
     def calls(self) -> bool:
         """Calls the one provider it is bound to."""
         return not self.family.on_topic and not self.provides
 
-    @property
+    @cached_property
     def binds(self) -> str | None:
         """The feature of the interface naming what it is bound to: "topic", "server",
         or None (a server is bound to nothing: its clients are bound to it)."""
@@ -269,11 +270,19 @@ KINDS = (
 )  # fmt: skip
 FAMILIES = (TOPIC, SERVICE, ACTION)
 _BY_ECLASS = {kind.eclass: kind for kind in KINDS}
+# ... by the EClass itself, as met: an EClass's name is read through pyecore's
+# descriptor, and a resolution asks an interface's kind some ten thousand times for a
+# product of 500 nodes (docs/performance.md, "Large product lines")
+_BY_CLASS: dict[object, InterfaceKind] = {}
 
 
 def kind_of(interface: tsm_types.Interface) -> InterfaceKind:
     """The kind of ``interface`` (a node's or an endpoint's)."""
-    return _BY_ECLASS[interface.eClass.name]
+    eclass = interface.eClass
+    kind = _BY_CLASS.get(eclass)
+    if kind is None:
+        kind = _BY_CLASS[eclass] = _BY_ECLASS[eclass.name]
+    return kind
 
 
 def is_interface(element: Any) -> bool:

@@ -16,8 +16,8 @@ from typing import TYPE_CHECKING, cast
 
 from spl.core.diagnostics import Diagnostic, Severity, location_of
 from spl.metamodels import tsm
-from spl.metamodels.interface_kinds import kind_of
-from spl.resolver.architecture.flows import CutRoute, FlowTable, bound_topic
+from spl.metamodels.interface_kinds import InterfaceKind, kind_of
+from spl.resolver.architecture.flows import CutRoute, FlowTable
 from spl.resolver.architecture.placement import (
     SHARED_ACROSS_USERS,
     SHARED_MODES,
@@ -52,7 +52,12 @@ def awaits_feed(interface: tsm_types.Interface) -> bool:
     subscriber bound to a topic (one bound to none waits for nothing), or a client,
     bound or not (its calls go unanswered either way)."""
     kind = kind_of(interface)
-    return not kind.provides and (not kind.on_topic or kind.bound_to(interface) is not None)
+    return _awaits(kind, kind.bound_to(interface))
+
+
+def _awaits(kind: InterfaceKind, bound: object) -> bool:
+    """:func:`awaits_feed` of an interface of ``kind`` bound to ``bound``."""
+    return not kind.provides and (not kind.on_topic or bound is not None)
 
 
 def input_gap(interface: tsm_types.Interface, flows: FlowTable) -> str | None:
@@ -61,9 +66,19 @@ def input_gap(interface: tsm_types.Interface, flows: FlowTable) -> str | None:
     what feeds it from outside (``external``, docs/tsm.md); None otherwise. The one
     verdict resolve, validate and the rehearsal give (docs/semantics.md F6), and the one
     ``spl check`` looks for in every product (F8)."""
-    if interface.external or not awaits_feed(interface) or flows.feeding(interface):
+    kind = kind_of(interface)
+    return _gap(interface, kind, kind.bound_to(interface), flows)
+
+
+def _gap(
+    interface: tsm_types.Interface, kind: InterfaceKind, bound: object, flows: FlowTable
+) -> str | None:
+    """:func:`input_gap` of ``interface`` of ``kind`` bound to ``bound``: read once by
+    :func:`check_architecture`, which asks each interface's kind and binding anyway."""
+    # external last: unset on most interfaces, and pyecore makes a slot for each one read
+    if not _awaits(kind, bound) or flows.feeding(interface) or interface.external:
         return None
-    return kind_of(interface).unfed_code
+    return kind.unfed_code
 
 
 def check_architecture(
@@ -105,7 +120,8 @@ def check_architecture(
                     )
             for interface in node.interfaces:
                 kind = kind_of(interface)
-                topic = bound_topic(interface)
+                bound = kind.bound_to(interface)
+                topic = bound if kind.on_topic else None  # bound_topic
                 if topic is not None and interface.type and interface.type != topic.type:
                     report(
                         interface,
@@ -114,7 +130,7 @@ def check_architecture(
                         "error",
                         "SPL044",
                     )
-                gap = input_gap(interface, flows)
+                gap = _gap(interface, kind, bound, flows)
                 if gap is not None and topic is not None:
                     report(
                         interface,
@@ -124,7 +140,7 @@ def check_architecture(
                         gap,
                     )
                 if kind.calls:
-                    server: tsm_types.ServiceServer | None = kind.bound_to(interface)
+                    server = cast("tsm_types.ServiceServer | None", bound)
                     if gap is not None:
                         report(
                             interface,
