@@ -162,8 +162,14 @@ def cut_off(flows: FlowTable, private: Callable[[tsm_types.Node], bool]) -> list
         owner = container_of(interface)
         return owner if isinstance(owner, T.RobotContainer) else None
 
+    lone: dict[int, bool] = {}  # id(interface) -> alone(interface), asked once each
+
     def alone(interface: tsm_types.Interface) -> bool:
-        return on_robot(interface) is None and private(node_of(interface))
+        found = lone.get(id(interface))
+        if found is None:
+            found = on_robot(interface) is None and private(node_of(interface))
+            lone[id(interface)] = found
+        return found
 
     # who gives data to whom: a publisher to a subscriber, a server's answers to its client
     given: list[tuple[Flow, tsm_types.Interface, tsm_types.Interface]] = [
@@ -175,16 +181,16 @@ def cut_off(flows: FlowTable, private: Callable[[tsm_types.Node], bool]) -> list
         robot = on_robot(giver)
         if robot is not None and alone(taker):
             feeders[id(taker.eContainer())].setdefault(id(robot), (robot, flow))
+    chained = [(giver, taker) for _, giver, taker in given if alone(giver) and alone(taker)]
     changed = True
     while changed:  # through chains of private nodes: one robot's instances feed each other
         changed = False
-        for _, giver, taker in given:
-            if alone(giver) and alone(taker):
-                into = feeders[id(taker.eContainer())]
-                before = len(into)
-                for robot_id, why in list(feeders[id(giver.eContainer())].items()):
-                    into.setdefault(robot_id, why)
-                changed |= len(into) != before
+        for giver, taker in chained:
+            into = feeders[id(taker.eContainer())]
+            before = len(into)
+            for robot_id, why in list(feeders[id(giver.eContainer())].items()):
+                into.setdefault(robot_id, why)
+            changed |= len(into) != before
     found: dict[tuple[int, int], CutOff] = {}
     for _, giver, taker in given:
         robot, others = on_robot(taker), feeders.get(id(giver.eContainer()), {})
