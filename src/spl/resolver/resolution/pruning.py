@@ -119,9 +119,11 @@ def _prune(
 ) -> None:
     removed = []
     for element in members:
-        if element.optional and id(element) in kept:
+        if not element.optional:  # read once: each read is a call of pyecore's descriptor
+            continue
+        if id(element) in kept:
             element.optional = False
-        elif element.optional:
+        else:
             if element.eContainer() is container:  # not the template's, left out
                 removed.append(element)
             trace.record(
