@@ -32,11 +32,11 @@ from spl.core.emf import (
     adopt,
     copy_trees,
     element_at,
-    fingerprint,
     forget_references,
     move_lines,
     replace_members,
 )
+from spl.dsl.tsm.plain_prints import ClassPrint, plain_fingerprint
 from spl.metamodels import tsm as tsm_metamodel
 
 FEATURES = ("dataTypes", "transforms", "containers", "connections")  # in model order
@@ -86,20 +86,21 @@ def declarations(system: Any, before: Declarations | None = None) -> Declaration
     wholes: dict[Key, tuple] = {}
     whole: list[tuple] = []  # (key, element, content, targets) of each container
     earlier = _by_container(before) if before is not None else {}
+    made: dict[type, ClassPrint] = {}  # the print of each plain class, made once here
     for feature in FEATURES:
         for position, root in enumerate(getattr(system, feature)):
             key = (feature, getattr(root, "name", None) or position)
             if feature != "containers":
-                read.append(_read(root, key, paths))
+                read.append(_read(root, key, paths, made))
             elif before is None or _other_members(root, earlier.get(key)):
-                read += _read_members(root, key, paths)  # changed: no use reading it whole
+                read += _read_members(root, key, paths, made)  # changed: no use reading it whole
             else:
-                whole.append((key, root, *_read_whole(root, key, paths)))
+                whole.append((key, root, *_read_whole(root, key, paths, made)))
     taken: dict[Key, Declaration] = {}
     for key, root, content, targets in whole:  # every path is known: print them whole
         wholes[key] = (content, _printed(targets, paths))
         if before is None or before.wholes.get(key) != wholes[key]:
-            read += _read_members(root, key, paths)
+            read += _read_members(root, key, paths, made)
             continue
         moved = (root.srcLine or 0) - before.items[key].lines[0]
         now = {(f, m.name): m for f in MEMBERS for m in _members(root, f)}
@@ -167,21 +168,27 @@ def _members(container: Any, feature: str) -> Any:
     return container.endpoint.interfaces if container.endpoint is not None else ()
 
 
-def _read_members(root: Any, key: Key, paths: dict[int, Path]) -> list[tuple]:
+def _read_members(
+    root: Any, key: Key, paths: dict[int, Path], made: dict[type, ClassPrint]
+) -> list[tuple]:
     """A container's shell and members, each read as a declaration (:func:`_read`)."""
-    read = [_read(root, key, paths, _SHELL)]
+    read = [_read(root, key, paths, made, _SHELL)]
     for member_feature in MEMBERS:
         for member in _members(root, member_feature):
-            read.append(_read(member, (*key, member_feature, member.name), paths))
+            read.append(_read(member, (*key, member_feature, member.name), paths, made))
     return read
 
 
 def _read(
-    root: Any, key: Key, paths: dict[int, Path], leave_out: tuple[tuple[str, ...], ...] = ()
+    root: Any,
+    key: Key,
+    paths: dict[int, Path],
+    made: dict[type, ClassPrint],
+    leave_out: tuple[tuple[str, ...], ...] = (),
 ) -> tuple[Key, Any, tuple, list[int], set[str], tuple[int, int]]:
     """One declaration's content, the ids of what it refers to (in the order met), the
     names declared in it and its lines; the path of each of its elements goes to
-    ``paths``."""
+    ``paths`` (``made``: :func:`spl.dsl.tsm.plain_prints.plain_fingerprint`'s)."""
     targets: list[int] = []
     names: set[str] = set()
     first = root.srcLine or 0
@@ -194,11 +201,15 @@ def _read(
         if (line := element.srcLine or 0) > last[0]:
             last[0] = line
 
-    content = fingerprint(root, lambda target: targets.append(id(target)), visit, first, leave_out)
+    content = plain_fingerprint(
+        root, lambda target: targets.append(id(target)), visit, first, leave_out, made
+    )
     return key, root, content, targets, names, (first, last[0])
 
 
-def _read_whole(root: Any, key: Key, paths: dict[int, Path]) -> tuple[tuple, list[int]]:
+def _read_whole(
+    root: Any, key: Key, paths: dict[int, Path], made: dict[type, ClassPrint]
+) -> tuple[tuple, list[int]]:
     """A container's content as a whole (lines from its first), and the ids of what it
     refers to; the path of each element goes to ``paths``, from the declaration it is
     in (the shell, or a member)."""
@@ -216,7 +227,9 @@ def _read_whole(root: Any, key: Key, paths: dict[int, Path]) -> tuple[tuple, lis
             member[:] = (*key, path[depth - 1][0], element.name), depth
         paths[id(element)] = (member[0], path[member[1] :])
 
-    content = fingerprint(root, lambda target: targets.append(id(target)), visit, root.srcLine or 0)
+    content = plain_fingerprint(
+        root, lambda target: targets.append(id(target)), visit, root.srcLine or 0, (), made
+    )
     return content, targets
 
 
