@@ -57,11 +57,19 @@ def test_the_line_check_follows_every_edit_and_reuses_only_unchanged_inputs(tmp_
     def inputs() -> set[str]:
         return {os.path.join(folder, name) for name in os.listdir(folder)}
 
+    made: list[checking.FileCheck] = []  # every .tsm check the line checks made
+
     def check(text: str) -> tuple[tuple, bool]:
+        """The answer, and whether the .tsm was checked for it (else it came with a kept
+        answer: the very check, and model, made for the same text before)."""
         texts = {path: text}
         found, plain = checks.check(str(folder), texts, trees, inputs())
         assert found == full_check(folder, texts)
-        return found, bool(plain)
+        [tsm_check] = plain  # the requests read its model: one per answer, kept or new
+        assert tsm_check.path == path
+        ran = not any(tsm_check is earlier for earlier in made)
+        made.append(tsm_check)
+        return found, ran
 
     found, ran = check(original)
     assert ran and not any(d.severity == "error" for d in found)

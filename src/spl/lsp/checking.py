@@ -56,6 +56,10 @@ class FileCheck:
     analysable: Any = None
 
 
+# a line's findings, and the checks of its .tsm files (:meth:`LineChecks.check`)
+Answer = tuple[tuple[Diagnostic, ...], tuple[FileCheck, ...]]
+
+
 def product_line(path: str) -> str | None:
     """The product-line folder ``spl check`` checks ``path`` with: its folder when
     that holds exactly one .rm (and ``path`` is one of its .tsm, .fm or .rm files)."""
@@ -174,7 +178,9 @@ class LineChecks:
 
     A folder's check reads the line's model files, the files its .rm names and its
     listed products. The findings of the last few sets of those inputs used are kept,
-    so an edit undone (and done again), or a file saved as it was, is answered at once.
+    so an edit undone (and done again), or a file saved as it was, is answered at once,
+    with the .tsm files' own checks of then: the models the editor's requests read are
+    not built again either.
     Before the line is loaded, each .tsm is checked with the plain, incremental build
     (what ``spl check FILE.tsm`` runs): when it refuses the text, loading the line meets
     the same problems without building the model again (:func:`spl.dsl.tsm.language.parse_text`),
@@ -191,28 +197,32 @@ class LineChecks:
     def __init__(self, workspace: Workspace | None = None) -> None:
         """``workspace``: the server's (:func:`editor_workspace`, made here when not given)."""
         self.workspace = workspace if workspace is not None else editor_workspace()
-        self._kept: dict[str, list[tuple[tuple[object, ...], tuple[Diagnostic, ...]]]] = {}
+        self._kept: dict[str, list[tuple[tuple[object, ...], Answer]]] = {}
 
     def check(
         self, folder: str, texts: Mapping[str, str], trees: Trees, inputs: set[str]
-    ) -> tuple[tuple[Diagnostic, ...], list[FileCheck]]:
-        """The folder's findings, and the .tsm files' own checks when they were run."""
+    ) -> Answer:
+        """The folder's findings, and the .tsm files' own checks (the models of their
+        texts), made now or kept from the check of the same inputs."""
         key = _snapshot(folder, inputs, texts)
         kept = self._kept.setdefault(folder, [])
-        for at, (known, found) in enumerate(kept):
+        tsm_files = sorted(p for p in inputs if p.endswith(".tsm"))
+        for at, (known, answer) in enumerate(kept):
             if known == key:  # the last used stay: an edit undone and done again
                 kept.append(kept.pop(at))
-                return found, []
+                for path in tsm_files:  # the next change is read from this text
+                    if path in texts:
+                        trees.read(path, texts[path])
+                return answer
         # the line is loaded from the plain models checked here, and witness products
         # are resolved again, and the .rm's own checks run again, only when what they
         # read changed
         workspace = self.workspace.reading(texts)
-        tsm_files = sorted(p for p in inputs if p.endswith(".tsm"))
-        plain = [check_file(path, workspace, trees) for path in tsm_files]
-        found = check_line(folder, workspace)
-        kept.append((key, found))
+        plain = tuple(check_file(path, workspace, trees) for path in tsm_files)
+        answer = check_line(folder, workspace), plain
+        kept.append((key, answer))
         del kept[: -self.KEPT]
-        return found, plain
+        return answer
 
 
 def _snapshot(folder: str, inputs: set[str], texts: Mapping[str, str]) -> tuple[object, ...]:
