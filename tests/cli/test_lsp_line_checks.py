@@ -128,6 +128,52 @@ def test_a_refused_tsm_is_built_once_in_plain_objects(tmp_path, monkeypatch) -> 
     assert builds == ["plain"]
 
 
+def test_an_edit_builds_its_tsm_once_for_its_diagnostics_and_the_line(
+    tmp_path, monkeypatch
+) -> None:
+    """A valid edit of a line's .tsm is built once, in plain objects: the model its own
+    diagnostics came from is the one the line's template is built from (the workspace's
+    record of both), and an edit undone builds nothing."""
+    from spl.dsl.tsm import plain as tsm_plain
+
+    folder, inputs = copied(ROOT / "product_lines" / "orchard", tmp_path)
+    path = str(folder / "orchard.tsm")
+    original = Path(path).read_text(encoding="utf-8")
+    builds: list[str] = []
+    real = tsm._parse
+
+    def counted(text, filename, metamodel, *rest):
+        builds.append("plain" if metamodel is tsm_plain.metamodel() else "pyecore")
+        return real(text, filename, metamodel, *rest)
+
+    monkeypatch.setattr(tsm, "_parse", counted)
+    checks, trees = checking.LineChecks(), Trees()
+    models = checks.workspace.models
+    assert models is not None
+
+    def check(text: str) -> tuple[checking.FileCheck, list[str]]:
+        """The .tsm's check, and the builds the editor's check made (not the full one's)."""
+        builds.clear()
+        found, [own] = checks.check(str(folder), {path: text}, trees, inputs)
+        built = list(builds)
+        assert found == full_check(folder, {path: text})
+        if built:  # the model shown on the file is the one the line's template came from
+            assert built == ["plain"]
+            assert models.checked[path] == (text, own.model)
+            template = models.templates[path]
+            assert models.systems[path] == (text, template.system)
+            for container in own.model.containers:
+                key = ("containers", container.name)
+                assert template.declarations.items[key].element is container
+        return own, built
+
+    first, built = check(original)
+    assert built == ["plain"]
+    assert check(original + EXTRA)[1] == ["plain"]
+    assert check(original) == (first, [])  # undone: its check, and model, as they were
+    assert check(original + EXTRA.replace("Extra", "Other"))[1] == ["plain"]
+
+
 def test_witness_products_are_resolved_again_only_when_what_they_read_changed(
     tmp_path, monkeypatch
 ) -> None:
