@@ -36,6 +36,19 @@ def test_main_command_resolves_the_paper_product(tmp_path: Path, monkeypatch) ->
     assert result.exit_code == 0, result.output
     assert (tmp_path / "bundle" / "manifest.json").is_file()
     assert (tmp_path / "bundle" / "rapyuta" / "Robot.json").is_file()
+    # what the README shows it print and write is what it prints and writes
+    shown = re.search(r"\$ find (\S+) -type f \| sort\n(.*?)\n```", README, re.S)
+    assert shown, "README.md shows no listing of the bundle"
+    folder = shown.group(1)
+    listed = [line.removeprefix(folder + "/") for line in shown.group(2).splitlines()]
+    written = sorted(
+        str(f.relative_to(tmp_path / "bundle"))
+        for f in (tmp_path / "bundle").rglob("*")
+        if f.is_file()
+    )
+    assert listed == written
+    assert f"wrote {len(written)} files to {folder}" in README
+    assert f"wrote {len(written)} files to" in result.output
 
 
 def test_ci_script_runs_the_readme_test_command_then_validates_every_line() -> None:
