@@ -153,6 +153,23 @@ def test_what_is_not_carried_over_is_a_located_warning_and_no_command_runs(packa
     assert "3 nodes (0 optional), 11 things not carried over" in stdout
 
 
+def test_the_summary_counts_one_of_each_in_the_singular(package_path, tmp_path):
+    launch = write_launch(
+        package_path,
+        "one.launch",
+        '<launch><node pkg="demo" type="t" name="t" respawn="true"/></launch>',
+    )
+    out = tmp_path / "line"
+    status, stdout, stderr = run_import(launch, package_path, out)
+    assert status == 0, stderr
+    assert stdout.startswith(
+        "imported one: 1 product, 1 node (0 optional), 1 thing not carried over"
+    )
+    assert (
+        (out / "import-report.txt").read_text().startswith("spl import launch: 1 thing not carried")
+    )
+
+
 ALIASES = "a: &a [x, x, x, x, x, x, x, x, x, x]\n" + "".join(
     f"{n}: &{n} [{', '.join([f'*{p}'] * 10)}]\n" for p, n in zip("abcdefg", "bcdefgh", strict=True)
 )
@@ -175,7 +192,7 @@ ALIASES = "a: &a [x, x, x, x, x, x, x, x, x, x]\n" + "".join(
         ({"aliases.launch": '<launch><rosparam command="load" file="$(dirname)/a.yaml"/></launch>',
           "a.yaml": ALIASES}, "a rosparam value of more than 200000 items (YAML aliases?)"),
         ({"syntax.launch": '<launch>\n<node pkg="p" type="t" name="n"'},
-         "syntax.launch: invalid launch XML: unclosed token: line 2, column 0"),
+         "syntax.launch:2:1: invalid launch XML: unclosed token"),
         ({"bool.launch": '<launch><arg name="a" default="maybe"/>\n<group if="$(arg a)"/>'
           "</launch>"}, "bool.launch:2: maybe is not a 'bool' type"),
         ({"unset.launch": '<launch><arg name="x"/>\n<node pkg="p" type="t" name="$(arg x)"/>'

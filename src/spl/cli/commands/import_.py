@@ -14,6 +14,8 @@ from pathlib import Path
 
 import click
 
+from spl.core.diagnostics import counted
+
 
 def _line_errors(folder: Path) -> list[str]:
     """The errors ``spl check`` finds in a line written, before it is moved into place."""
@@ -111,9 +113,11 @@ def launch(
     line = imported.line
     optional = sum(n.optional for n in line.nodes)
     click.echo(
-        f"imported {line.name}: {len(line.products)} products, {len(line.nodes)} nodes "
-        f"({optional} optional), {len(imported.warnings)} things not carried over "
-        f"(listed in {out / 'import-report.txt'}); wrote {len(imported.files)} files to {out}"
+        f"imported {line.name}: {counted(len(line.products), 'product')}, "
+        f"{counted(len(line.nodes), 'node')} ({optional} optional), "
+        f"{counted(len(imported.warnings), 'thing')} not carried over "
+        f"(listed in {out / 'import-report.txt'}); wrote {counted(len(imported.files), 'file')} "
+        f"to {out}"
     )
 
 
@@ -174,7 +178,7 @@ def graph(
     for warning in imported.warnings:
         click.echo(warning, err=True)
     click.echo(
-        f"imported {name}: 1 product, {imported.nodes} nodes, {len(imported.warnings)} things "
-        f"not carried over (listed in {out / 'import-report.txt'}); wrote "
-        f"{len(imported.files)} files to {out}"
+        f"imported {name}: 1 product, {counted(imported.nodes, 'node')}, "
+        f"{counted(len(imported.warnings), 'thing')} not carried over (listed in "
+        f"{out / 'import-report.txt'}); wrote {counted(len(imported.files), 'file')} to {out}"
     )

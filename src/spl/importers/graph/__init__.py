@@ -19,6 +19,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+from spl.core.diagnostics import counted
 from spl.dsl import rosnames
 from spl.importers.graph.master import Graph, GraphNode, GraphUnreadable, read_graph
 from spl.importers.graph.statements import interface_statements, topic_statements
@@ -71,7 +72,7 @@ def import_graph(
         f"{name}.rm": f'resolution model {name}\ntsm "{name}.tsm"\nfm  "{name}.fm"\n',
         f"products/{name}.yaml": f"product: {name}\nfeatures: [{name}]\n",
         "import-report.txt": "\n".join(
-            [f"spl import graph: {len(warnings)} things not carried over", *warnings]
+            [f"spl import graph: {counted(len(warnings), 'thing')} not carried over", *warnings]
         )
         + "\n",
     }

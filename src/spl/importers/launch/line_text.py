@@ -10,6 +10,7 @@ in the ``.rm`` (``Robot.rviz``): a node may be declared in two containers.
 
 from __future__ import annotations
 
+from spl.core.diagnostics import counted
 from spl.importers.graph.master import Graph
 from spl.importers.graph.statements import interface_statements, topic_statements
 from spl.importers.launch.reading import Omission
@@ -169,5 +170,5 @@ def product_files(line: ImportedLine) -> dict[str, str]:
 
 def report_text(line: ImportedLine) -> str:
     """What could not be carried over, one located line each."""
-    head = f"spl import launch: {len(line.warnings)} things not carried over"
+    head = f"spl import launch: {counted(len(line.warnings), 'thing')} not carried over"
     return "\n".join([head, *(str(w) for w in line.warnings)]) + "\n"

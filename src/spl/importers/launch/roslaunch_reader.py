@@ -26,6 +26,7 @@ import json
 import os
 import sys
 from xml.dom import Node as DomNode, expatbuilder
+from xml.parsers.expat import ErrorString, ExpatError
 
 import yaml
 from roslaunch import xmlloader
@@ -121,7 +122,12 @@ class ImportLoader(xmlloader.XmlLoader):
                 document = _LineBuilder().parseFile(stream)
         except Refused as exc:
             raise Refused(f"{filename}: {exc}") from None
-        except Exception as exc:  # expat's errors carry line and column
+        except ExpatError as exc:  # at its line and column (expat's count from 0)
+            reason = ErrorString(exc.code)
+            raise Refused(
+                f"{filename}:{exc.lineno}:{exc.offset + 1}: invalid launch XML: {reason}"
+            ) from None
+        except Exception as exc:
             raise Refused(f"{filename}: invalid launch XML: {exc}") from None
         roots = document.getElementsByTagName("launch")
         if len(roots) != 1:
