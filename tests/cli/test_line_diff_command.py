@@ -143,7 +143,7 @@ def test_bad_folders_are_located_errors(tmp_path: Path) -> None:
     missing = tmp_path / "missing"
     result = spl("diff", MAPPING, missing)
     assert result.exit_code == 1
-    assert result.stderr.startswith(f"{missing}:0:0: error: no such folder")
+    assert result.stderr.startswith(f"error: {missing}: no such folder")
     empty = tmp_path / "empty"
     empty.mkdir()
     result = spl("diff", empty, MAPPING)

@@ -42,3 +42,16 @@ def test_an_unusable_scheduler_address_is_a_usage_error(address: str, says: str)
     assert result.returncode == 2, result.stderr
     assert result.stderr.startswith(f"error: --scheduler {address}: {says}")
     assert "internal error" not in result.stderr and "Traceback" not in result.stderr
+
+
+@pytest.mark.parametrize("narrowing", [["--changed-from", str(LINE)], ["--since", "HEAD"]])
+def test_a_narrowed_validation_with_a_scheduler_is_a_usage_error(narrowing: list[str]) -> None:
+    result = subprocess.run(
+        [sys.executable, "-m", "spl", "validate", str(LINE), "--scheduler", "local:1", *narrowing],
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert result.returncode == 2, result.stderr
+    assert "--changed-from and --since cannot be used with --scheduler" in result.stderr
+    assert "use --jobs N" in result.stderr and "Traceback" not in result.stderr

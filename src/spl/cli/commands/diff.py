@@ -23,7 +23,7 @@ from typing import Any
 import click
 
 from spl.cli.commands.analyze import DEFAULT_COUNT_SECONDS
-from spl.core.diagnostics import Diagnostic, Location, ModelError, counted
+from spl.core.diagnostics import Diagnostic, ModelError, counted
 
 SHOWN = 10  # list items a text report shows before "... and N more"
 MEANINGS = {
@@ -222,9 +222,8 @@ def _compare_lines(
     for path in paths:
         if not path.is_dir():
             what = "not a folder" if path.exists() else "no such folder"
-            raise ModelError(
-                [Diagnostic(Location(str(path), 0, 0), f"{what}: expected a product line folder")]
-            )
+            # a path with no place in a file to point at (a folder's 0:0 says nothing)
+            raise ModelError([Diagnostic(None, f"{path}: {what}: expected a product line folder")])
     mode = "all" if all_products else "sample" if t is not None else "listed"
     with tempfile.TemporaryDirectory(prefix="spl-diff-") as scratch:
         started = time.perf_counter()

@@ -129,7 +129,10 @@ def command(
     if changed_from is not None and len(directories) != 1:
         raise click.UsageError("--changed-from OLD_DIR compares one line DIR")
     if scheduler is not None and (changed_from is not None or since is not None):
-        raise click.UsageError("--changed-from and --since run on this machine (--jobs)")
+        raise click.UsageError(
+            "--changed-from and --since cannot be used with --scheduler: they validate on this "
+            "machine (use --jobs N)"
+        )
     # the workers of a cluster rehearse with their own ROS 1
     rehearse = _rehearsal() if smoke and scheduler is None else None
     if smoke:  # the rehearsals' processes are stopped on Ctrl-C and SIGTERM alike
