@@ -2,6 +2,7 @@
 (docs/performance.md, "Targets").
 
     .venv/bin/python bench/tsm_scale.py [--sizes 1000 10000] [--runs 3] [--line] [--keep DIR]
+                                        [--witnesses K]
 
 Writes, for each size, a product line the way a user would write a large one: two robot
 containers (endpoint, namespace) and three cloud containers (group and resources), the
@@ -20,7 +21,11 @@ median under 5 s. ``--line`` also times ``spl check`` of the whole product-line 
 (the .rm, .fm and .tsm parsed, then the line checks of docs/commands.md, "spl check"),
 and of ``product_lines/mapping3d`` in the same rounds, and judges the line folders by
 CPU time (docs/performance.md, "Large product lines"): the 1k folder at most 6x
-mapping3d and under 300 MB, the 10k folder at most 12x the 1k one.
+mapping3d and under 300 MB, the 10k folder at most 12x the 1k one. ``--witnesses K``
+instead times, in this process, K witness resolutions of each size's line as its
+dataflow check makes them (the products ``Root`` and ``F<i>, Root``, the collector
+paused as ``spl check`` pauses it): CPU ms per witness, the part of the folder's check
+that grows with the line.
 """
 
 from __future__ import annotations
@@ -183,13 +188,50 @@ def run(arguments: list[str]) -> tuple[float, float, float]:
     return wall, usage.ru_utime + usage.ru_stime, usage.ru_maxrss / 1024
 
 
+def witness_times(folder: Path, count: int) -> list[float]:
+    """CPU seconds of each of ``count`` witness resolutions of the line in ``folder``
+    (the first, which reads the line's per-line facts, not counted)."""
+    from spl.core.cyclic_gc import without_cyclic_gc
+    from spl.resolver.line_checks.witnesses import witness_warnings
+    from spl.resolver.resolution.product_line import load_product_line
+
+    line = load_product_line(folder)
+    products = [("Root",)] + [(f"F{i}", "Root") for i in range(1, count)]
+    times = []
+    with without_cyclic_gc("dropped"):  # as the line checks run (spl.resolver.line_checks)
+        witness_warnings(line, products[0])
+        for witness in products:
+            start = time.process_time()
+            witness_warnings(line, witness)
+            times.append(time.process_time() - start)
+    return times
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--sizes", type=int, nargs="+", default=[1000, 10000])
     parser.add_argument("--runs", type=int, default=3)
     parser.add_argument("--line", action="store_true", help="also check the whole line folder")
     parser.add_argument("--keep", type=Path, help="write the models here and keep them")
+    parser.add_argument("--witnesses", type=int, default=0, help="time K witness resolutions")
     options = parser.parse_args()
+    if options.witnesses:
+        with tempfile.TemporaryDirectory() as tmp:
+            medians = {}
+            for size in options.sizes:
+                folder = (options.keep or Path(tmp)) / f"n{size}"
+                folder.mkdir(parents=True, exist_ok=True)
+                synthetic_line(folder, size)
+                times = witness_times(folder, options.witnesses)
+                medians[size] = statistics.median(times)
+                print(
+                    f"{size} nodes: {len(times)} witnesses, CPU median "
+                    f"{1000 * medians[size]:.1f} ms, min {1000 * min(times):.1f} ms"
+                )
+        if len(options.sizes) > 1:
+            small, large = options.sizes[0], options.sizes[-1]
+            print(f"witness CPU median {large}/{small}: {medians[large] / medians[small]:.1f}")
+        return
     kinds = ("tsm", "line") if options.line else ("tsm",)
     results: dict[tuple[str, int], list[tuple[float, float, float]]] = {}
     lines: dict[int, int] = {}
