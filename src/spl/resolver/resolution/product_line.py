@@ -3,10 +3,12 @@
 
 from __future__ import annotations
 
+from collections import Counter
+from collections.abc import Callable
 from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any, TypeVar
 
 from spl.core.cyclic_gc import without_cyclic_gc
 from spl.core.diagnostics import Diagnostic, Location, ModelError
@@ -19,11 +21,42 @@ if TYPE_CHECKING:
     from spl.resolver.analysis.formula import FeatureModelFormula
     from spl.resolver.architecture.flows import FlowTable
 
+Fact = TypeVar("Fact")
+
+
+class TemplateFacts:
+    """The facts of a line's template that read nothing but the template, kept in the
+    editor's memory of the line (:class:`spl.dsl.workspace.LineMemory`) while the line's
+    template is the same model: an edit of the .rm or .fm builds no .tsm again
+    (:class:`spl.dsl.workspace.LastModels`), and its check then finds them as they were
+    (docs/editors.md, "What the editor keeps"). A template is never changed once built,
+    and a new build is a new model, so the model's identity tells when they are right."""
+
+    def __init__(self) -> None:
+        self._system: Any = None
+        self._facts: dict[str, Any] = {}
+        self.made: Counter[str] = Counter()  # how often each fact was computed
+
+    def follow(self, system: tsm_types.System) -> None:
+        """The line's template is now ``system``: the facts of another are let go."""
+        if system is not self._system:
+            self._system, self._facts = system, {}
+
+    def of(self, system: tsm_types.System, name: str, compute: Callable[[], Fact]) -> Fact:
+        """The fact ``name`` of ``system``, computed by ``compute`` unless kept."""
+        self.follow(system)
+        if name not in self._facts:
+            self._facts[name] = compute()
+            self.made[name] += 1
+        return self._facts[name]
+
 
 @dataclass(eq=False)
 class ProductLine:
     directory: Path
     models: rm.ResolutionModelFiles
+    # the template's facts the editor keeps for this line; None: computed for this line
+    kept: TemplateFacts | None = None
 
     @property
     def tsm(self) -> tsm_types.System:
@@ -51,7 +84,7 @@ class ProductLine:
         products of one line."""
         from spl.core.emf_copy import TreeImage
 
-        return TreeImage([self.tsm])
+        return self._template_fact("template_image", lambda: TreeImage([self.tsm]))
 
     @cached_property
     def template_flows(self) -> FlowTable:
@@ -59,7 +92,7 @@ class ProductLine:
         line checks that follow data through it."""
         from spl.resolver.architecture.flows import FlowTable
 
-        return FlowTable.of(self.tsm)
+        return self._template_fact("template_flows", lambda: FlowTable.of(self.tsm))
 
     @cached_property
     def node_keepers(self) -> dict[int, list[rm_types.ResolutionElement]]:
@@ -83,7 +116,7 @@ class ProductLine:
         (:func:`spl.resolver.architecture.flows.reached_topics`), built once for the line checks."""
         from spl.resolver.architecture.flows import reached_topics
 
-        return reached_topics(self.tsm)
+        return self._template_fact("template_reach", lambda: reached_topics(self.tsm))
 
     @cached_property
     def unreferred_optionals(self) -> dict[int, int]:
@@ -92,7 +125,11 @@ class ProductLine:
         a product whose elements name none of one leaves it out of its copy."""
         from spl.resolver.resolution.pruning import unreferred_optionals
 
-        return unreferred_optionals(self.tsm)
+        return self._template_fact("unreferred_optionals", lambda: unreferred_optionals(self.tsm))
+
+    def _template_fact(self, name: str, compute: Callable[[], Fact]) -> Fact:
+        """A fact of the template alone: kept by the editor for its template, if it keeps any."""
+        return compute() if self.kept is None else self.kept.of(self.tsm, name, compute)
 
     @property
     def name(self) -> str:
@@ -127,7 +164,13 @@ def find_resolution_model(directory: Path) -> Path:
 
 def load_product_line(directory: str | Path, workspace: Workspace | None = None) -> ProductLine:
     """The line in ``directory``; its models read as the editor's ``workspace`` has them,
-    when given (:mod:`spl.dsl.workspace`)."""
+    when given (:mod:`spl.dsl.workspace`), and the template's facts kept in its memory of
+    the line, if it keeps one (:class:`TemplateFacts`)."""
     directory = Path(directory)
     with without_cyclic_gc():  # the models live on: the collector need not walk them
-        return ProductLine(directory, rm.load(find_resolution_model(directory), workspace))
+        line = ProductLine(directory, rm.load(find_resolution_model(directory), workspace))
+    memory = workspace.line_memory(directory) if workspace is not None else None
+    if memory is not None:
+        line.kept = memory.of(TemplateFacts)
+        line.kept.follow(line.tsm)
+    return line
