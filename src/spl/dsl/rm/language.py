@@ -10,16 +10,18 @@ same tree.
 
 from __future__ import annotations
 
-import re
+from collections.abc import Sequence
 from dataclasses import dataclass
 from functools import cache
+from itertools import zip_longest
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, cast
 
 from spl.core.diagnostics import Diagnostic, DiagnosticSink, Location, ModelError, counted
+from spl.core.emf import adopt, forget_references
 from spl.dsl import literals, rosnames
 from spl.dsl.fm.language import all_features
-from spl.dsl.grammar_comments import COMMENT, is_comment
+from spl.dsl.grammar_comments import is_comment
 from spl.dsl.parse_tree import Positions
 from spl.dsl.rm import reader as rm_reader, reuse as rm_reuse
 from spl.dsl.rm.messages import (
@@ -31,7 +33,7 @@ from spl.dsl.rm.messages import (
     same_container_bridge,
     same_topic,
 )
-from spl.dsl.rm.models import referenced_models
+from spl.dsl.rm.models import header_lines, referenced_models
 from spl.dsl.rm.names import BRIDGE_FORMS, NameProblem, Names
 from spl.dsl.textx_text import model_from_text
 from spl.dsl.tsm.calling import call_problem
@@ -99,25 +101,15 @@ def parse_text(
         tree = _textx_tree(text, filename)
     positions = Positions(text, filename)
     sink = DiagnosticSink()
-    header = _header_lines(text, positions, positions.of(tree))
+    header = header_lines(text, positions, positions.of(tree))
     system, feature_model = referenced_models(tree, header, base, sink, workspace)
     sink.raise_if_errors()
-    model = _Builder(positions, system, feature_model, sink).build(tree)
+    taken = rm_reuse.taken_over(workspace, text, filename, tree, system, feature_model)
+    model = _Builder(positions, system, feature_model, sink).build(tree, taken)
     model.tsmPath, model.fmPath = tree.tsm, tree.fm
     rm_reuse.remember(workspace, text, filename, tree, header, system, feature_model, model, sink)
     sink.raise_if_errors()
     return ResolutionModelFiles(model, system, feature_model, Path(filename))
-
-
-def _header_lines(text: str, positions: Positions, start: Location) -> dict[str, Location]:
-    """Where the header's ``tsm "..."`` and ``fm "..."`` are written (comments, which may
-    mention either, blanked first); the model's start where one is not found."""
-    plain = COMMENT.sub(lambda m: re.sub(r"[^\n]", " ", m.group()), text)
-    found = {}
-    for attr in ("tsm", "fm"):
-        match = re.search(rf'(?<![\w."]){attr}\s*"', plain)
-        found[attr] = positions.at(match.start()) if match else start
-    return found
 
 
 def _textx_tree(text: str, filename: str) -> Any:
@@ -179,12 +171,17 @@ class _Builder:
         self.sink.error(self.loc(node), message, code)
 
     # -- building -------------------------------------------------------------------
-    def build(self, tree: Any) -> Any:
+    def build(self, tree: Any, taken: Sequence[Any] = ()) -> Any:
+        """The model of ``tree``; ``taken``, when given: per element, the last model's to
+        take over (:func:`spl.dsl.rm.reuse.taken_over`), or None to build it."""
         model = self.locate(self.R.ResolutionModel(name=tree.name), tree)
-        for element_tree in tree.elements:
-            element = self._element(element_tree)
+        elements = []
+        for element_tree, kept in zip_longest(tree.elements, taken):
+            element = self._element(element_tree) if kept is None else self.names.taken(kept)
             if element is not None:
-                model.elements.append(element)
+                elements.append(element)
+        if elements:
+            adopt(model, "elements", elements)
         return model
 
     def _element(self, tree: Any) -> Any:
@@ -211,6 +208,8 @@ class _Builder:
             if transformation is not None:
                 element.transformations.append(self.locate(transformation, stmt))
                 self.names.apply(transformation)
+        if feature is None:  # refused: the elements it names keep no record of it
+            forget_references(element)
         return element if feature is not None else None
 
     def _typed(self, stmt, interface, fits: bool, role: str) -> bool:

@@ -9,13 +9,16 @@ either are reported together with the .rm file's, so a user sees every one at on
 from __future__ import annotations
 
 import importlib
+import re
 from collections.abc import Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from spl.core.diagnostics import DiagnosticSink, Location, ModelError
+from spl.dsl.grammar_comments import COMMENT
 
 if TYPE_CHECKING:
+    from spl.dsl.parse_tree import Positions
     from spl.dsl.workspace import Workspace
 
 # How each model named in a .rm header is read: the module and function of its
@@ -25,6 +28,17 @@ _READERS = {
     "tsm": ("spl.dsl.tsm.language", "parse_file", {".tsm"}),
     "fm": ("spl.dsl.interop.formats", "load_line_feature_model", {".fm", ".uvl", ".xml"}),
 }
+
+
+def header_lines(text: str, positions: Positions, start: Location) -> dict[str, Location]:
+    """Where the header's ``tsm "..."`` and ``fm "..."`` are written (comments, which may
+    mention either, blanked first); the model's start where one is not found."""
+    plain = COMMENT.sub(lambda m: re.sub(r"[^\n]", " ", m.group()), text)
+    found = {}
+    for attr in ("tsm", "fm"):
+        match = re.search(rf'(?<![\w."]){attr}\s*"', plain)
+        found[attr] = positions.at(match.start()) if match else start
+    return found
 
 
 def referenced_models(

@@ -119,6 +119,14 @@ class Names:
         self._moved = {}
         self._element = element
 
+    def taken(self, element: rm_types.ResolutionElement) -> rm_types.ResolutionElement:
+        """``element``, built before from the same text in the same state (:mod:`.reuse`),
+        taken over: what it changes for the statements after it, as its build did."""
+        self.begin_element(element)
+        for transformation in element.transformations:
+            self.apply(transformation)
+        return element
+
     def placement(self, node: tsm_types.Node) -> Placement:
         """Where ``node`` can be at the running statement."""
         return Placement(node, self._moved.get(id(node)), tuple(self._may_move.get(id(node), ())))

@@ -10,20 +10,25 @@ elements: no declaration the edit changed, added or removed declares a name the 
 text mentions (any word of it, strings and comments too). Its feature model must be the
 very one it was built against (a .fm text is built once).
 
+An edit of the .rm itself builds only the elements it changed (:func:`taken_over`): the
+others are taken over from the last model, their lines moved where the edit moved them
+(``tests/dsl/test_rm_elements.py`` compares the model, element by element and place by
+place, with a full build through chains of edits).
+
 The last model built from each file against the editor's template is kept with its
 references (in its workspace's :class:`~spl.dsl.workspace.LastModels`); the next build
-forgets those references (pyecore records each one on the element referred to, which
-would keep every model of the session alive).
+forgets those of the elements it did not take over (pyecore records each one on the
+element referred to, which would keep every model of the session alive).
 """
 
 from __future__ import annotations
 
 import re
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 from spl.core.diagnostics import DiagnosticSink
-from spl.core.emf import forget_references, references
+from spl.core.emf import forget_references, move_lines, references
 from spl.dsl.rm.models import referenced_models
 from spl.dsl.tsm.declarations import BuiltTemplate, Key, declaration_of
 from spl.metamodels import tsm as tsm_metamodel
@@ -34,6 +39,10 @@ if TYPE_CHECKING:
     from spl.dsl.workspace import LastModels, Workspace
 
 WORD = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
+BLANKS = "\t\n\r "  # what the grammar skips besides comments (spl.dsl.parse_tree)
+# the statements that change what the names of the statements after them mean
+# (spl.dsl.rm.names.Names.apply): a migration, a topic created
+CHANGING = frozenset(("MigrateStmt", "ConnectNewTopicStmt"))
 
 
 @dataclass
@@ -86,6 +95,79 @@ def _still_meant(last: LastModels, found: KeptModel, system: Any, feature_model:
     return True
 
 
+class _Written(NamedTuple):
+    """A resolution element as written: its first line and column, its text from its
+    first token to the next element's (blanks at the end left out), and whether it has a
+    statement that changes what the names after it mean."""
+
+    line: int
+    column: int
+    text: str
+    changing: bool
+
+
+def taken_over(
+    workspace: Workspace | None,
+    text: str,
+    filename: str,
+    tree: Any,
+    system: Any,
+    feature_model: Any,
+) -> list[Any]:
+    """Per element of ``tree`` (``text`` read), the element of the model the workspace
+    keeps for ``filename`` to take over, its lines moved to where it is now, or None to
+    build it; empty when none is taken over.
+
+    An element's build reads its text, the .tsm and .fm models, and what the elements
+    before it left of the names (:class:`spl.dsl.rm.names.Names`: migrations, topics
+    created). The kept model has no error, so each of its elements was built in full.
+    With the same .tsm and .fm models, an element written as before (the same text at
+    the same column) is built the same when the elements before it are the same, or
+    when those the edit changed, before and after it, change no names. The elements
+    before the first one the edit changed, and after the last one, are taken over."""
+    last = workspace.models if workspace is not None else None
+    found = last.resolution_models.get(filename) if last is not None else None
+    if last is None or found is None or found.feature_model is not feature_model:
+        return []
+    if found.template.system is not system or last.built_template(system) is not found.template:
+        return []  # (remember, after the build, forgets what it did not take over)
+    before, now = _written(found.text, found.header), _written(text, tree)
+    elements = list(found.model.elements)
+    if len(elements) != len(before):
+        return []
+    same = min(len(before), len(now))
+    first = next((i for i in range(same) if before[i][1:3] != now[i][1:3]), same)
+    last_ones = next(
+        (i for i in range(same - first) if before[-1 - i][1:3] != now[-1 - i][1:3]), same - first
+    )
+    changed = before[first : len(before) - last_ones] + now[first : len(now) - last_ones]
+    if any(element.changing for element in changed):
+        last_ones = 0  # the names the elements after them read may mean something else
+    taken: list[Any] = [None] * len(now)
+    pairs = [(i, i) for i in range(first)]
+    pairs += [(len(now) - 1 - i, len(before) - 1 - i) for i in range(last_ones)]
+    for at, was in pairs:
+        moved = now[at].line - before[was].line
+        if moved:
+            move_lines(elements[was], moved)
+        taken[at] = elements[was]
+    return taken if pairs else []
+
+
+def _written(text: str, tree: Any) -> list[_Written]:
+    """Each resolution element of ``tree`` as written in ``text`` (:class:`_Written`)."""
+    starts = [element._tx_position for element in tree.elements]
+    found, line, at = [], 1, 0
+    for index, (start, element) in enumerate(zip(starts, tree.elements, strict=True)):
+        line += text.count("\n", at, start)
+        at = start
+        column = start - text.rfind("\n", 0, start)
+        end = starts[index + 1] if index + 1 < len(starts) else len(text)
+        changing = any(type(s).__name__ in CHANGING for s in element.statements)
+        found.append(_Written(line, column, text[start:end].rstrip(BLANKS), changing))
+    return found
+
+
 def remember(
     workspace: Workspace | None,
     text: str,
@@ -104,8 +186,10 @@ def remember(
     if last is None or template is None:
         return
     previous = last.resolution_models.pop(filename, None)
-    if previous is not None:
-        forget_references(previous.model)
+    if previous is not None:  # its elements but those the new model took over
+        for element in previous.model.elements:
+            if element.eContainer() is previous.model:
+                forget_references(element)
     if sink.errors:
         forget_references(model)
         return
