@@ -65,7 +65,8 @@ class LastModels:
     """The models the editor's line checks built last, per file. A text built before
     gives the same model again, and a changed .tsm is built from what its file's last
     template holds where the edit left it alone (:mod:`spl.dsl.tsm.declarations`); a .rm
-    whose names the edit left alone is not built again (:mod:`spl.dsl.rm.reuse`). So the
+    whose names the edit left alone is not built again, and an edited one builds only the
+    elements the edit changed (:mod:`spl.dsl.rm.reuse`). So the
     plain model the check of an edited .tsm built is the one the line's pyecore model is
     built from, and an edit of the line's .rm or .fm builds none of a large .tsm again.
 
@@ -98,10 +99,11 @@ def last_built(built: Built, text: str, filename: str) -> Any:
 
 
 class LineMemory:
-    """What is kept of one line's checks, each kind by its class (defined by the check that
+    """What is kept of one line's checks, each kind by its class (defined by the code that
     keeps it: :mod:`spl.resolver.line_checks.witnesses`,
-    :mod:`spl.resolver.line_checks.statements`), made when first used. Each kind keeps
-    what it needs to tell when it is still right."""
+    :mod:`spl.resolver.line_checks.statements`, the template's facts
+    :class:`spl.resolver.resolution.product_line.TemplateFacts`), made when first used.
+    Each kind keeps what it needs to tell when it is still right."""
 
     def __init__(self) -> None:
         self._kept: dict[type, Any] = {}

@@ -189,8 +189,11 @@ class LineChecks:
     :class:`~spl.dsl.workspace.LastModels`): the line's pyecore model is built from
     the plain model just checked, taking over the declarations the edit left alone (moved
     where it moved them), a file the edit left alone is not built again, nor a .rm whose
-    names still mean the same, and a witness product whose resolution reads nothing the
-    edit changed is not resolved again (:mod:`spl.resolver.line_checks.witnesses`)."""
+    names still mean the same, an edited .rm builds only the elements the edit changed
+    (:mod:`spl.dsl.rm.reuse`), the template's own facts are kept while it is the same
+    model (:class:`~spl.resolver.resolution.product_line.TemplateFacts`), and a witness
+    product whose resolution reads nothing the edit changed is not resolved again
+    (:mod:`spl.resolver.line_checks.witnesses`)."""
 
     KEPT = 4  # input sets kept per folder
 
