@@ -14,10 +14,12 @@ from pathlib import Path
 import pytest
 
 from spl.core.diagnostics import DiagnosticSink, ModelError
-from spl.core.emf import fingerprint, forget_references
+from spl.core.emf import fingerprint, forget_references, references
 from spl.dsl.parse_tree import Positions
 from spl.dsl.rm import language as rm, reader as rm_reader
+from spl.dsl.tsm.declarations import BuiltTemplate, declaration_of
 from spl.dsl.workspace import LastModels, Workspace
+from spl.metamodels import tsm as tsm_metamodel
 
 from support.typing_edits import model_edit
 
@@ -48,6 +50,17 @@ def content(model: object) -> tuple:
     """Everything of the model, places included, and the very .tsm and .fm elements it
     refers to."""
     return fingerprint(model, id)  # type: ignore[arg-type]
+
+
+def refers_to(model: object, template: BuiltTemplate) -> dict:
+    """The template's declarations ``model`` refers into, by their keys, found afresh."""
+    keys = {id(element): key for key, element in template.elements.items()}
+    found = {}
+    for _, _, target in references(model):  # type: ignore[arg-type]
+        if target.eClass.ePackage is tsm_metamodel().package:
+            declaration = declaration_of(target)
+            found[keys[id(declaration)]] = declaration
+    return found
 
 
 def element_edit(text: str, names: dict[str, list[str]], rng: random.Random) -> str:
@@ -115,6 +128,10 @@ def test_edits_of_a_line_rm_build_what_a_full_build_builds(folder: Path) -> None
                 moved += element.srcLine != lines[id(element)]
             else:
                 built += 1
+        # what the kept model refers into, kept element by element, is what it refers to
+        assert workspace.models is not None
+        kept = workspace.models.resolution_models[path]
+        assert kept.model is files.rm and kept.refers_to == refers_to(files.rm, kept.template)
         # nothing but the model now kept refers into the template
         inside = {id(files.rm), *(id(e) for e in files.rm.eAllContents())}
         inside |= {id(files.tsm), *(id(e) for e in files.tsm.eAllContents())}

@@ -55,6 +55,8 @@ class KeptModel:
     model: Any
     refers_to: dict[Key, Any]  # the declarations it refers into, by their element
     words: frozenset[str]
+    # per element, by its id: the element, and the declarations it refers into
+    by_element: dict[int, tuple[Any, dict[Key, Any]]]
 
 
 def still_built(
@@ -193,15 +195,26 @@ def remember(
     if sink.errors:
         forget_references(model)
         return
-    declarations = {id(element): key for key, element in template.elements.items()}
+    # what each element refers into: an element taken over refers where it did
+    before = previous.by_element if previous is not None and previous.template is template else {}
+    declarations: dict[int, Key] = {}
     package = tsm_metamodel().package
+    by_element: dict[int, tuple[Any, dict[Key, Any]]] = {}
     refers_to: dict[Key, Any] = {}
-    for _, _, target in references(model):
-        if target.eClass.ePackage is not package:
-            continue
-        declaration = declaration_of(target)
-        refers_to[declarations[id(declaration)]] = declaration
+    for element in model.elements:  # (the model itself refers to nothing)
+        kept = before.get(id(element))
+        if kept is None or kept[0] is not element:
+            if not declarations:
+                declarations = {id(e): key for key, e in template.elements.items()}
+            into = {}
+            for _, _, target in references(element):
+                if target.eClass.ePackage is package:
+                    declaration = declaration_of(target)
+                    into[declarations[id(declaration)]] = declaration
+            kept = (element, into)
+        by_element[id(element)] = kept
+        refers_to.update(kept[1])
     words = frozenset(WORD.findall(text))
     last.resolution_models[filename] = KeptModel(
-        text, tree, where, template, feature_model, model, refers_to, words
+        text, tree, where, template, feature_model, model, refers_to, words, by_element
     )
