@@ -47,6 +47,21 @@ def full_check(folder: Path, texts: dict[str, str]) -> tuple:
     return checking.check_line(str(folder), Workspace().reading(texts))
 
 
+def tsm_builds(monkeypatch) -> list[str]:
+    """The .tsm builds made from now on, each "plain" or "pyecore" (its metamodel)."""
+    from spl.dsl.tsm import plain as tsm_plain
+
+    builds: list[str] = []
+    real = tsm._parse
+
+    def counted(text, filename, metamodel, *rest):
+        builds.append("plain" if metamodel is tsm_plain.metamodel() else "pyecore")
+        return real(text, filename, metamodel, *rest)
+
+    monkeypatch.setattr(tsm, "_parse", counted)
+    return builds
+
+
 def test_the_line_check_follows_every_edit_and_reuses_only_unchanged_inputs(tmp_path) -> None:
     folder = tmp_path / "orchard"
     shutil.copytree(ROOT / "product_lines" / "orchard", folder)
@@ -108,20 +123,11 @@ def test_the_line_check_follows_every_edit_and_reuses_only_unchanged_inputs(tmp_
 def test_a_refused_tsm_is_built_once_in_plain_objects(tmp_path, monkeypatch) -> None:
     """A .tsm that does not build is read once, by the plain build: loading the line,
     then its files one by one, meets the problems the plain build found."""
-    from spl.dsl.tsm import plain as tsm_plain
-
     folder = tmp_path / "orchard"
     shutil.copytree(ROOT / "product_lines" / "orchard", folder)
     path = str(folder / "orchard.tsm")
     broken = Path(path).read_text(encoding="utf-8") + "bridge Harvester.Image -> Nowhere.Image\n"
-    builds: list[str] = []
-    real = tsm._parse
-
-    def counted(text, filename, metamodel, *rest):
-        builds.append("plain" if metamodel is tsm_plain.metamodel() else "pyecore")
-        return real(text, filename, metamodel, *rest)
-
-    monkeypatch.setattr(tsm, "_parse", counted)
+    builds = tsm_builds(monkeypatch)
     inputs = {os.path.join(folder, name) for name in os.listdir(folder)}
     found, _ = checking.LineChecks().check(str(folder), {path: broken}, Trees(), inputs)
     assert [d.message for d in found] == ["unknown container Nowhere"]
@@ -134,19 +140,10 @@ def test_an_edit_builds_its_tsm_once_for_its_diagnostics_and_the_line(
     """A valid edit of a line's .tsm is built once, in plain objects: the model its own
     diagnostics came from is the one the line's template is built from (the workspace's
     record of both), and an edit undone builds nothing."""
-    from spl.dsl.tsm import plain as tsm_plain
-
     folder, inputs = copied(ROOT / "product_lines" / "orchard", tmp_path)
     path = str(folder / "orchard.tsm")
     original = Path(path).read_text(encoding="utf-8")
-    builds: list[str] = []
-    real = tsm._parse
-
-    def counted(text, filename, metamodel, *rest):
-        builds.append("plain" if metamodel is tsm_plain.metamodel() else "pyecore")
-        return real(text, filename, metamodel, *rest)
-
-    monkeypatch.setattr(tsm, "_parse", counted)
+    builds = tsm_builds(monkeypatch)
     checks, trees = checking.LineChecks(), Trees()
     models = checks.workspace.models
     assert models is not None
