@@ -30,6 +30,10 @@ if TYPE_CHECKING:
 
 Meaning = TypeVar("Meaning")
 
+# the statements, as read, whose transformations change what the names of the
+# statements after them mean (:meth:`Names.apply`): a migration, a topic created
+CHANGING_STATEMENTS = frozenset(("MigrateStmt", "ConnectNewTopicStmt"))
+
 BRIDGE_FORMS = (
     "a bridge is CONTAINER.TOPIC -> CONTAINER.TOPIC or "
     "[CONTAINER.]NODE.CLIENT -> [CONTAINER.]NODE.SERVER"

@@ -30,6 +30,7 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 from spl.core.diagnostics import DiagnosticSink
 from spl.core.emf import forget_references, move_lines, references
 from spl.dsl.rm.models import referenced_models
+from spl.dsl.rm.names import CHANGING_STATEMENTS
 from spl.dsl.tsm.declarations import BuiltTemplate, Key, declaration_of
 from spl.metamodels import tsm as tsm_metamodel
 
@@ -40,9 +41,6 @@ if TYPE_CHECKING:
 
 WORD = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 BLANKS = "\t\n\r "  # what the grammar skips besides comments (spl.dsl.parse_tree)
-# the statements that change what the names of the statements after them mean
-# (spl.dsl.rm.names.Names.apply): a migration, a topic created
-CHANGING = frozenset(("MigrateStmt", "ConnectNewTopicStmt"))
 
 
 @dataclass
@@ -165,7 +163,7 @@ def _written(text: str, tree: Any) -> list[_Written]:
         at = start
         column = start - text.rfind("\n", 0, start)
         end = starts[index + 1] if index + 1 < len(starts) else len(text)
-        changing = any(type(s).__name__ in CHANGING for s in element.statements)
+        changing = any(type(s).__name__ in CHANGING_STATEMENTS for s in element.statements)
         found.append(_Written(line, column, text[start:end].rstrip(BLANKS), changing))
     return found
 
