@@ -1,13 +1,16 @@
-"""A witness resolution the editor keeps serves a template whose declarations only moved
-(``spl.resolver.line_checks.witnesses``): each warning located in the template moves
+"""A witness resolution, or the dataflow check's findings, the editor keeps serve a
+template whose declarations only moved (``spl.resolver.line_checks.witnesses``,
+``moved_findings``): each warning located in the template moves
 with the declaration it is in, and the resolution is made again when a warning is in
 no declaration read, when declarations overlapping it moved apart, or when its message
 cites a place in the template."""
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 from spl.core.diagnostics import Diagnostic, Location
-from spl.resolver.line_checks.witnesses import _moved, _Remembered
+from spl.resolver.line_checks.witnesses import Lines, moved_findings
 
 FILE = "line/line.tsm"
 
@@ -16,11 +19,20 @@ def warning(line: int, message: str = "unfed", file: str = FILE) -> Diagnostic:
     return Diagnostic(Location(file, line, 9), message, "warning", "SPL045")
 
 
-def remembered(*warnings: Diagnostic) -> _Remembered:
+class Kept(NamedTuple):
+    lines: Lines
+    warnings: tuple[Diagnostic, ...]
+
+
+def _moved(kept: Kept, lines: Lines, file: str) -> tuple[Diagnostic, ...] | None:
+    return moved_findings(kept.lines, kept.warnings, lines, file)
+
+
+def remembered(*warnings: Diagnostic) -> Kept:
     # two containers: A (lines 3-10, a node in it at 5-8) and B (12-20)
     lines = {("containers", "A"): (3, 3), ("containers", "A", "nodes", "N"): (5, 8)}
     lines[("containers", "B")] = (12, 20)
-    return _Remembered(("key",), lines, warnings)
+    return Kept(lines, warnings)
 
 
 def test_warnings_move_with_their_declarations() -> None:
@@ -48,6 +60,6 @@ def test_a_warning_no_moved_declaration_holds_is_resolved_again() -> None:
 
 
 def test_overlapping_declarations_that_moved_apart_resolve_again() -> None:
-    kept = _Remembered(("key",), {("a",): (3, 9), ("b",): (5, 6)}, (warning(4),))
+    kept = Kept({("a",): (3, 9), ("b",): (5, 6)}, (warning(4),))
     assert _moved(kept, {("a",): (4, 10), ("b",): (6, 7)}, FILE) is not None  # together
     assert _moved(kept, {("a",): (4, 10), ("b",): (8, 9)}, FILE) is None

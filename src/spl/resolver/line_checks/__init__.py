@@ -50,7 +50,8 @@ SPL052    info      a publisher whose data no subscriber of any product reads
 
 One module a check family; this package runs them all. :class:`ActivationSolver`
 (:mod:`.activation`) answers the SAT questions of every check but SPL014 and SPL015: one
-solver those that read only the .rm and .fm (:mod:`.statements`), another the rest.
+solver those that read only the .rm and .fm (:mod:`.statements`), one the dataflow
+checks (:mod:`.dataflow_memory`: the editor keeps their findings), another the rest.
 """
 
 from __future__ import annotations
@@ -60,13 +61,12 @@ from spl.core.diagnostics import Diagnostic, Location
 from spl.dsl.workspace import Workspace
 from spl.resolver.line_checks.activation import ActivationSolver
 from spl.resolver.line_checks.cross_robot import cross_robot_flows_in_line
-from spl.resolver.line_checks.dataflow import unfed_inputs_in_line
+from spl.resolver.line_checks.dataflow_memory import dataflow_findings_kept
 from spl.resolver.line_checks.endpoints import incomplete_endpoints
 from spl.resolver.line_checks.instance_tags import clashing_instance_tags
 from spl.resolver.line_checks.listed_products import read_listed, unresolvable_products
 from spl.resolver.line_checks.robot_ids import shared_robot_ids
 from spl.resolver.line_checks.statements import statement_findings
-from spl.resolver.line_checks.unconsumed import unconsumed_outputs_in_line
 from spl.resolver.line_checks.unreachable_optionals import unreachable_optional_elements
 from spl.resolver.resolution.product_line import ProductLine
 
@@ -94,8 +94,7 @@ def _line_checks(
         solver.decide(list(line.rm.elements))  # each element's activity, in few models
         found += unreachable_optional_elements(line, solver)
         found += cross_robot_flows_in_line(line, solver, listed, workspace)
-        found += unfed_inputs_in_line(line, solver, workspace)
-        found += unconsumed_outputs_in_line(line, solver)
+    found += dataflow_findings_kept(line, workspace)  # on a solver of their own
     found += shared_robot_ids(line)
     found += incomplete_endpoints(line)
     found += clashing_instance_tags(line, listed)

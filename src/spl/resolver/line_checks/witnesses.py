@@ -69,7 +69,7 @@ class WitnessResolutions:
         key, lines = _inputs(line, built.declarations, witness)
         kept = self._kept.get(witness)
         if kept is not None and kept.key == key:
-            moved = _moved(kept, lines, line.tsm.srcFile)
+            moved = moved_findings(kept.lines, kept.warnings, lines, line.tsm.srcFile)
             if moved is not None:
                 return moved
         found, complete = _resolved(line, witness)
@@ -118,8 +118,21 @@ def _inputs(line: ProductLine, found: Declarations, witness: Witness) -> tuple[t
     drops, the feature model, and the elements it activates, in file order; and the
     lines of the declarations read."""
     selected = set(witness)
+    active = [
+        element
+        for element in line.rm.elements
+        if (element.feature is not None and element.feature.name in selected)
+        == element.activeIfSelected
+    ]
+    elements, touched = element_prints(active)
+    return template_reads(line, found, _resolution_reads(found, touched), elements)
+
+
+def element_prints(elements: list[Any]) -> tuple[tuple, set[Key]]:
+    """The prints of resolution ``elements`` (their places included: messages cite
+    them), and the template's declarations they refer into."""
     package = tsm().package
-    touched: set[Key] = set()  # the template's declarations the active elements refer into
+    touched: set[Key] = set()
 
     def target(value: Any) -> object:
         if value.eClass.ePackage is not package:
@@ -128,18 +141,20 @@ def _inputs(line: ProductLine, found: Declarations, witness: Witness) -> tuple[t
         touched.add(path[0])
         return path
 
-    elements = tuple(
-        fingerprint(element, target)
-        for element in line.rm.elements
-        if (element.feature is not None and element.feature.name in selected)
-        == element.activeIfSelected
-    )
-    read = _resolution_reads(found, touched)
+    return tuple(fingerprint(element, target) for element in elements), touched
+
+
+def template_reads(
+    line: ProductLine, found: Declarations, read: list[Key], elements: tuple
+) -> tuple[tuple, Lines]:
+    """A key of what a computation reads: the template's declarations ``read`` (by their
+    prints), the feature model and the resolution ``elements``' prints; and the lines
+    of the declarations read, to move what it found with them (:func:`moved_findings`)."""
     name, file, first, column = found.own  # the System's line moves as the rest does
     template = ((name, file, column), tuple((k, found.items[k].print) for k in read))
     lines = {k: found.items[k].lines for k in read}
     lines[()] = (first, first)
-    return (template, fingerprint(line.fm, target), elements), lines
+    return (template, fingerprint(line.fm, lambda value: _named(value)), elements), lines
 
 
 def _resolution_reads(found: Declarations, touched: set[Key]) -> list[Key]:
@@ -148,13 +163,7 @@ def _resolution_reads(found: Declarations, touched: set[Key]) -> list[Key]:
     active element refers into: a product prunes them before anything looks at its
     architecture."""
     items = found.items
-    referred: set[Key] = set()  # declarations referred into from another declaration
-    referred_containers: set[Key] = set()  # ... from outside the container
-    for key, declaration in items.items():
-        for target in declaration.refers_to:
-            referred.add(target)
-            if target[:2] != key[:2]:
-                referred_containers.add(target[:2])
+    referred, referred_containers = referred_declarations(found)
     kept = referred | touched
     kept_containers = referred_containers | {k[:2] for k in touched}
 
@@ -166,14 +175,28 @@ def _resolution_reads(found: Declarations, touched: set[Key]) -> list[Key]:
     return [k for k in items if not dropped(k)]
 
 
-def _moved(kept: _Remembered, lines: Lines, file: str) -> Warnings | None:
-    """``kept``'s warnings in a template whose declarations read are where ``lines``
-    says (the same in content, so each moved whole): each warning located in the
-    template moved with the declaration it is in; None when one is in none of them, or
-    one's message cites a place in the template that moved."""
-    if kept.lines == lines:
-        return kept.warnings
-    spans = sorted((first, last, lines[k][0] - first) for k, (first, last) in kept.lines.items())
+def referred_declarations(found: Declarations) -> tuple[set[Key], set[Key]]:
+    """The declarations another declaration refers into, and the containers referred
+    into from outside them."""
+    referred: set[Key] = set()
+    referred_containers: set[Key] = set()
+    for key, declaration in found.items.items():
+        for target in declaration.refers_to:
+            referred.add(target)
+            if target[:2] != key[:2]:
+                referred_containers.add(target[:2])
+    return referred, referred_containers
+
+
+def moved_findings(before: Lines, findings: Warnings, lines: Lines, file: str) -> Warnings | None:
+    """``findings`` made on a template whose declarations read were where ``before``
+    says, in one whose same declarations (equal in content, so each moved whole) are
+    where ``lines`` says: each finding located in the template moved with the
+    declaration it is in; None when one is in none of them, or one's message cites a
+    place in the template that moved."""
+    if before == lines:
+        return findings
+    spans = sorted((first, last, lines[k][0] - first) for k, (first, last) in before.items())
     regions: list[list[int]] = []  # [first, last, moved by] of overlapping declarations
     for first, last, moved in spans:
         if regions and first <= regions[-1][1]:
@@ -184,7 +207,7 @@ def _moved(kept: _Remembered, lines: Lines, file: str) -> Warnings | None:
             regions.append([first, last, moved])
     starts = [r[0] for r in regions]
     found = []
-    for warning in kept.warnings:
+    for warning in findings:
         where = warning.location
         if file in warning.message:
             return None
