@@ -17,7 +17,8 @@ from spl.core.diagnostics import DiagnosticSink, ModelError
 from spl.core.emf import fingerprint, forget_references, references
 from spl.dsl.parse_tree import Positions
 from spl.dsl.rm import language as rm, reader as rm_reader
-from spl.dsl.tsm.declarations import BuiltTemplate, declaration_of
+from spl.dsl.tsm.declaration_paths import declaration_of
+from spl.dsl.tsm.declarations import BuiltTemplate
 from spl.dsl.workspace import LastModels, Workspace
 from spl.metamodels import tsm as tsm_metamodel
 

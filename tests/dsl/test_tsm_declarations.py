@@ -51,7 +51,7 @@ def build_chain(texts: list[str]) -> list[BuiltTemplate]:
         except ModelError:
             continue
         previous = built[-1] if built else None
-        template = build(plain, previous)
+        template = build(plain, previous, text)
         assert printed(template.system) == printed(copy_model(tsm.check_text(text, FILE)))
         for key, element in template.elements.items():
             owner = template.system if len(key) == 2 else template.elements[key[:2]]
@@ -111,3 +111,77 @@ def test_an_edit_takes_over_every_declaration_it_left_alone() -> None:
 
 
 WATCHED = [("topics", "Seen"), ("nodes", "Watcher")]
+
+
+STORED = """system Stored
+
+data Reading { celsius : double  variance : double }
+data Summary { fahrenheit : double }
+transform Summarize : Reading -> Summary {
+    fahrenheit = celsius * 9.0 / 5.0 + 32.0
+}
+
+robot container Rover {
+    endpoint robot_id "rover_1" url "wss://cloud.example.org:9000/" user "rover" password env "RCE_PASSWORD"
+    topic RReadings : sensor_msgs/Temperature
+    writer RWriter : Reading to Planning.PlanningStore <- RReadings
+    topic RT0 : sensor_msgs/PointCloud2 name "/R/t0"
+    node RN0 {
+        implementation pkg_rover/node_0
+        publishes out -> RT0
+        provides lookup : nav_msgs/GetMap name "/R/lookup0"
+    }
+    node RN1 {
+        implementation pkg_rover/node_1
+        calls lookup -> RN0.lookup
+        subscribes in <- RT0
+    }
+}
+
+cloud container Planning group "plannings" {
+    store PlanningStore {
+        raw Reading
+        refined Summary by Summarize every 10 s
+    }
+    topic PT0 : sensor_msgs/PointCloud2 name "/P/t0"
+    node PN0 {
+        implementation pkg_planning/node_0
+        publishes out -> PT0
+    }
+}
+"""
+
+
+def test_a_container_whose_text_is_unchanged_is_taken_over_unread(monkeypatch) -> None:
+    """After an edit inside one container, another whose text is the same (only moved)
+    is taken over without being printed, whole or member by member; one that refers
+    into a declaration the edit changed is read, since its print may have changed with
+    it. Either way the template is the one a full copy builds."""
+    from spl.dsl.tsm import declarations as module
+
+    read: list[tuple] = []  # the keys of the declarations printed, in every build
+    for name in ("_read", "_read_whole"):
+        real = getattr(module, name)
+
+        def counted(root, key, *rest, real=real):
+            read.append(key)
+            return real(root, key, *rest)
+
+        monkeypatch.setattr(module, name, counted)
+    inside = STORED.index("    node RN1")
+    added = STORED[:inside] + "    node Added {\n        implementation p/a\n    }\n"
+    added += STORED[inside:]
+    transformed = added.replace("* 9.0", "* 9.5")
+    texts = [STORED, added, transformed, "// moved\n" + transformed]
+    containers, previous = [], None
+    for text in texts:
+        plain = tsm.check_text(text, FILE)
+        read.clear()
+        previous = build(plain, previous, text)
+        containers.append({key[1] for key in read if key[0] == "containers"})
+        assert printed(previous.system) == printed(copy_model(tsm.check_text(text, FILE)))
+    assert containers[1] == {"Rover"}  # a node added there, Planning's text as it was
+    # the transform Planning's store refers to: Planning is read again
+    assert containers[2] == {"Planning"}
+    # every line moved, no text changed: no container printed again
+    assert containers[3] == set()

@@ -31,7 +31,8 @@ from spl.core.diagnostics import DiagnosticSink
 from spl.core.emf import forget_references, move_lines, references
 from spl.dsl.rm.models import referenced_models
 from spl.dsl.rm.names import CHANGING_STATEMENTS
-from spl.dsl.tsm.declarations import BuiltTemplate, Key, declaration_of
+from spl.dsl.tsm.declaration_paths import Key, declaration_of
+from spl.dsl.tsm.declarations import BuiltTemplate
 from spl.metamodels import tsm as tsm_metamodel
 
 if TYPE_CHECKING:

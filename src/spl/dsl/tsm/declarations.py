@@ -19,6 +19,14 @@ declaration also lists the declarations it refers into (a bridge into the topics
 joins), the names declared in it (what a .rm may refer to), its lines, and whether a
 product may drop it: a container all of whose nodes and stores are optional, or an
 optional node or store.
+
+A container whose text is the text it had, only moved, is not printed at all: the same
+text holds the same values at the same places from its first line, under the same
+names, so its print changes only with a declaration it refers into (a data type a store
+keeps, a transform), and it is printed when one of those changed; its endpoint's
+interfaces, which the bridges make, are printed each time. On a 10,000-node line an edit
+inside one container left four of five containers to print whole, half of building the
+template again.
 """
 
 from __future__ import annotations
@@ -36,18 +44,13 @@ from spl.core.emf import (
     move_lines,
     replace_members,
 )
+from spl.dsl.tsm.declaration_paths import MEMBERS, Key, Path, path_of, target_paths
 from spl.dsl.tsm.plain_prints import ClassPrint, plain_fingerprint
 from spl.metamodels import tsm as tsm_metamodel
 
 FEATURES = ("dataTypes", "transforms", "containers", "connections")  # in model order
-# a container's members, declarations of their own: its topics, nodes and stores, and its
-# endpoint's interfaces (placed where the bridges that make them are, not in the container)
-MEMBERS = ("topics", "nodes", "stores", "interfaces")
-_SHELL = (("topics",), ("nodes",), ("stores",), ("endpoint", "interfaces"))  # left out
-# (feature, name), or (feature, position) for an unnamed bridge; a container's member:
-# the container's key, then (feature, name)
-Key = tuple
-Path = tuple[Key, tuple[Step, ...]]  # the declaration, then the steps down to the element
+# a container's own print leaves its members out (MEMBERS: declarations of their own)
+_SHELL = (("topics",), ("nodes",), ("stores",), ("endpoint", "interfaces"))
 
 
 class Declaration(NamedTuple):  # a tuple: a 10,000-node template has some 15,000
@@ -72,20 +75,27 @@ class Declarations:
     unique: bool = True  # no two declarations with one key (the checks make sure)
     # each container's print as a whole, from its first line (given a reading before)
     wholes: dict[Key, tuple] = field(default_factory=dict)
+    text: str | None = None  # what the model was read from, when known
 
 
-def declarations(system: Any, before: Declarations | None = None) -> Declarations:
-    """The declarations of ``system`` (a plain or a pyecore System). Given those of a
-    reading before, a container whose print as a whole is unchanged (it is the same, or
-    only moved) keeps the declarations of its shell and members from then, moved along
-    and holding the elements read now: it is read once, not once whole and once member
-    by member; one that declares other members than before is read member by member
-    at once."""
+def declarations(
+    system: Any, before: Declarations | None = None, text: str | None = None
+) -> Declarations:
+    """The declarations of ``system`` (a plain or a pyecore System; ``text``: what it was
+    read from, when known). Given those of a reading before, a container whose print as
+    a whole is unchanged (it is the same, or only moved) keeps the declarations of its
+    shell and members from then, moved along and holding the elements read now: it is
+    read once, not once whole and once member by member; one that declares other
+    members than before is read member by member at once; and one whose text is the
+    text it had (:func:`_same_text`) is not read at all, unless it refers into a
+    declaration the edit changed (then its print may have changed with it)."""
     paths: dict[int, Path] = {}
     read: list[tuple] = []  # (key, element, content, targets, names, lines) of each
     wholes: dict[Key, tuple] = {}
-    whole: list[tuple] = []  # (key, element, content, targets) of each container
+    whole: list[tuple[Key, Any]] = []  # containers to read whole
+    unread: dict[Key, Any] = {}  # containers whose text is unchanged
     earlier = _by_container(before) if before is not None else {}
+    same = _same_text(system, before, text) if before is not None else set()
     made: dict[type, ClassPrint] = {}  # the print of each plain class, made once here
     for feature in FEATURES:
         for position, root in enumerate(getattr(system, feature)):
@@ -94,36 +104,118 @@ def declarations(system: Any, before: Declarations | None = None) -> Declaration
                 read.append(_read(root, key, paths, made))
             elif before is None or _other_members(root, earlier.get(key)):
                 read += _read_members(root, key, paths, made)  # changed: no use reading it whole
+            elif key in same:  # but its endpoint's interfaces, which the bridges make
+                unread[key] = root
+                read += [
+                    _read(m, (*key, "interfaces", m.name), paths, made)
+                    for m in _members(root, "interfaces")
+                ]
             else:
-                whole.append((key, root, *_read_whole(root, key, paths, made)))
+                whole.append((key, root))
     taken: dict[Key, Declaration] = {}
-    for key, root, content, targets in whole:  # every path is known: print them whole
-        wholes[key] = (content, _printed(targets, paths))
-        if before is None or before.wholes.get(key) != wholes[key]:
-            read += _read_members(root, key, paths, made)
-            continue
+    path_of_target = target_paths(system, paths)
+
+    def take_over(key: Key, root: Any, read_interfaces: bool = False) -> None:
+        """The container's declarations from the reading before, moved along (but its
+        endpoint's interfaces, if ``read_interfaces``)."""
+        assert before is not None
         moved = (root.srcLine or 0) - before.items[key].lines[0]
         now = {(f, m.name): m for f in MEMBERS for m in _members(root, f)}
         for old in earlier[key]:
+            if read_interfaces and old.key[2:3] == ("interfaces",):
+                continue
             element = root if len(old.key) == 2 else now[old.key[2:]]
             lines = (old.lines[0] + moved, old.lines[1] + moved)
             taken[old.key] = old._replace(lines=lines, element=element)
-    for key, root, content, targets, names, lines in read:
-        printed = _printed(targets, paths)
-        refers_to = frozenset(p[0] for p in printed if p[0] != key and p[0] != "outside")
-        if len(key) == 2:
-            droppable = key[0] == "containers" and all(
-                element.optional for element in (*root.nodes, *root.stores)
+
+    def declare(found: list[tuple]) -> None:
+        for key, root, content, targets, names, lines in found:
+            printed = tuple(path_of_target(t) for t in targets)
+            refers_to = frozenset(p[0] for p in printed if p[0] != key and p[0] != "outside")
+            if len(key) == 2:
+                droppable = key[0] == "containers" and all(
+                    element.optional for element in (*root.nodes, *root.stores)
+                )
+            else:
+                droppable = key[2] in ("nodes", "stores") and root.optional
+            taken[key] = Declaration(
+                key, (content, printed), refers_to, frozenset(names), droppable, lines, root
             )
-        else:
-            droppable = key[2] in ("nodes", "stores") and root.optional
-        taken[key] = Declaration(
-            key, (content, printed), refers_to, frozenset(names), droppable, lines, root
-        )
+
+    while True:
+        for key, root in whole:
+            content, targets = _read_whole(root, key, paths, made)
+            wholes[key] = (content, tuple(path_of_target(t) for t in targets))
+            if before is None or before.wholes.get(key) != wholes[key]:
+                read += _read_members(root, key, paths, made)
+            else:
+                take_over(key, root)
+        declare(read)
+        read, whole = [], []
+        # a container not read keeps its print while what it refers into keeps theirs
+        changed = {k for k, d in taken.items() if before is None or _changed(before, k, d)}
+        for key in list(unread):
+            outside = {t for d in earlier[key] for t in d.refers_to if t[:2] != key}
+            if outside & changed or not outside <= set(taken) | _in(unread, outside):
+                whole.append((key, unread.pop(key)))
+        if not whole:
+            break
+    for key, root in unread.items():
+        assert before is not None
+        take_over(key, root, read_interfaces=True)
+        # its print as a whole is the one before if its interfaces' are, where they were
+        moved = (root.srcLine or 0) - before.items[key].lines[0]
+        interfaces = [d.key for d in earlier[key] if d.key[2:3] == ("interfaces",)]
+        if key in before.wholes and all(
+            not _changed(before, k, taken[k])
+            and taken[k].lines[0] == before.items[k].lines[0] + moved
+            for k in interfaces
+        ):
+            wholes[key] = before.wholes[key]
     keys = list(_keys(system))
     items = {key: taken[key] for key in keys}
     own = (system.name, system.srcFile, system.srcLine, system.srcCol)
-    return Declarations(own, items, paths, len(items) == len(keys), wholes)
+    return Declarations(own, items, paths, len(items) == len(keys), wholes, text)
+
+
+def _changed(before: Declarations, key: Key, declaration: Declaration) -> bool:
+    """Whether a declaration read now prints other than it did (or is new)."""
+    old = before.items.get(key)
+    return old is None or old.print != declaration.print
+
+
+def _in(unread: dict[Key, Any], keys: set[Key]) -> set[Key]:
+    """Those of ``keys`` in a container not read."""
+    return {k for k in keys if k[:2] in unread}
+
+
+def _same_text(system: Any, before: Declarations, text: str | None) -> set[Key]:
+    """The containers whose text, from their first line to the next top-level
+    declaration's (or the end), is the text the same container had before: they hold
+    the same values at the same places from their first line, under the same names."""
+    if text is None or before.text is None:
+        return set()
+    starts = sorted(
+        (root.srcLine or 0, (feature, getattr(root, "name", None) or position))
+        for feature in FEATURES
+        for position, root in enumerate(getattr(system, feature))
+    )
+    old_starts = sorted((d.lines[0], k) for k, d in before.items.items() if len(k) == 2)
+    now, old = _spans(starts, text), _spans(old_starts, before.text)
+    now_lines, old_lines = text.split("\n"), before.text.split("\n")
+    return {
+        key
+        for key, (first, end) in now.items()
+        if key[0] == "containers"
+        and key in old
+        and old_lines[old[key][0] - 1 : old[key][1] - 1] == now_lines[first - 1 : end - 1]
+    }
+
+
+def _spans(starts: list[tuple[int, Key]], text: str) -> dict[Key, tuple[int, int]]:
+    """Each top-level declaration's first line and the first line after it."""
+    ends = [first for first, _ in starts[1:]] + [text.count("\n") + 2]
+    return {key: (first, end) for (first, key), end in zip(starts, ends, strict=False)}
 
 
 def _keys(system: Any) -> Iterator[Key]:
@@ -155,12 +247,6 @@ def _by_container(found: Declarations) -> dict[Key, list[Declaration]]:
     return grouped
 
 
-def _printed(targets: list[int], paths: dict[int, Path]) -> tuple:
-    """The paths of ``targets``; a target outside the model (none is) never prints as
-    anything seen before."""
-    return tuple(paths.get(t) or ("outside", t) for t in targets)
-
-
 def _members(container: Any, feature: str) -> Any:
     """A container's members of ``feature`` (its endpoint's, for interfaces)."""
     if feature != "interfaces":
@@ -186,10 +272,10 @@ def _read(
     made: dict[type, ClassPrint],
     leave_out: tuple[tuple[str, ...], ...] = (),
 ) -> tuple[Key, Any, tuple, list[int], set[str], tuple[int, int]]:
-    """One declaration's content, the ids of what it refers to (in the order met), the
+    """One declaration's content, what it refers to (in the order met), the
     names declared in it and its lines; the path of each of its elements goes to
     ``paths`` (``made``: :func:`spl.dsl.tsm.plain_prints.plain_fingerprint`'s)."""
-    targets: list[int] = []
+    targets: list[Any] = []
     names: set[str] = set()
     first = root.srcLine or 0
     last = [first]
@@ -201,19 +287,17 @@ def _read(
         if (line := element.srcLine or 0) > last[0]:
             last[0] = line
 
-    content = plain_fingerprint(
-        root, lambda target: targets.append(id(target)), visit, first, leave_out, made
-    )
+    content = plain_fingerprint(root, targets.append, visit, first, leave_out, made)
     return key, root, content, targets, names, (first, last[0])
 
 
 def _read_whole(
     root: Any, key: Key, paths: dict[int, Path], made: dict[type, ClassPrint]
 ) -> tuple[tuple, list[int]]:
-    """A container's content as a whole (lines from its first), and the ids of what it
-    refers to; the path of each element goes to ``paths``, from the declaration it is
-    in (the shell, or a member)."""
-    targets: list[int] = []
+    """A container's content as a whole (lines from its first), and what it refers to;
+    the path of each element goes to ``paths``, from the declaration it is in (the
+    shell, or a member)."""
+    targets: list[Any] = []
     member: list[Any] = [key, 0]  # the member being read, and the depth of its root
 
     def visit(element: Any, path: tuple[Step, ...]) -> None:
@@ -227,48 +311,8 @@ def _read_whole(
             member[:] = (*key, path[depth - 1][0], element.name), depth
         paths[id(element)] = (member[0], path[member[1] :])
 
-    content = plain_fingerprint(
-        root, lambda target: targets.append(id(target)), visit, root.srcLine or 0, (), made
-    )
+    content = plain_fingerprint(root, targets.append, visit, root.srcLine or 0, (), made)
     return content, targets
-
-
-def declaration_of(element: Any) -> Any:
-    """The declaration ``element`` is in (itself, for a declaration): a top-level one,
-    or a container's member (a topic, node, store or endpoint interface)."""
-    while (owner := element.eContainer()) is not None and owner.eContainer() is not None:
-        if _is_member(element):
-            return element
-        element = owner
-    return element
-
-
-def _is_member(element: Any) -> bool:
-    feature = element.eContainmentFeature()
-    if feature is None or feature.name not in MEMBERS:
-        return False
-    return feature.name != "interfaces" or element.eContainer().eClass.name == "Endpoint"
-
-
-def path_of(element: Any) -> Path:
-    """The path (:class:`Declarations`) of an element of a template."""
-    steps: list[Step] = []
-    declaration = declaration_of(element)
-    while element is not declaration:
-        owner, feature = element.eContainer(), element.eContainmentFeature()
-        members = getattr(owner, feature.name)
-        steps.append((feature.name, members.index(element) if feature.many else -1))
-        element = owner
-    return _key_of(declaration), tuple(reversed(steps))
-
-
-def _key_of(declaration: Any) -> Key:
-    owner, feature = declaration.eContainer(), declaration.eContainmentFeature().name
-    if owner.eContainer() is None:
-        members = getattr(owner, feature)
-        return (feature, getattr(declaration, "name", None) or members.index(declaration))
-    container = owner if feature != "interfaces" else owner.eContainer()  # an endpoint's
-    return (*_key_of(container), feature, declaration.name)
 
 
 @dataclass(frozen=True)
@@ -285,7 +329,9 @@ class BuiltTemplate:
 _NOTHING = Declarations((), {}, {})  # read before a first build: its containers whole too
 
 
-def build(plain: Any, previous: BuiltTemplate | None = None) -> BuiltTemplate:
+def build(
+    plain: Any, previous: BuiltTemplate | None = None, text: str | None = None
+) -> BuiltTemplate:
     """The pyecore model of the checked plain model ``plain``. Given the template built
     before from the same file, each declaration whose print is unchanged, which refers
     only into declarations kept too, and whose container (for a member) is kept, is
@@ -294,7 +340,7 @@ def build(plain: Any, previous: BuiltTemplate | None = None) -> BuiltTemplate:
     references into those taken over going to the elements there. The result is the
     model a full copy gives (``tests/dsl/test_tsm_declarations.py`` compares them
     through chains of edits)."""
-    found = declarations(plain, previous.declarations if previous is not None else _NOTHING)
+    found = declarations(plain, previous.declarations if previous is not None else _NOTHING, text)
     items = found.items
     kept: set[Key] = set()
     if not (found.unique and previous is not None and previous.declarations.unique):
@@ -321,7 +367,7 @@ def build(plain: Any, previous: BuiltTemplate | None = None) -> BuiltTemplate:
     rebuilt = [k for k in items if k not in kept]
 
     def taken_over(target: Any) -> Any:
-        key, inner = found.paths[id(target)]
+        key, inner = found.paths.get(id(target)) or path_of(target)
         return element_at(previous.elements[key], inner)  # type: ignore[union-attr]
 
     # a declaration in one copied afresh (a member of a container copied) is copied with it

@@ -106,7 +106,7 @@ def parse_text(text: str, filename: str = "<string>", workspace: Workspace | Non
             return copy_model(plain)
         # the editor's: what the last build of the file holds and the edit left alone is
         # taken over, and the declarations are kept for the next build
-        built = tsm_declarations.build(plain, last.templates.get(filename))
+        built = tsm_declarations.build(plain, last.templates.get(filename), text)
     last.templates[filename] = built
     last.systems[filename] = (text, built.system)
     return built.system

@@ -25,7 +25,7 @@ from typing import TYPE_CHECKING
 
 from spl.core.diagnostics import Diagnostic
 from spl.core.emf import references
-from spl.dsl.tsm.declarations import declaration_of
+from spl.dsl.tsm.declaration_paths import declaration_of
 from spl.metamodels import interface_kinds, tsm
 from spl.resolver.line_checks.activation import ActivationSolver
 from spl.resolver.line_checks.dataflow import unfed_inputs_in_line
@@ -39,7 +39,8 @@ from spl.resolver.line_checks.witnesses import (
 from spl.resolver.resolution.product_line import ProductLine
 
 if TYPE_CHECKING:
-    from spl.dsl.tsm.declarations import BuiltTemplate, Key
+    from spl.dsl.tsm.declaration_paths import Key
+    from spl.dsl.tsm.declarations import BuiltTemplate
     from spl.dsl.workspace import Workspace
 
 

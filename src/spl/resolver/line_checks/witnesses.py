@@ -33,7 +33,8 @@ from typing import Any
 from spl.core.cyclic_gc import collect_young, without_cyclic_gc
 from spl.core.diagnostics import Diagnostic, ModelError
 from spl.core.emf import fingerprint
-from spl.dsl.tsm.declarations import BuiltTemplate, Declarations, Key, path_of
+from spl.dsl.tsm.declaration_paths import Key, path_of
+from spl.dsl.tsm.declarations import BuiltTemplate, Declarations
 from spl.dsl.workspace import Workspace
 from spl.metamodels import tsm
 from spl.resolver.resolution.product_line import ProductLine
