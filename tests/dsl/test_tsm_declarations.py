@@ -122,7 +122,8 @@ transform Summarize : Reading -> Summary {
 }
 
 robot container Rover {
-    endpoint robot_id "rover_1" url "wss://cloud.example.org:9000/" user "rover" password env "RCE_PASSWORD"
+    endpoint robot_id "rover_1" url "wss://cloud.example.org:9000/" user "rover"
+             password env "RCE_PASSWORD"
     topic RReadings : sensor_msgs/Temperature
     writer RWriter : Reading to Planning.PlanningStore <- RReadings
     topic RT0 : sensor_msgs/PointCloud2 name "/R/t0"
