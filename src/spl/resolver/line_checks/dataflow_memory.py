@@ -21,7 +21,7 @@ the declaration each is in (:func:`.witnesses.moved_findings`).
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from spl.core.diagnostics import Diagnostic
 from spl.core.emf import references
@@ -45,17 +45,20 @@ if TYPE_CHECKING:
 
 
 class DataflowFindings:
-    """The dataflow checks' last findings on one line, with what they read."""
+    """The dataflow checks' last findings on one line, with what they were made on; what
+    they read of it is worked out when first compared (an edit of the .rm, which makes
+    another .rm model, has the checks run again without it)."""
 
     def __init__(self) -> None:
-        self._key: tuple | None = None
-        self._lines: Lines = {}
         self._findings: tuple[Diagnostic, ...] = ()
-        # the .rm model the findings were made with, and the declarations it names: an
-        # edit of the .tsm alone leaves the model as it was (spl.dsl.rm.reuse), with its
-        # elements and their places; another model is taken as another content
+        # the .rm model they were made with, and the declarations it names: an edit of
+        # the .tsm alone leaves the model as it was (spl.dsl.rm.reuse), with its elements
+        # and their places; another model is taken as another content
         self._rm: object = None
-        self._named: set[Key] = set()
+        self._named: set[Key] | None = None
+        self._fm: object = None
+        self._built: BuiltTemplate | None = None  # the template they were made on
+        self._reads: tuple[tuple, Lines] | None = None  # what they read of it
         self.checks = 0  # how often the checks ran (the rest were kept)
 
     def findings(
@@ -63,17 +66,29 @@ class DataflowFindings:
     ) -> list[Diagnostic]:
         """The checks' findings on ``line`` (its template as the editor ``built`` it),
         found again only when what they read changed."""
-        same_rm = line.rm is self._rm
-        if not same_rm:
-            self._rm, self._named, self._key = line.rm, _named(line, built), None
-        key, lines = _dataflow_reads(line, built, self._named)
-        if same_rm and key == self._key:
-            moved = moved_findings(self._lines, self._findings, lines, line.tsm.srcFile)
-            if moved is not None:
-                return list(moved)
+        reads = None
+        if line.rm is self._rm and self._built is not None:
+            if self._named is None:
+                self._named = _named(line, built)
+            if self._reads is None:
+                self._reads = _dataflow_reads(self._fm, self._built, self._named)
+            reads = _dataflow_reads(line.fm, built, self._named)
+            if reads[0] == self._reads[0]:
+                lines, kept = self._reads[1], self._findings
+                moved = moved_findings(lines, kept, reads[1], line.tsm.srcFile)
+                if moved is not None:
+                    self._fm, self._built, self._reads, self._findings = (
+                        line.fm,
+                        built,
+                        reads,
+                        moved,
+                    )
+                    return list(moved)
+        else:
+            self._rm, self._named = line.rm, None
         found = dataflow_findings(line, workspace)
         self.checks += 1
-        self._key, self._lines, self._findings = key, lines, tuple(found)
+        self._fm, self._built, self._reads, self._findings = line.fm, built, reads, tuple(found)
         return found
 
 
@@ -111,13 +126,11 @@ def _named(line: ProductLine, built: BuiltTemplate) -> set[Key]:
     return {key for key in named if key is not None}
 
 
-def _dataflow_reads(
-    line: ProductLine, built: BuiltTemplate, named: set[Key]
-) -> tuple[tuple, Lines]:
-    """What the dataflow checks read of the template and the feature model, comparable,
-    and the lines of the declarations read: every declaration but the nodes in no
-    product that could feed nothing, and the containers of only those (``named``: the
-    declarations the resolution elements refer into)."""
+def _dataflow_reads(fm: Any, built: BuiltTemplate, named: set[Key]) -> tuple[tuple, Lines]:
+    """What the dataflow checks read of the template ``built`` and the feature model
+    ``fm``, comparable, and the lines of the declarations read: every declaration but
+    the nodes in no product that could feed nothing, and the containers of only those
+    (``named``: the declarations the resolution elements refer into)."""
     found = built.declarations
     referred, referred_containers = referred_declarations(found)
 
@@ -143,4 +156,4 @@ def _dataflow_reads(
         and all(k in left_out for k in inside)
     }
     read = [k for k in found.items if k not in left_out]
-    return template_reads(line, found, read, ())
+    return template_reads(fm, found, read, ())

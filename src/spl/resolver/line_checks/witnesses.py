@@ -126,7 +126,7 @@ def _inputs(line: ProductLine, found: Declarations, witness: Witness) -> tuple[t
         == element.activeIfSelected
     ]
     elements, touched = element_prints(active)
-    return template_reads(line, found, _resolution_reads(found, touched), elements)
+    return template_reads(line.fm, found, _resolution_reads(found, touched), elements)
 
 
 def element_prints(elements: list[Any]) -> tuple[tuple, set[Key]]:
@@ -146,7 +146,7 @@ def element_prints(elements: list[Any]) -> tuple[tuple, set[Key]]:
 
 
 def template_reads(
-    line: ProductLine, found: Declarations, read: list[Key], elements: tuple
+    fm: Any, found: Declarations, read: list[Key], elements: tuple
 ) -> tuple[tuple, Lines]:
     """A key of what a computation reads: the template's declarations ``read`` (by their
     prints), the feature model and the resolution ``elements``' prints; and the lines
@@ -155,7 +155,7 @@ def template_reads(
     template = ((name, file, column), tuple((k, found.items[k].print) for k in read))
     lines = {k: found.items[k].lines for k in read}
     lines[()] = (first, first)
-    return (template, fingerprint(line.fm, lambda value: _named(value)), elements), lines
+    return (template, fingerprint(fm, lambda value: _named(value)), elements), lines
 
 
 def _resolution_reads(found: Declarations, touched: set[Key]) -> list[Key]:
