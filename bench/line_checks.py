@@ -32,7 +32,10 @@ import time
 from pathlib import Path
 
 from spl.resolver import line_checks
+from spl.resolver.line_checks.conflicts import reachable_conflicts
 from spl.resolver.line_checks.dataflow import unfed_inputs_in_line
+from spl.resolver.line_checks.dead_elements import never_active_elements
+from spl.resolver.line_checks.no_effect import features_without_effect
 from spl.resolver.line_checks.unconsumed import unconsumed_outputs_in_line
 from spl.resolver.resolution.product_line import load_product_line
 
@@ -202,10 +205,10 @@ def measure(groups: int) -> dict[str, float]:
 
                 setattr(solver.solver, name, counted)
             start = time.perf_counter()
-            found = line_checks.never_active_elements(line, solver)
+            found = never_active_elements(line, solver)
             found += line_checks.unreachable_optional_elements(line, solver)
-            found += line_checks.reachable_conflicts(line, solver)
-            found += line_checks.features_without_effect(line)
+            found += reachable_conflicts(line, solver)
+            found += features_without_effect(line)
             checked = time.perf_counter() - start
         return {
             "features": line.formula.cnf.num_features,
