@@ -15,11 +15,16 @@ from spl.resolver.resolution.product_line import load_product_line
 BENCH = Path(__file__).resolve().parents[2] / "bench" / "line_checks.py"
 
 
-def test_the_bench_line_has_100_unfed_inputs_and_one_witness(tmp_path, monkeypatch):
+def bench_module():
     spec = importlib.util.spec_from_file_location("line_checks_bench", BENCH)
     assert spec is not None and spec.loader is not None
     bench = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(bench)
+    return bench
+
+
+def test_the_bench_line_has_100_unfed_inputs_and_one_witness(tmp_path, monkeypatch):
+    bench = bench_module()
     bench.dataflow_line(tmp_path)
     line = load_product_line(tmp_path)
     resolved: list[tuple[str, ...]] = []
@@ -39,3 +44,13 @@ def test_the_bench_line_has_100_unfed_inputs_and_one_witness(tmp_path, monkeypat
         f"selected' ({tmp_path / 'flows.rm'}:5:1)"
     )
     assert set(resolved) == {("Root",)}
+
+
+def test_the_bench_scaling_line_is_checked_as_its_figures_say() -> None:
+    """The bench's scaling part runs the checks it names on its generated line (a check
+    moved to another module once broke it, and its figures with it): one conflict per
+    fifty groups and one optional node no element keeps per ten (at 250 groups the
+    figures count 5 and 25, among 1,500 elements and 1,751 features)."""
+    result = bench_module().measure(50)
+    assert (result["conflicts"], result["unreachable"]) == (1, 5)
+    assert (result["elements"], result["features"]) == (300, 351)
