@@ -66,30 +66,34 @@ class DataflowFindings:
     ) -> list[Diagnostic]:
         """The checks' findings on ``line`` (its template as the editor ``built`` it),
         found again only when what they read changed."""
+        if line.rm is not self._rm:
+            self._rm, self._named, self._built = line.rm, None, None
         reads = None
-        if line.rm is self._rm and self._built is not None:
+        if self._built is not None:
             if self._named is None:
                 self._named = _named(line, built)
             if self._reads is None:
                 self._reads = _dataflow_reads(self._fm, self._built, self._named)
             reads = _dataflow_reads(line.fm, built, self._named)
             if reads[0] == self._reads[0]:
-                lines, kept = self._reads[1], self._findings
-                moved = moved_findings(lines, kept, reads[1], line.tsm.srcFile)
+                before, kept = self._reads[1], self._findings
+                moved = moved_findings(before, kept, reads[1], line.tsm.srcFile)
                 if moved is not None:
-                    self._fm, self._built, self._reads, self._findings = (
-                        line.fm,
-                        built,
-                        reads,
-                        moved,
-                    )
-                    return list(moved)
-        else:
-            self._rm, self._named = line.rm, None
-        found = dataflow_findings(line, workspace)
+                    return self._made(line, built, reads, moved)
         self.checks += 1
-        self._fm, self._built, self._reads, self._findings = line.fm, built, reads, tuple(found)
-        return found
+        return self._made(line, built, reads, tuple(dataflow_findings(line, workspace)))
+
+    def _made(
+        self,
+        line: ProductLine,
+        built: BuiltTemplate,
+        reads: tuple[tuple, Lines] | None,
+        findings: tuple[Diagnostic, ...],
+    ) -> list[Diagnostic]:
+        """``findings``, kept as made on ``built`` (``reads``: what they read of it, if
+        worked out)."""
+        self._fm, self._built, self._reads, self._findings = line.fm, built, reads, findings
+        return list(findings)
 
 
 def dataflow_findings(line: ProductLine, workspace: Workspace | None = None) -> list[Diagnostic]:

@@ -125,11 +125,11 @@ def _inputs(line: ProductLine, found: Declarations, witness: Witness) -> tuple[t
         if (element.feature is not None and element.feature.name in selected)
         == element.activeIfSelected
     ]
-    elements, touched = element_prints(active)
+    elements, touched = _element_prints(active)
     return template_reads(line.fm, found, _resolution_reads(found, touched), elements)
 
 
-def element_prints(elements: list[Any]) -> tuple[tuple, set[Key]]:
+def _element_prints(elements: list[Any]) -> tuple[tuple, set[Key]]:
     """The prints of resolution ``elements`` (their places included: messages cite
     them), and the template's declarations they refer into."""
     package = tsm().package
@@ -155,7 +155,7 @@ def template_reads(
     template = ((name, file, column), tuple((k, found.items[k].print) for k in read))
     lines = {k: found.items[k].lines for k in read}
     lines[()] = (first, first)
-    return (template, fingerprint(fm, lambda value: _named(value)), elements), lines
+    return (template, fingerprint(fm, _named), elements), lines
 
 
 def _resolution_reads(found: Declarations, touched: set[Key]) -> list[Key]:
