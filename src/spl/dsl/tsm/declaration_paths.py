@@ -25,7 +25,12 @@ Path = tuple[Key, tuple[Step, ...]]  # the declaration, then the steps down to t
 Index = Callable[[Any, Any], "int | None"]  # where an element is in a list, None if not
 
 
-def declaration_of(element: Any, index: Index | None = None) -> Any:
+def _scan(members: Any, element: Any) -> int | None:
+    """Where ``element`` is in ``members``, looked for one by one."""
+    return next((i for i, member in enumerate(members) if member is element), None)
+
+
+def declaration_of(element: Any, index: Index = _scan) -> Any:
     """The declaration ``element`` is in (itself, for a declaration): a top-level one,
     or a container's member (a topic, node, store or endpoint interface)."""
     while (owner := element.eContainer()) is not None and owner.eContainer() is not None:
@@ -35,10 +40,10 @@ def declaration_of(element: Any, index: Index | None = None) -> Any:
     return element
 
 
-def _containment(element: Any, index: Index | None = None) -> tuple[str, bool] | None:
+def _containment(element: Any, index: Index = _scan) -> tuple[str, bool] | None:
     """The name of the feature holding ``element`` in its container, and whether it is
     many-valued (a plain element, :mod:`spl.dsl.tsm.plain`, is looked for there, through
-    ``index`` when given)."""
+    ``index``)."""
     feature_of = getattr(element, "eContainmentFeature", None)
     if feature_of is not None:
         feature = feature_of()
@@ -50,36 +55,30 @@ def _containment(element: Any, index: Index | None = None) -> tuple[str, bool] |
         if not containment:
             continue
         value = getattr(owner, name)
-        if many:
-            found = (
-                index(value, element)
-                if index
-                else next((i for i, v in enumerate(value) if v is element), None)
-            )
-            if found is not None:
-                return name, True
-        elif value is element:
+        if many and index(value, element) is not None:
+            return name, True
+        if not many and value is element:
             return name, False
     return None
 
 
-def _is_member(element: Any, index: Index | None = None) -> bool:
+def _is_member(element: Any, index: Index = _scan) -> bool:
     feature = _containment(element, index)
     if feature is None or feature[0] not in MEMBERS:
         return False
     return feature[0] != "interfaces" or element.eContainer().eClass.name == "Endpoint"
 
 
-def path_of(element: Any, index: Index | None = None) -> Path:
+def path_of(element: Any, index: Index = _scan) -> Path:
     """The path (:class:`Declarations`) of an element of a template (``index``: where an
-    element is in a list of members, None if not, when the caller keeps that)."""
+    element is in a list of members, when the caller keeps that)."""
     steps: list[Step] = []
     declaration = declaration_of(element, index)
     while element is not declaration:
         owner = element.eContainer()
         name, many = _containment(element, index)  # type: ignore[misc]  # it is contained
         members = getattr(owner, name)
-        at = (index(members, element) if index else members.index(element)) if many else -1
+        at = index(members, element) if many else -1
         assert at is not None  # contained: it is there
         steps.append((name, at))
         element = owner
@@ -96,7 +95,7 @@ def _key_of(declaration: Any) -> Key:
     return (*_key_of(container), feature, declaration.name)
 
 
-def target_paths(system: Any, paths: dict[int, Path]) -> Any:
+def target_paths(system: Any, paths: dict[int, Path]) -> Callable[[Any], Path]:
     """The path of a target referred to: as read, or, for an element of a declaration
     not read, worked out from its place in ``system``; a target outside the model
     (none is) never prints as anything seen before."""
@@ -108,7 +107,7 @@ def target_paths(system: Any, paths: dict[int, Path]) -> Any:
             found = positions[id(members)] = {id(m): i for i, m in enumerate(members)}
         return found.get(id(element))
 
-    def path(target: Any) -> Path | tuple[str, int]:
+    def path(target: Any) -> Path:
         known = paths.get(id(target))
         if known is not None:
             return known
@@ -116,7 +115,7 @@ def target_paths(system: Any, paths: dict[int, Path]) -> Any:
         while top.eContainer() is not None:
             top = top.eContainer()
         if top is not system:
-            return ("outside", id(target))
+            return ("outside", id(target)), ()
         return path_of(target, index)
 
     return path

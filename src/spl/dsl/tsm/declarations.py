@@ -131,7 +131,7 @@ def declarations(
     def declare(found: list[tuple]) -> None:
         for key, root, content, targets, names, lines in found:
             printed = tuple(path_of_target(t) for t in targets)
-            refers_to = frozenset(p[0] for p in printed if p[0] != key and p[0] != "outside")
+            refers_to = frozenset(p[0] for p in printed if p[0] != key and p[0][0] != "outside")
             if len(key) == 2:
                 droppable = key[0] == "containers" and all(
                     element.optional for element in (*root.nodes, *root.stores)
