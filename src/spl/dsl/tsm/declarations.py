@@ -156,7 +156,7 @@ def declarations(
         changed = {k for k, d in taken.items() if before is None or _changed(before, k, d)}
         for key in list(unread):
             outside = {t for d in earlier[key] for t in d.refers_to if t[:2] != key}
-            if outside & changed or not outside <= set(taken) | _in(unread, outside):
+            if any(t in changed or (t not in taken and t[:2] not in unread) for t in outside):
                 whole.append((key, unread.pop(key)))
         if not whole:
             break
@@ -182,11 +182,6 @@ def _changed(before: Declarations, key: Key, declaration: Declaration) -> bool:
     """Whether a declaration read now prints other than it did (or is new)."""
     old = before.items.get(key)
     return old is None or old.print != declaration.print
-
-
-def _in(unread: dict[Key, Any], keys: set[Key]) -> set[Key]:
-    """Those of ``keys`` in a container not read."""
-    return {k for k in keys if k[:2] in unread}
 
 
 def _same_text(system: Any, before: Declarations, text: str | None) -> set[Key]:

@@ -32,6 +32,7 @@ from spl.resolver.line_checks.dataflow import unfed_inputs_in_line
 from spl.resolver.line_checks.unconsumed import unconsumed_outputs_in_line
 from spl.resolver.line_checks.witnesses import (
     Lines,
+    line_in_editor,
     moved_findings,
     referred_declarations,
     template_reads,
@@ -62,7 +63,7 @@ class DataflowFindings:
         self.checks = 0  # how often the checks ran (the rest were kept)
 
     def findings(
-        self, line: ProductLine, built: BuiltTemplate, workspace: Workspace
+        self, line: ProductLine, built: BuiltTemplate, workspace: Workspace | None
     ) -> list[Diagnostic]:
         """The checks' findings on ``line`` (its template as the editor ``built`` it),
         found again only when what they read changed."""
@@ -109,10 +110,8 @@ def dataflow_findings(line: ProductLine, workspace: Workspace | None = None) -> 
 def dataflow_findings_kept(line: ProductLine, workspace: Workspace | None) -> list[Diagnostic]:
     """The dataflow checks, their findings kept in the editor's ``workspace`` when it
     keeps the line and its template's declarations (:class:`DataflowFindings`)."""
-    memory = workspace.line_memory(line.directory) if workspace is not None else None
-    models = workspace.models if workspace is not None else None
-    built = models.built_template(line.tsm) if models is not None else None
-    if memory is None or built is None or workspace is None:
+    memory, built = line_in_editor(line, workspace) or (None, None)
+    if memory is None or built is None:
         return dataflow_findings(line, workspace)
     return memory.of(DataflowFindings).findings(line, built, workspace)
 

@@ -35,7 +35,7 @@ from spl.core.diagnostics import Diagnostic, ModelError
 from spl.core.emf import fingerprint
 from spl.dsl.tsm.declaration_paths import Key, path_of
 from spl.dsl.tsm.declarations import BuiltTemplate, Declarations
-from spl.dsl.workspace import Workspace
+from spl.dsl.workspace import LineMemory, Workspace
 from spl.metamodels import tsm
 from spl.resolver.resolution.product_line import ProductLine
 from spl.resolver.resolution.product_selection import selection_from_list
@@ -88,11 +88,22 @@ def witness_warnings(
     """The warnings of the product ``witness`` (none when it does not resolve, which
     resolve, validate and the other checks report); in an editor's ``workspace`` that
     remembers the line, resolved again only when what the resolution reads changed."""
+    editing = line_in_editor(line, workspace)
+    if editing is None:
+        return _resolved(line, witness)[0]
+    memory, built = editing
+    return memory.of(WitnessResolutions).warnings(line, witness, built)
+
+
+def line_in_editor(
+    line: ProductLine, workspace: Workspace | None
+) -> tuple[LineMemory, BuiltTemplate | None] | None:
+    """The editor's memory of ``line``, and the line's template as the editor built it
+    (None for another build); None outside an editor that remembers the line."""
     memory = workspace.line_memory(line.directory) if workspace is not None else None
     if memory is None or workspace is None or workspace.models is None:
-        return _resolved(line, witness)[0]
-    built = workspace.models.built_template(line.tsm)
-    return memory.of(WitnessResolutions).warnings(line, witness, built)
+        return None
+    return memory, workspace.models.built_template(line.tsm)
 
 
 def _resolved(line: ProductLine, witness: Witness) -> tuple[Warnings, bool]:
